@@ -1,0 +1,232 @@
+/* geosep.h - the one public header of geosep: fast point-to-point geodesic
+ * distance queries on triangle meshes (Gotsman & Hormann, SIGGRAPH Asia 2022).
+ *
+ * Conventions (stated once, they hold for every function below):
+ *  - Every function that can fail returns an int status: GS_OK (0) on success,
+ *    a negative GS_E* code on failure. gs_status_string() turns a code into text.
+ *  - Functions that can fail take a `gs_error *err` last; it may be NULL. On
+ *    failure it receives a human-readable message naming the file, line,
+ *    element or argument that is wrong. On success it is left untouched.
+ *  - Indices are uint32_t. GS_NONE (0xFFFFFFFF) means "no index".
+ *  - Vertex ids are the user's: the order of the vertices in the input file or
+ *    array is the order everywhere. Nothing is merged, dropped or reordered
+ *    (STL, which has no shared vertices, is welded by exact position, in order
+ *    of first appearance).
+ *  - Ownership: an object returned through `T **out` is owned by the caller
+ *    and released with its gs_T_free(), which accepts NULL. Arrays passed in
+ *    are only read during the call and never retained unless said otherwise.
+ *    Output arrays are caller-owned and sized as documented.
+ *  - Threads: immutable objects (gs_mesh, gs_patch) may be shared freely
+ *    between threads. Objects with scratch space (gs_solver) belong to one
+ *    thread at a time. Nothing in the library keeps global mutable state.
+ *  - The library never prints and never exits.
+ */
+#ifndef GEOSEP_H
+#define GEOSEP_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define GEOSEP_VERSION_MAJOR 0
+#define GEOSEP_VERSION_MINOR 1
+#define GEOSEP_VERSION_PATCH 0
+
+/* "MAJOR.MINOR.PATCH" of the linked library; static storage. */
+const char *gs_version_string(void);
+
+#define GS_NONE UINT32_MAX
+
+/* ---- status codes (pinned: values never change) ------------------------ */
+enum {
+    GS_OK = 0,
+    GS_EIO = -1,          /* a file could not be opened, read or written   */
+    GS_EPARSE = -2,       /* a file is malformed (syntax, counts, sizes)   */
+    GS_EMESH = -3,        /* the mesh is invalid (topology or geometry)    */
+    GS_ENOMEM = -4,       /* out of memory                                 */
+    GS_EARG = -5,         /* an argument is invalid (NULL, out of range)   */
+    GS_EFORMAT = -6,      /* unknown or unsupported file format            */
+    GS_ELIMIT = -7,       /* a size exceeds what geosep supports           */
+    GS_EINTERNAL = -8     /* a numerical or internal failure               */
+};
+
+/* Static text for a status code ("ok", "i/o error", ...). Never NULL. */
+const char *gs_status_string(int status);
+
+/* Detailed message for the last failure of a call given this struct. */
+typedef struct gs_error {
+    int status;
+    char message[512];
+} gs_error;
+
+/* ======================================================================== */
+/* Meshes                                                                   */
+/* ======================================================================== */
+
+/* An immutable, validated triangle mesh: positions, faces, connectivity. */
+typedef struct gs_mesh gs_mesh;
+
+typedef enum gs_mesh_format {
+    GS_FORMAT_AUTO = 0, /* by file extension (.obj .off .ply .stl), then content */
+    GS_FORMAT_OBJ,
+    GS_FORMAT_OFF,
+    GS_FORMAT_PLY,
+    GS_FORMAT_STL
+} gs_mesh_format;
+
+/* Read and validate a mesh file. Readers are safe for untrusted input: a
+ * malformed file gives GS_EPARSE/GS_EMESH with a message naming the file and
+ * the line (text formats) or element (binary formats), never a crash.
+ * Rejected: non-finite coordinates, face indices out of range or repeated in
+ * a face, zero-area faces, non-manifold edges or vertices, inconsistently
+ * oriented neighbouring faces, header counts the file cannot hold.
+ * Accepted and reported by gs_mesh_get_report(): several components,
+ * boundary loops, genus, vertices used by no face.
+ * Polygons are fan-triangulated. *out receives a new mesh (caller frees). */
+int gs_mesh_load(const char *path, gs_mesh_format format, gs_mesh **out,
+                 gs_error *err);
+
+/* Build a mesh from arrays: xyz holds 3*n_vertices doubles, tri holds
+ * 3*n_faces vertex indices (counter-clockwise). Same validation as
+ * gs_mesh_load. Arrays are copied. *out receives a new mesh (caller frees). */
+int gs_mesh_create(const double *xyz, uint32_t n_vertices, const uint32_t *tri,
+                   uint32_t n_faces, gs_mesh **out, gs_error *err);
+
+void gs_mesh_free(gs_mesh *mesh);
+
+uint32_t gs_mesh_num_vertices(const gs_mesh *mesh);
+uint32_t gs_mesh_num_faces(const gs_mesh *mesh);
+/* Borrowed pointers, valid while the mesh lives: 3*n_vertices doubles and
+ * 3*n_faces indices. */
+const double *gs_mesh_positions(const gs_mesh *mesh);
+const uint32_t *gs_mesh_faces(const gs_mesh *mesh);
+
+/* Health report: what is accepted but worth knowing. */
+typedef struct gs_mesh_report {
+    uint32_t n_vertices;          /* all vertices, used or not             */
+    uint32_t n_faces;
+    uint32_t n_edges;
+    uint32_t n_unreferenced;      /* vertices used by no face              */
+    uint32_t n_components;        /* face-connected components             */
+    uint32_t n_boundary_edges;
+    uint32_t n_boundary_loops;
+    int32_t euler;                /* V - E + F over referenced vertices    */
+    int32_t genus;                /* sum over components of genus          */
+    double min_angle_deg;         /* smallest corner angle                 */
+    double max_angle_deg;         /* largest corner angle                  */
+    double min_edge, max_edge, mean_edge;
+    double bbox_min[3], bbox_max[3];
+} gs_mesh_report;
+
+/* Fill *report (caller-owned). Never fails for a valid mesh. */
+int gs_mesh_get_report(const gs_mesh *mesh, gs_mesh_report *report,
+                       gs_error *err);
+
+/* Generate a test or demo mesh from a spec string (all sizes in mesh units):
+ *   "grid:NX,NY[,W,H]"        flat NX x NY vertex grid on [0,W]x[0,H] (default 1x1)
+ *   "peaks:N"                 N x N grid of MATLAB's peaks surface on [-3,3]^2
+ *   "plate:N"                 flat square plate [0,1]^2 with circular holes,
+ *                             about N vertices
+ *   "cylinder:NU,NV[,R,H]"    open cylinder radius R, height H (NU around)
+ *   "cone:NU,NV[,R,H]"        open cone (apex cut off), base radius R, height H
+ *   "cube:N[,S]"              closed cube surface of side S, N x N per face
+ *   "torus:NU,NV[,R,r]"       closed torus, radii R > r
+ *   "sphere:N"                closed sphere (icosphere, N subdivisions)
+ *   "two:N"                   two disjoint flat grids N x N (two components)
+ * *out receives a new mesh (caller frees). */
+int gs_mesh_generate(const char *spec, gs_mesh **out, gs_error *err);
+
+/* Write a mesh as OBJ (vertex order kept; "%.17g" so it reads back bit-exact).
+ * The file is written to a temporary name and renamed: never left partial. */
+int gs_mesh_save_obj(const gs_mesh *mesh, const char *path, gs_error *err);
+
+/* ======================================================================== */
+/* Patches: a subset of a mesh's faces with its own vertex numbering         */
+/* ======================================================================== */
+
+/* A patch is the surface made of some faces of a mesh: distances on a patch
+ * are measured along paths that stay inside it (the paper's d_P, eq. 1).
+ * Local vertices are the vertices of the chosen faces in increasing order of
+ * their mesh id; local faces are the chosen faces in the order given.
+ * Special case: faces == NULL means the whole mesh, and then local ids equal
+ * mesh ids for vertices and faces (unreferenced vertices included).
+ * A patch may have non-manifold ("bow-tie") vertices where two fans of its
+ * faces touch; paths may pass through them. The patch keeps a pointer to
+ * the mesh, which must outlive it. *out receives a new patch (caller frees). */
+typedef struct gs_patch gs_patch;
+
+int gs_patch_create(const gs_mesh *mesh, const uint32_t *faces,
+                    uint32_t n_faces, gs_patch **out, gs_error *err);
+void gs_patch_free(gs_patch *patch);
+
+uint32_t gs_patch_num_vertices(const gs_patch *patch);
+uint32_t gs_patch_num_faces(const gs_patch *patch);
+/* Mesh id of a local vertex / face (GS_NONE if out of range). */
+uint32_t gs_patch_vertex_to_mesh(const gs_patch *patch, uint32_t local);
+uint32_t gs_patch_face_to_mesh(const gs_patch *patch, uint32_t local);
+/* Local id of a mesh vertex, GS_NONE if the patch does not contain it. */
+uint32_t gs_patch_vertex_from_mesh(const gs_patch *patch, uint32_t mesh_vertex);
+
+/* ======================================================================== */
+/* Geodesic distance fields on a patch                                      */
+/* ======================================================================== */
+
+typedef enum gs_method {
+    GS_METHOD_EXACT = 0, /* exact polyhedral distances, window propagation   */
+    GS_METHOD_GRAPH = 1  /* Dijkstra on the edge graph (upper bound, baseline) */
+} gs_method;
+
+/* Text name ("exact", "graph") of a method, or NULL if unknown. */
+const char *gs_method_name(gs_method method);
+/* Method from its name; GS_EARG if unknown. */
+int gs_method_from_name(const char *name, gs_method *method, gs_error *err);
+
+/* A source point. face == GS_NONE: the vertex `vertex` (local id).
+ * Otherwise the point sum_i bary[i] * corner_i of local face `face`
+ * (bary >= 0, summing to 1 within 1e-9; it is renormalised). */
+typedef struct gs_source {
+    uint32_t vertex;
+    uint32_t face;
+    double bary[3];
+} gs_source;
+
+/* Convenience constructors. */
+gs_source gs_source_vertex(uint32_t local_vertex);
+gs_source gs_source_point(uint32_t local_face, double b0, double b1, double b2);
+
+/* A reusable distance solver bound to one patch. It allocates its working
+ * memory once (growing it when needed) and can solve any number of sources;
+ * no state of one solve leaks into the next. One thread at a time. The patch
+ * must outlive the solver. *out receives a new solver (caller frees). */
+typedef struct gs_solver gs_solver;
+
+int gs_solver_create(const gs_patch *patch, gs_method method, gs_solver **out,
+                     gs_error *err);
+void gs_solver_free(gs_solver *solver);
+
+/* Distance field from a set of sources (the pointwise minimum of their
+ * fields). dist receives gs_patch_num_vertices() doubles, in local vertex
+ * order: +INFINITY where unreachable inside the patch (another component,
+ * an unreferenced vertex). max_distance > 0 stops the propagation early:
+ * every vertex with distance <= max_distance is exact, others may be
+ * +INFINITY or any value > max_distance. Pass 0 or INFINITY for no bound. */
+int gs_solver_solve(gs_solver *solver, const gs_source *sources,
+                    uint32_t n_sources, double max_distance, double *dist,
+                    gs_error *err);
+
+/* Statistics of the last solve (for benchmarks); any pointer may be NULL. */
+void gs_solver_last_stats(const gs_solver *solver, uint64_t *windows_created,
+                          uint64_t *windows_propagated, double *seconds);
+
+/* One-shot convenience: create a solver, solve, free it. */
+int gs_distance_field(const gs_patch *patch, gs_method method,
+                      const gs_source *sources, uint32_t n_sources,
+                      double max_distance, double *dist, gs_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* GEOSEP_H */

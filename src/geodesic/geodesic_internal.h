@@ -1,0 +1,34 @@
+/* geodesic_internal.h - the one interface every distance-field method
+ * implements (exact window propagation, edge-graph Dijkstra, and later fast
+ * marching and the heat method): a reusable per-patch state plus a solve
+ * call. solver.c validates arguments so that methods can trust them. */
+#ifndef GS_GEODESIC_INTERNAL_H
+#define GS_GEODESIC_INTERNAL_H
+
+#include "../mesh/mesh_internal.h"
+
+typedef struct gs_solve_stats {
+    uint64_t windows_created;
+    uint64_t windows_propagated;
+} gs_solve_stats;
+
+/* Sources handed to a method are validated: vertex < nv, or face < nf with
+ * bary >= 0 summing to exactly 1 (renormalised). A surface point that lies
+ * on a vertex (bary = e_i) is passed as that vertex. */
+typedef struct gs_method_ops {
+    const char *name;
+    /* allocate per-patch state; *state receives it */
+    int (*create)(const gs_topo *t, void **state, gs_error *err);
+    void (*destroy)(void *state);
+    /* fill dist[0..nv) ; max_distance is +INFINITY when unbounded */
+    int (*solve)(void *state, const gs_source *src, uint32_t n_src, double max_distance,
+                 double *dist, gs_solve_stats *stats, gs_error *err);
+} gs_method_ops;
+
+extern const gs_method_ops gs_exact_ops; /* exact.c  */
+extern const gs_method_ops gs_graph_ops; /* graph.c  */
+
+/* Position of a source point: p = sum_i bary[i] * corner_i. */
+void gs_source_position(const gs_topo *t, const gs_source *s, double p[3]);
+
+#endif

@@ -1,0 +1,182 @@
+/* solver.c - gs_solver: the public, method-independent front of the distance
+ * field methods. Validates and normalises sources, dispatches to a method. */
+#include "geodesic_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct gs_solver {
+    const gs_patch *patch;
+    const gs_method_ops *ops;
+    void *state;
+    gs_source *src; /* normalised copy of the sources */
+    uint32_t src_cap;
+    gs_solve_stats stats;
+    double seconds;
+};
+
+static const gs_method_ops *ops_of(gs_method m)
+{
+    switch (m) {
+    case GS_METHOD_EXACT: return &gs_exact_ops;
+    case GS_METHOD_GRAPH: return &gs_graph_ops;
+    default: return NULL;
+    }
+}
+
+const char *gs_method_name(gs_method m)
+{
+    const gs_method_ops *o = ops_of(m);
+    return o ? o->name : NULL;
+}
+
+int gs_method_from_name(const char *name, gs_method *m, gs_error *err)
+{
+    static const gs_method all[] = {GS_METHOD_EXACT, GS_METHOD_GRAPH};
+    for (size_t i = 0; name && i < sizeof all / sizeof all[0]; ++i)
+        if (strcmp(name, ops_of(all[i])->name) == 0) {
+            *m = all[i];
+            return GS_OK;
+        }
+    return gs__fail(err, GS_EARG, "unknown method '%s' (expected exact or graph)",
+                    name ? name : "(null)");
+}
+
+gs_source gs_source_vertex(uint32_t v)
+{
+    gs_source s = {v, GS_NONE, {0, 0, 0}};
+    return s;
+}
+
+gs_source gs_source_point(uint32_t f, double b0, double b1, double b2)
+{
+    gs_source s = {GS_NONE, f, {b0, b1, b2}};
+    return s;
+}
+
+void gs_source_position(const gs_topo *t, const gs_source *s, double p[3])
+{
+    if (s->face == GS_NONE) {
+        memcpy(p, t->xyz + 3 * (size_t)s->vertex, 3 * sizeof(double));
+        return;
+    }
+    const uint32_t *c = t->tri + 3 * (size_t)s->face;
+    for (int k = 0; k < 3; ++k)
+        p[k] = s->bary[0] * t->xyz[3 * (size_t)c[0] + k] + s->bary[1] * t->xyz[3 * (size_t)c[1] + k] +
+               s->bary[2] * t->xyz[3 * (size_t)c[2] + k];
+}
+
+int gs_solver_create(const gs_patch *patch, gs_method method, gs_solver **out, gs_error *err)
+{
+    if (!out) return gs__fail(err, GS_EARG, "gs_solver_create: out is NULL");
+    *out = NULL;
+    if (!patch) return gs__fail(err, GS_EARG, "gs_solver_create: patch is NULL");
+    const gs_method_ops *ops = ops_of(method);
+    if (!ops) return gs__fail(err, GS_EARG, "gs_solver_create: unknown method %d", (int)method);
+    gs_solver *s = gs__calloc(1, sizeof *s);
+    if (!s) return gs__fail(err, GS_ENOMEM, "out of memory");
+    s->patch = patch;
+    s->ops = ops;
+    int rc = ops->create(patch->topo, &s->state, err);
+    if (rc) {
+        free(s);
+        return rc;
+    }
+    *out = s;
+    return GS_OK;
+}
+
+void gs_solver_free(gs_solver *s)
+{
+    if (!s) return;
+    if (s->state) s->ops->destroy(s->state);
+    free(s->src);
+    free(s);
+}
+
+static int normalise_source(const gs_topo *t, const gs_source *in, uint32_t i, gs_source *o,
+                            gs_error *err)
+{
+    if (in->face == GS_NONE) {
+        if (in->vertex >= t->nv)
+            return gs__fail(err, GS_EARG, "source %u: vertex %u out of range (%u vertices)", i,
+                            in->vertex, t->nv);
+        if (t->vflag[in->vertex] & GS_V_UNUSED) {
+            /* an isolated vertex: it reaches only itself */
+        }
+        *o = gs_source_vertex(in->vertex);
+        return GS_OK;
+    }
+    if (in->face >= t->nf)
+        return gs__fail(err, GS_EARG, "source %u: face %u out of range (%u faces)", i, in->face,
+                        t->nf);
+    double b[3], sum = 0;
+    for (int k = 0; k < 3; ++k) {
+        b[k] = in->bary[k];
+        if (!isfinite(b[k]) || b[k] < -1e-9)
+            return gs__fail(err, GS_EARG,
+                            "source %u: barycentric coordinate %d is %g (must be >= 0)", i, k,
+                            b[k]);
+        if (b[k] < 0) b[k] = 0;
+        sum += b[k];
+    }
+    if (fabs(sum - 1.0) > 1e-9)
+        return gs__fail(err, GS_EARG,
+                        "source %u: barycentric coordinates sum to %.17g (must be 1)", i, sum);
+    for (int k = 0; k < 3; ++k) b[k] /= sum;
+    for (int k = 0; k < 3; ++k)
+        if (b[k] == 1.0) {
+            *o = gs_source_vertex(t->tri[3 * (size_t)in->face + k]);
+            return GS_OK;
+        }
+    *o = gs_source_point(in->face, b[0], b[1], b[2]);
+    return GS_OK;
+}
+
+int gs_solver_solve(gs_solver *s, const gs_source *sources, uint32_t n, double max_distance,
+                    double *dist, gs_error *err)
+{
+    if (!s || !dist || (n && !sources))
+        return gs__fail(err, GS_EARG, "gs_solver_solve: NULL argument");
+    if (n == 0) return gs__fail(err, GS_EARG, "gs_solver_solve: no source given");
+    if (isnan(max_distance) || max_distance < 0)
+        return gs__fail(err, GS_EARG, "gs_solver_solve: max_distance %g is invalid",
+                        max_distance);
+    if (max_distance == 0) max_distance = INFINITY;
+    const gs_topo *t = s->patch->topo;
+    if (n > s->src_cap) {
+        gs_source *ns = gs__realloc(s->src, n, sizeof *ns);
+        if (!ns) return gs__fail(err, GS_ENOMEM, "out of memory");
+        s->src = ns;
+        s->src_cap = n;
+    }
+    for (uint32_t i = 0; i < n; ++i) {
+        int rc = normalise_source(t, &sources[i], i, &s->src[i], err);
+        if (rc) return rc;
+    }
+    memset(&s->stats, 0, sizeof s->stats);
+    double t0 = gs__now();
+    int rc = s->ops->solve(s->state, s->src, n, max_distance, dist, &s->stats, err);
+    s->seconds = gs__now() - t0;
+    return rc;
+}
+
+void gs_solver_last_stats(const gs_solver *s, uint64_t *created, uint64_t *propagated,
+                          double *seconds)
+{
+    if (created) *created = s ? s->stats.windows_created : 0;
+    if (propagated) *propagated = s ? s->stats.windows_propagated : 0;
+    if (seconds) *seconds = s ? s->seconds : 0;
+}
+
+int gs_distance_field(const gs_patch *patch, gs_method method, const gs_source *sources,
+                      uint32_t n, double max_distance, double *dist, gs_error *err)
+{
+    gs_solver *s = NULL;
+    int rc = gs_solver_create(patch, method, &s, err);
+    if (rc) return rc;
+    rc = gs_solver_solve(s, sources, n, max_distance, dist, err);
+    gs_solver_free(s);
+    return rc;
+}

@@ -1,0 +1,78 @@
+/* mesh_internal.h - the internal layout of meshes and patches: flat arrays of
+ * positions and faces plus a corner/half-edge connectivity (gs_topo) that all
+ * distance solvers run on. Not part of the public API. */
+#ifndef GS_MESH_INTERNAL_H
+#define GS_MESH_INTERNAL_H
+
+#include "../core/internal.h"
+
+/* Half-edge h = 3*f + i of face f runs from tri[h] to tri[gs_next(h)]; it is
+ * also "corner h", the corner of face f at vertex tri[h]. */
+static inline uint32_t gs_next(uint32_t h) { return (h % 3 == 2) ? h - 2 : h + 1; }
+static inline uint32_t gs_prev(uint32_t h) { return (h % 3 == 0) ? h + 2 : h - 1; }
+
+enum {
+    GS_V_BOUNDARY = 1,    /* on a boundary edge (or a bow-tie vertex)       */
+    GS_V_SADDLE = 2,      /* interior, total angle > 2*pi                   */
+    GS_V_UNUSED = 4,      /* used by no face                                */
+    GS_V_NONMANIFOLD = 8  /* several fans of faces meet (patches only)      */
+};
+
+/* Connectivity and intrinsic geometry of a triangle mesh or patch. */
+typedef struct gs_topo {
+    uint32_t nv, nf;
+    const double *xyz;   /* 3*nv positions (borrowed)                        */
+    const uint32_t *tri; /* 3*nf corner vertices (borrowed)                  */
+    uint32_t *opp;       /* 3*nf: twin half-edge across the edge, or GS_NONE */
+    double *len;         /* 3*nf: length of half-edge h                      */
+    double *angle;       /* 3*nf: interior angle at corner h (radians)       */
+    uint32_t *vc_start;  /* nv+1: CSR offsets into vc                        */
+    uint32_t *vc;        /* corners at each vertex (h with tri[h] == v)      */
+    double *vangle;      /* nv: total angle at each vertex                   */
+    uint8_t *vflag;      /* nv: GS_V_* flags                                 */
+    uint32_t n_edges;
+} gs_topo;
+
+/* Where the faces came from, for error messages: the file name and, for
+ * every face, the line (text files) or element number (binary files) that
+ * defined it. Both pointers may be NULL. */
+typedef struct gs_origin {
+    const char *file;
+    const uint32_t *face_line; /* nf entries, or NULL                      */
+    const char *unit;          /* "line" or "face"; NULL means "face"       */
+} gs_origin;
+
+enum { GS_TOPO_ALLOW_NONMANIFOLD_VERTICES = 1 };
+
+/* Validate and build connectivity. On failure *t is left empty (freed). */
+int gs_topo_build(gs_topo *t, uint32_t nv, const double *xyz, uint32_t nf,
+                  const uint32_t *tri, unsigned flags, const gs_origin *origin,
+                  gs_error *err);
+void gs_topo_free(gs_topo *t);
+
+struct gs_mesh {
+    uint32_t nv, nf;
+    double *xyz;
+    uint32_t *tri;
+    gs_topo topo;
+    gs_mesh_report report;
+};
+
+/* Take ownership of xyz/tri (malloc'ed) and build a mesh; on failure both
+ * arrays are freed. origin may be NULL. */
+int gs_mesh_adopt(double *xyz, uint32_t nv, uint32_t *tri, uint32_t nf,
+                  const gs_origin *origin, gs_mesh **out, gs_error *err);
+
+struct gs_patch {
+    const gs_mesh *mesh;
+    uint32_t nv, nf;
+    int identity;       /* 1: the whole mesh, local ids == mesh ids         */
+    double *xyz;        /* owned local copies (NULL if identity)            */
+    uint32_t *tri;
+    uint32_t *vmap;     /* local -> mesh vertex, increasing (NULL if identity) */
+    uint32_t *fmap;     /* local -> mesh face (NULL if identity)            */
+    gs_topo topo_own;   /* owned connectivity (unused if identity)          */
+    const gs_topo *topo;/* the connectivity solvers use                     */
+};
+
+#endif

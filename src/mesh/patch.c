@@ -1,0 +1,124 @@
+/* patch.c - gs_patch: a subset of a mesh's faces with its own vertex
+ * numbering and connectivity (the surface patches P(N) of the paper, sec. 2.2). */
+#include "mesh_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void gs_patch_free(gs_patch *p)
+{
+    if (!p) return;
+    if (!p->identity) gs_topo_free(&p->topo_own);
+    free(p->xyz);
+    free(p->tri);
+    free(p->vmap);
+    free(p->fmap);
+    free(p);
+}
+
+int gs_patch_create(const gs_mesh *mesh, const uint32_t *faces, uint32_t n_faces,
+                    gs_patch **out, gs_error *err)
+{
+    if (!out) return gs__fail(err, GS_EARG, "gs_patch_create: out is NULL");
+    *out = NULL;
+    if (!mesh) return gs__fail(err, GS_EARG, "gs_patch_create: mesh is NULL");
+    gs_patch *p = gs__calloc(1, sizeof *p);
+    if (!p) return gs__fail(err, GS_ENOMEM, "out of memory");
+    p->mesh = mesh;
+    if (!faces) {
+        p->identity = 1;
+        p->nv = mesh->nv;
+        p->nf = mesh->nf;
+        p->topo = &mesh->topo;
+        *out = p;
+        return GS_OK;
+    }
+    int rc = GS_OK;
+    uint8_t *used = gs__calloc(mesh->nf ? mesh->nf : 1, 1);
+    uint32_t *g2l = gs__malloc(mesh->nv ? mesh->nv : 1, sizeof *g2l);
+    p->fmap = gs__malloc(n_faces, sizeof *p->fmap);
+    p->tri = gs__malloc(3 * (size_t)n_faces, sizeof *p->tri);
+    if (!used || !g2l || !p->fmap || !p->tri) {
+        rc = gs__fail(err, GS_ENOMEM, "out of memory creating a patch");
+        goto done;
+    }
+    for (uint32_t i = 0; i < n_faces; ++i) {
+        uint32_t f = faces[i];
+        if (f >= mesh->nf) {
+            rc = gs__fail(err, GS_EARG, "gs_patch_create: face %u (entry %u) out of range (%u faces)",
+                          f, i, mesh->nf);
+            goto done;
+        }
+        if (used[f]) {
+            rc = gs__fail(err, GS_EARG, "gs_patch_create: face %u listed twice (entry %u)", f, i);
+            goto done;
+        }
+        used[f] = 1;
+        p->fmap[i] = f;
+    }
+    /* local vertices: increasing mesh ids */
+    for (uint32_t v = 0; v < mesh->nv; ++v) g2l[v] = GS_NONE;
+    for (uint32_t i = 0; i < n_faces; ++i)
+        for (int k = 0; k < 3; ++k) g2l[mesh->tri[3 * (size_t)faces[i] + k]] = 0;
+    uint32_t nv = 0;
+    for (uint32_t v = 0; v < mesh->nv; ++v)
+        if (g2l[v] == 0) g2l[v] = nv++;
+    p->nv = nv;
+    p->nf = n_faces;
+    p->vmap = gs__malloc(nv, sizeof *p->vmap);
+    p->xyz = gs__malloc(3 * (size_t)nv, sizeof *p->xyz);
+    if (!p->vmap || !p->xyz) {
+        rc = gs__fail(err, GS_ENOMEM, "out of memory creating a patch");
+        goto done;
+    }
+    for (uint32_t v = 0; v < mesh->nv; ++v)
+        if (g2l[v] != GS_NONE) {
+            p->vmap[g2l[v]] = v;
+            memcpy(p->xyz + 3 * (size_t)g2l[v], mesh->xyz + 3 * (size_t)v, 3 * sizeof(double));
+        }
+    for (uint32_t i = 0; i < n_faces; ++i)
+        for (int k = 0; k < 3; ++k)
+            p->tri[3 * (size_t)i + k] = g2l[mesh->tri[3 * (size_t)faces[i] + k]];
+    rc = gs_topo_build(&p->topo_own, nv, p->xyz, n_faces, p->tri,
+                       GS_TOPO_ALLOW_NONMANIFOLD_VERTICES, NULL, err);
+    p->topo = &p->topo_own;
+done:
+    free(used);
+    free(g2l);
+    if (rc) {
+        gs_patch_free(p);
+        return rc;
+    }
+    *out = p;
+    return GS_OK;
+}
+
+uint32_t gs_patch_num_vertices(const gs_patch *p) { return p ? p->nv : 0; }
+uint32_t gs_patch_num_faces(const gs_patch *p) { return p ? p->nf : 0; }
+
+uint32_t gs_patch_vertex_to_mesh(const gs_patch *p, uint32_t local)
+{
+    if (!p || local >= p->nv) return GS_NONE;
+    return p->identity ? local : p->vmap[local];
+}
+
+uint32_t gs_patch_face_to_mesh(const gs_patch *p, uint32_t local)
+{
+    if (!p || local >= p->nf) return GS_NONE;
+    return p->identity ? local : p->fmap[local];
+}
+
+uint32_t gs_patch_vertex_from_mesh(const gs_patch *p, uint32_t v)
+{
+    if (!p) return GS_NONE;
+    if (p->identity) return v < p->nv ? v : GS_NONE;
+    uint32_t lo = 0, hi = p->nv; /* vmap is increasing: binary search */
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (p->vmap[mid] < v)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return (lo < p->nv && p->vmap[lo] == v) ? lo : GS_NONE;
+}

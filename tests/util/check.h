@@ -1,0 +1,47 @@
+/* check.h - a minimal test harness: CHECK macros that count and report
+ * failures, skip support (exit 77, which ctest reports as skipped), and
+ * helpers to find ../shared data. Each test program runs in its own process. */
+#ifndef GS_CHECK_H
+#define GS_CHECK_H
+
+#include <stdio.h>
+#include <stdlib.h>
+
+extern int gs_test_failures;
+extern int gs_test_checks;
+
+#define CHECK(cond)                                                                   \
+    do {                                                                              \
+        gs_test_checks++;                                                             \
+        if (!(cond)) {                                                                \
+            gs_test_failures++;                                                       \
+            fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond);  \
+        }                                                                             \
+    } while (0)
+
+#define CHECK_MSG(cond, ...)                                                          \
+    do {                                                                              \
+        gs_test_checks++;                                                             \
+        if (!(cond)) {                                                                \
+            gs_test_failures++;                                                       \
+            fprintf(stderr, "%s:%d: CHECK failed: %s: ", __FILE__, __LINE__, #cond);  \
+            fprintf(stderr, __VA_ARGS__);                                             \
+            fputc('\n', stderr);                                                      \
+        }                                                                             \
+    } while (0)
+
+#define CHECK_NEAR(a, b, tol)                                                         \
+    CHECK_MSG(fabs((double)(a) - (double)(b)) <= (tol), "%.17g vs %.17g (tol %g)",     \
+              (double)(a), (double)(b), (double)(tol))
+
+/* Print a summary line and return the process exit code. */
+int gs_test_finish(const char *name);
+
+/* Print the reason and exit 77 (ctest: skipped). */
+void gs_test_skip(const char *reason);
+
+/* Path of a file under the shared data folder (GEOSEP_SHARED env var, else
+ * the CMake default). Returns NULL if the file does not exist. Static buffer. */
+const char *gs_test_shared_path(const char *relative);
+
+#endif
