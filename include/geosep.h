@@ -226,6 +226,29 @@ int gs_distance_field(const gs_patch *patch, gs_method method,
                       const gs_source *sources, uint32_t n_sources,
                       double max_distance, double *dist, gs_error *err);
 
+/* ======================================================================== */
+/* Ground-truth distance files (format GEOGT1, doc/file-formats.md)         */
+/* ======================================================================== */
+
+/* Distances from n_sources source vertices to every vertex. */
+typedef struct gs_gt {
+    uint32_t n_vertices;
+    uint32_t n_sources;
+    uint32_t *sources; /* n_sources source vertex ids                      */
+    double *dist;      /* n_sources * n_vertices; row j is source j's field */
+} gs_gt;
+
+/* Read a GEOGT1 file; checks magic, counts against the file size, source
+ * ids < n_vertices. *out receives a new gs_gt (caller frees with gs_gt_free). */
+int gs_gt_read(const char *path, gs_gt **out, gs_error *err);
+
+/* Write a GEOGT1 file atomically (temporary file, then rename). dist holds
+ * n_sources * n_vertices doubles, row-major by source. */
+int gs_gt_write(const char *path, uint32_t n_vertices, uint32_t n_sources,
+                const uint32_t *sources, const double *dist, gs_error *err);
+
+void gs_gt_free(gs_gt *gt);
+
 #ifdef __cplusplus
 }
 #endif

@@ -16,6 +16,12 @@ void gs_patch_free(gs_patch *p)
     free(p);
 }
 
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? -1 : (x > y);
+}
+
 int gs_patch_create(const gs_mesh *mesh, const uint32_t *faces, uint32_t n_faces,
                     gs_patch **out, gs_error *err)
 {
@@ -33,36 +39,37 @@ int gs_patch_create(const gs_mesh *mesh, const uint32_t *faces, uint32_t n_faces
         *out = p;
         return GS_OK;
     }
+    /* Everything below costs O(k log k) for k faces, independent of the
+     * mesh size: the nested bisection creates many small patches. */
     int rc = GS_OK;
-    uint8_t *used = gs__calloc(mesh->nf ? mesh->nf : 1, 1);
-    uint32_t *g2l = gs__malloc(mesh->nv ? mesh->nv : 1, sizeof *g2l);
+    size_t nc = 3 * (size_t)n_faces;
+    uint32_t *sorted = gs__malloc(n_faces, sizeof *sorted);
+    uint32_t *verts = gs__malloc(nc, sizeof *verts);
     p->fmap = gs__malloc(n_faces, sizeof *p->fmap);
-    p->tri = gs__malloc(3 * (size_t)n_faces, sizeof *p->tri);
-    if (!used || !g2l || !p->fmap || !p->tri) {
+    p->tri = gs__malloc(nc, sizeof *p->tri);
+    if (!sorted || !verts || !p->fmap || !p->tri) {
         rc = gs__fail(err, GS_ENOMEM, "out of memory creating a patch");
         goto done;
     }
     for (uint32_t i = 0; i < n_faces; ++i) {
-        uint32_t f = faces[i];
-        if (f >= mesh->nf) {
+        if (faces[i] >= mesh->nf) {
             rc = gs__fail(err, GS_EARG, "gs_patch_create: face %u (entry %u) out of range (%u faces)",
-                          f, i, mesh->nf);
+                          faces[i], i, mesh->nf);
             goto done;
         }
-        if (used[f]) {
-            rc = gs__fail(err, GS_EARG, "gs_patch_create: face %u listed twice (entry %u)", f, i);
-            goto done;
-        }
-        used[f] = 1;
-        p->fmap[i] = f;
+        sorted[i] = p->fmap[i] = faces[i];
+        for (int k = 0; k < 3; ++k) verts[3 * (size_t)i + k] = mesh->tri[3 * (size_t)faces[i] + k];
     }
-    /* local vertices: increasing mesh ids */
-    for (uint32_t v = 0; v < mesh->nv; ++v) g2l[v] = GS_NONE;
-    for (uint32_t i = 0; i < n_faces; ++i)
-        for (int k = 0; k < 3; ++k) g2l[mesh->tri[3 * (size_t)faces[i] + k]] = 0;
+    qsort(sorted, n_faces, sizeof *sorted, cmp_u32);
+    for (uint32_t i = 1; i < n_faces; ++i)
+        if (sorted[i] == sorted[i - 1]) {
+            rc = gs__fail(err, GS_EARG, "gs_patch_create: face %u listed twice", sorted[i]);
+            goto done;
+        }
+    qsort(verts, nc, sizeof *verts, cmp_u32);
     uint32_t nv = 0;
-    for (uint32_t v = 0; v < mesh->nv; ++v)
-        if (g2l[v] == 0) g2l[v] = nv++;
+    for (size_t i = 0; i < nc; ++i)
+        if (i == 0 || verts[i] != verts[i - 1]) verts[nv++] = verts[i];
     p->nv = nv;
     p->nf = n_faces;
     p->vmap = gs__malloc(nv, sizeof *p->vmap);
@@ -71,20 +78,17 @@ int gs_patch_create(const gs_mesh *mesh, const uint32_t *faces, uint32_t n_faces
         rc = gs__fail(err, GS_ENOMEM, "out of memory creating a patch");
         goto done;
     }
-    for (uint32_t v = 0; v < mesh->nv; ++v)
-        if (g2l[v] != GS_NONE) {
-            p->vmap[g2l[v]] = v;
-            memcpy(p->xyz + 3 * (size_t)g2l[v], mesh->xyz + 3 * (size_t)v, 3 * sizeof(double));
-        }
-    for (uint32_t i = 0; i < n_faces; ++i)
-        for (int k = 0; k < 3; ++k)
-            p->tri[3 * (size_t)i + k] = g2l[mesh->tri[3 * (size_t)faces[i] + k]];
+    memcpy(p->vmap, verts, (size_t)nv * sizeof *p->vmap);
+    for (uint32_t v = 0; v < nv; ++v)
+        memcpy(p->xyz + 3 * (size_t)v, mesh->xyz + 3 * (size_t)p->vmap[v], 3 * sizeof(double));
+    for (size_t i = 0; i < nc; ++i)
+        p->tri[i] = gs_patch_vertex_from_mesh(p, mesh->tri[3 * (size_t)faces[i / 3] + i % 3]);
     rc = gs_topo_build(&p->topo_own, nv, p->xyz, n_faces, p->tri,
                        GS_TOPO_ALLOW_NONMANIFOLD_VERTICES, NULL, err);
     p->topo = &p->topo_own;
 done:
-    free(used);
-    free(g2l);
+    free(sorted);
+    free(verts);
     if (rc) {
         gs_patch_free(p);
         return rc;

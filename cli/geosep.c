@@ -1,0 +1,576 @@
+/* geosep.c - the geosep command: mesh health reports, generated meshes and
+ * geodesic distance fields (text, or GEOGT1 ground-truth files), built on
+ * the public API only. Exit status: 0 ok, 1 runtime error, 2 usage error. */
+#include "geosep.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+enum { EXIT_RUNTIME = 1, EXIT_USAGE = 2 };
+
+/* ---- messages ----------------------------------------------------------- */
+
+#if defined(__GNUC__)
+#define CLI_PRINTF(a, b) __attribute__((format(printf, a, b)))
+#else
+#define CLI_PRINTF(a, b)
+#endif
+
+/* Print "geosep: MESSAGE" to stderr and return the exit code. */
+static int fail(int code, const char *fmt, ...) CLI_PRINTF(2, 3);
+static int fail(int code, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("geosep: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+    return code;
+}
+
+/* A library failure: its message, prefixed by `what` unless it names it. */
+static int lib_fail(const char *what, int rc, const gs_error *err)
+{
+    const char *msg = err->message[0] ? err->message : gs_status_string(rc);
+    if (strstr(msg, what)) return fail(EXIT_RUNTIME, "%s", msg);
+    return fail(EXIT_RUNTIME, "%s: %s", what, msg);
+}
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* ---- usage -------------------------------------------------------------- */
+
+static const char usage_info[] =
+    "usage: geosep info MESH\n"
+    "  Print the mesh health report: counts, components, boundary loops, Euler\n"
+    "  characteristic, genus, corner angles, edge lengths, bounding box.\n"
+    "  MESH: .obj .off .ply .stl\n";
+
+static const char usage_generate[] =
+    "usage: geosep generate SPEC -o OUT.obj\n"
+    "  Write a generated mesh as OBJ. SPEC is one of:\n"
+    "    grid:NX,NY[,W,H]  peaks:N  plate:N  cylinder:NU,NV[,R,H]  cone:NU,NV[,R,H]\n"
+    "    cube:N[,S]  torus:NU,NV[,R,r]  sphere:N  two:N\n";
+
+static const char usage_solve[] =
+    "usage: geosep solve MESH --source V [--source V ...] [--source-point F:b0,b1,b2 ...]\n"
+    "                    [--method exact|graph] [--max-distance D] [-o OUT] [--verbose]\n"
+    "       geosep solve MESH --format gt --sources-from FILE.gt -o OUT.gt\n"
+    "                    [--method exact|graph] [--verbose]\n"
+    "  Geodesic distances from the sources to every vertex. Text output: one\n"
+    "  distance per line in vertex order (\"%.17g\", \"inf\" if unreachable), the\n"
+    "  minimum over all sources, to OUT or stdout. --source V is a vertex id\n"
+    "  (0-based); --source-point F:b0,b1,b2 is a point of face F (0-based) with\n"
+    "  barycentric coordinates b >= 0 summing to 1. --max-distance D > 0 stops\n"
+    "  at D (vertices farther away print a value > D or inf; 0 = no bound).\n"
+    "  --format gt: solve each source listed in FILE.gt (GEOGT1) separately and\n"
+    "  write all fields to OUT.gt. Files are written atomically.\n";
+
+static void print_usage(FILE *f)
+{
+    fprintf(f,
+            "geosep %s - geodesic distances on triangle meshes\n\n"
+            "usage: geosep COMMAND [ARGS]   (geosep help COMMAND, geosep COMMAND --help)\n\n"
+            "commands:\n"
+            "  info MESH                       mesh health report\n"
+            "  generate SPEC -o OUT.obj        write a generated test mesh\n"
+            "  solve MESH --source V ...       distance field from sources\n"
+            "  help [COMMAND]                  this text, or a command's usage\n"
+            "  version                         print the version\n",
+            gs_version_string());
+}
+
+static int is_help(const char *a) { return !strcmp(a, "--help") || !strcmp(a, "-h"); }
+
+/* ---- strict number parsing ---------------------------------------------- */
+
+static int parse_u32(const char *s, uint32_t *out)
+{
+    uint64_t v = 0;
+    if (!*s) return -1;
+    for (; *s; ++s) {
+        if (*s < '0' || *s > '9') return -1;
+        v = v * 10 + (uint64_t)(*s - '0');
+        if (v > UINT32_MAX - 1) return -1;
+    }
+    *out = (uint32_t)v;
+    return 0;
+}
+
+static int parse_double(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end || isnan(v)) return -1;
+    *out = v;
+    return 0;
+}
+
+/* ---- atomic text output: temporary file + rename ------------------------ */
+
+typedef struct out_file {
+    FILE *f;
+    char *tmp;
+    const char *path; /* NULL: stdout */
+} out_file;
+
+static int out_open(out_file *o, const char *path)
+{
+    o->f = stdout;
+    o->tmp = NULL;
+    o->path = (path && strcmp(path, "-")) ? path : NULL;
+    if (!o->path) return 0;
+    size_t n = strlen(path) + 16;
+    o->tmp = malloc(n);
+    if (!o->tmp) return fail(EXIT_RUNTIME, "out of memory");
+    snprintf(o->tmp, n, "%s.tmp.XXXXXX", path);
+    int fd = mkstemp(o->tmp);
+    if (fd < 0) {
+        int e = errno;
+        free(o->tmp);
+        o->tmp = NULL;
+        return fail(EXIT_RUNTIME, "%s: cannot create: %s", path, strerror(e));
+    }
+    mode_t mask = umask(0);
+    umask(mask);
+    fchmod(fd, 0666 & ~mask);
+    o->f = fdopen(fd, "w");
+    if (!o->f) {
+        close(fd);
+        unlink(o->tmp);
+        free(o->tmp);
+        return fail(EXIT_RUNTIME, "%s: cannot open: %s", path, strerror(errno));
+    }
+    return 0;
+}
+
+static void out_abort(out_file *o)
+{
+    if (!o->path) return;
+    fclose(o->f);
+    unlink(o->tmp);
+    free(o->tmp);
+}
+
+static int out_commit(out_file *o)
+{
+    if (!o->path) return fflush(stdout) || ferror(stdout) ? fail(EXIT_RUNTIME, "write error on stdout") : 0;
+    int bad = fflush(o->f) != 0 || ferror(o->f) || fsync(fileno(o->f)) != 0;
+    int e = errno;
+    bad |= fclose(o->f) != 0;
+    if (!bad && rename(o->tmp, o->path) != 0) {
+        e = errno;
+        bad = 1;
+    }
+    if (bad) unlink(o->tmp);
+    free(o->tmp);
+    return bad ? fail(EXIT_RUNTIME, "%s: write failed: %s", o->path, strerror(e)) : 0;
+}
+
+/* ---- info --------------------------------------------------------------- */
+
+static int load_mesh(const char *path, gs_mesh **m)
+{
+    gs_error err = {0};
+    int rc = gs_mesh_load(path, GS_FORMAT_AUTO, m, &err);
+    return rc ? lib_fail(path, rc, &err) : 0;
+}
+
+static void print_report(const char *path, const gs_mesh_report *r)
+{
+    printf("mesh           %s\n", path);
+    printf("vertices       %u (%u unreferenced)\n", r->n_vertices, r->n_unreferenced);
+    printf("faces          %u\n", r->n_faces);
+    printf("edges          %u\n", r->n_edges);
+    printf("components     %u\n", r->n_components);
+    printf("boundary       %u edges in %u loops\n", r->n_boundary_edges, r->n_boundary_loops);
+    printf("euler          %d\n", r->euler);
+    printf("genus          %d\n", r->genus);
+    printf("angles (deg)   min %.6g max %.6g\n", r->min_angle_deg, r->max_angle_deg);
+    printf("edge length    min %.6g mean %.6g max %.6g\n", r->min_edge, r->mean_edge, r->max_edge);
+    printf("bbox           [%.6g, %.6g, %.6g] - [%.6g, %.6g, %.6g]\n", r->bbox_min[0], r->bbox_min[1],
+           r->bbox_min[2], r->bbox_max[0], r->bbox_max[1], r->bbox_max[2]);
+}
+
+static int cmd_info(int argc, char **argv)
+{
+    if (argc == 2 && is_help(argv[1])) return fputs(usage_info, stdout), 0;
+    if (argc != 2 || argv[1][0] == '-') {
+        fputs(usage_info, stderr);
+        return fail(EXIT_USAGE, "info: expected exactly one MESH argument");
+    }
+    gs_mesh *m = NULL;
+    int rc = load_mesh(argv[1], &m);
+    if (rc) return rc;
+    gs_mesh_report r;
+    gs_error err = {0};
+    rc = gs_mesh_get_report(m, &r, &err);
+    if (rc == GS_OK) print_report(argv[1], &r);
+    gs_mesh_free(m);
+    return rc ? lib_fail("info", rc, &err) : 0;
+}
+
+/* ---- generate ----------------------------------------------------------- */
+
+static int cmd_generate(int argc, char **argv)
+{
+    const char *spec = NULL, *out = NULL;
+    for (int i = 1; i < argc; ++i) {
+        if (is_help(argv[i])) return fputs(usage_generate, stdout), 0;
+        if (!strcmp(argv[i], "-o")) {
+            if (++i == argc) return fail(EXIT_USAGE, "generate: -o needs a file name");
+            out = argv[i];
+        } else if (argv[i][0] == '-' && argv[i][1]) {
+            return fail(EXIT_USAGE, "generate: unknown option '%s' (see geosep generate --help)", argv[i]);
+        } else if (!spec) {
+            spec = argv[i];
+        } else {
+            return fail(EXIT_USAGE, "generate: unexpected argument '%s'", argv[i]);
+        }
+    }
+    if (!spec || !out) {
+        fputs(usage_generate, stderr);
+        return fail(EXIT_USAGE, "generate: %s", !spec ? "missing SPEC" : "missing -o OUT.obj");
+    }
+    gs_mesh *m = NULL;
+    gs_error err = {0};
+    int rc = gs_mesh_generate(spec, &m, &err);
+    if (rc) return fail(rc == GS_EARG ? EXIT_USAGE : EXIT_RUNTIME, "generate: %s", err.message);
+    rc = gs_mesh_save_obj(m, out, &err);
+    gs_mesh_free(m);
+    return rc ? lib_fail("generate", rc, &err) : 0;
+}
+
+/* ---- solve: options ------------------------------------------------------ */
+
+typedef struct solve_opts {
+    const char *mesh, *out, *sources_from;
+    gs_method method;
+    double max_d;
+    int gt, verbose;
+    gs_source *src;
+    uint32_t n_src, cap_src;
+    const char **src_arg; /* the argument each source came from */
+} solve_opts;
+
+static int add_source(solve_opts *o, gs_source s, const char *arg)
+{
+    if (o->n_src == o->cap_src) {
+        uint32_t cap = o->cap_src ? 2 * o->cap_src : 8;
+        gs_source *p = realloc(o->src, cap * sizeof *p);
+        const char **q = p ? realloc(o->src_arg, cap * sizeof *q) : NULL;
+        if (p) o->src = p;
+        if (!p || !q) return fail(EXIT_RUNTIME, "out of memory");
+        o->src_arg = q;
+        o->cap_src = cap;
+    }
+    o->src_arg[o->n_src] = arg;
+    o->src[o->n_src++] = s;
+    return 0;
+}
+
+/* "F:b0,b1,b2" */
+static int parse_point(const char *a, gs_source *s)
+{
+    char buf[256], *colon, *c1, *c2;
+    if (strlen(a) >= sizeof buf) return -1;
+    strcpy(buf, a);
+    if (!(colon = strchr(buf, ':'))) return -1;
+    *colon = 0;
+    if (!(c1 = strchr(colon + 1, ',')) || !(c2 = strchr(c1 + 1, ','))) return -1;
+    *c1 = *c2 = 0;
+    uint32_t f;
+    double b[3];
+    if (parse_u32(buf, &f) || parse_double(colon + 1, &b[0]) || parse_double(c1 + 1, &b[1]) ||
+        parse_double(c2 + 1, &b[2]))
+        return -1;
+    *s = gs_source_point(f, b[0], b[1], b[2]);
+    return 0;
+}
+
+/* Value of option argv[*i] ("--opt VALUE" or "--opt=VALUE"); NULL if absent. */
+static const char *opt_value(int argc, char **argv, int *i, const char *name)
+{
+    size_t n = strlen(name);
+    if (strncmp(argv[*i], name, n)) return NULL;
+    if (argv[*i][n] == '=') return argv[*i] + n + 1;
+    if (argv[*i][n] || *i + 1 >= argc) return NULL;
+    return argv[++*i];
+}
+
+static int is_opt(const char *arg, const char *name)
+{
+    size_t n = strlen(name);
+    return !strncmp(arg, name, n) && (arg[n] == 0 || arg[n] == '=');
+}
+
+static int solve_option(solve_opts *o, int argc, char **argv, int *i)
+{
+    const char *a = argv[*i], *v;
+    static const char *const with_value[] = {"--source", "--source-point", "--method", "--max-distance",
+                                             "--format", "--sources-from", "-o"};
+    for (size_t k = 0; k < sizeof with_value / sizeof *with_value; ++k) {
+        if (!is_opt(a, with_value[k])) continue;
+        if (!(v = opt_value(argc, argv, i, with_value[k])) || !*v)
+            return fail(EXIT_USAGE, "solve: %s needs a value", with_value[k]);
+        switch (k) {
+        case 0: {
+            uint32_t x;
+            if (parse_u32(v, &x)) return fail(EXIT_USAGE, "solve: --source '%s': expected a vertex id (integer >= 0)", v);
+            return add_source(o, gs_source_vertex(x), v);
+        }
+        case 1: {
+            gs_source s;
+            if (parse_point(v, &s))
+                return fail(EXIT_USAGE, "solve: --source-point '%s': expected F:b0,b1,b2 (face id, three barycentric coordinates)", v);
+            return add_source(o, s, v);
+        }
+        case 2: {
+            gs_error err = {0};
+            if (gs_method_from_name(v, &o->method, &err))
+                return fail(EXIT_USAGE, "solve: --method '%s': expected exact or graph", v);
+            return 0;
+        }
+        case 3:
+            if (parse_double(v, &o->max_d) || o->max_d < 0)
+                return fail(EXIT_USAGE, "solve: --max-distance '%s': expected a number >= 0 (0 or inf: no bound)", v);
+            return 0;
+        case 4:
+            if (strcmp(v, "gt") && strcmp(v, "text"))
+                return fail(EXIT_USAGE, "solve: --format '%s': expected text or gt", v);
+            o->gt = !strcmp(v, "gt");
+            return 0;
+        case 5: o->sources_from = v; return 0;
+        default: o->out = v; return 0;
+        }
+    }
+    if (!strcmp(a, "--verbose") || !strcmp(a, "-v")) return o->verbose = 1, 0;
+    return fail(EXIT_USAGE, "solve: unknown option '%s' (see geosep solve --help)", a);
+}
+
+static int check_solve_opts(const solve_opts *o)
+{
+    if (!o->mesh) return fail(EXIT_USAGE, "solve: missing MESH");
+    if (o->gt) {
+        if (!o->sources_from) return fail(EXIT_USAGE, "solve: --format gt needs --sources-from FILE.gt");
+        if (!o->out || !strcmp(o->out, "-")) return fail(EXIT_USAGE, "solve: --format gt needs -o OUT.gt");
+        if (o->n_src) return fail(EXIT_USAGE, "solve: --format gt takes its sources from --sources-from, not --source");
+        if (o->max_d != 0 && !isinf(o->max_d))
+            return fail(EXIT_USAGE, "solve: --format gt writes complete fields; --max-distance is not allowed");
+        return 0;
+    }
+    if (o->sources_from) return fail(EXIT_USAGE, "solve: --sources-from needs --format gt");
+    if (!o->n_src) return fail(EXIT_USAGE, "solve: no source given (--source V or --source-point F:b0,b1,b2)");
+    return 0;
+}
+
+static int parse_solve(solve_opts *o, int argc, char **argv)
+{
+    for (int i = 1; i < argc; ++i) {
+        if (is_help(argv[i])) return fputs(usage_solve, stdout), -1;
+        if (argv[i][0] == '-' && argv[i][1]) {
+            int rc = solve_option(o, argc, argv, &i);
+            if (rc) return rc;
+        } else if (!o->mesh) {
+            o->mesh = argv[i];
+        } else {
+            return fail(EXIT_USAGE, "solve: unexpected argument '%s' (one MESH only)", argv[i]);
+        }
+    }
+    return check_solve_opts(o);
+}
+
+/* Range checks that need the mesh: exit status 2, naming the argument. */
+static int check_sources(const solve_opts *o, const gs_mesh *m)
+{
+    uint32_t nv = gs_mesh_num_vertices(m), nf = gs_mesh_num_faces(m);
+    for (uint32_t i = 0; i < o->n_src; ++i) {
+        const gs_source *s = &o->src[i];
+        if (s->face == GS_NONE) {
+            if (s->vertex >= nv)
+                return fail(EXIT_USAGE, "solve: --source %s: vertex out of range (the mesh has %u vertices: 0..%u)",
+                            o->src_arg[i], nv, nv - 1);
+            continue;
+        }
+        if (s->face >= nf)
+            return fail(EXIT_USAGE, "solve: --source-point %s: face out of range (the mesh has %u faces)",
+                        o->src_arg[i], nf);
+        double sum = s->bary[0] + s->bary[1] + s->bary[2];
+        if (!(s->bary[0] >= 0 && s->bary[1] >= 0 && s->bary[2] >= 0) || !(fabs(sum - 1) <= 1e-9))
+            return fail(EXIT_USAGE, "solve: --source-point %s: barycentric coordinates must be >= 0 and sum to 1 (sum %.17g)",
+                        o->src_arg[i], sum);
+    }
+    return 0;
+}
+
+/* ---- solve: running ----------------------------------------------------- */
+
+typedef struct run_ctx {
+    gs_mesh *mesh;
+    gs_patch *patch;
+    gs_solver *solver;
+    double t_load, t_solve;
+    uint64_t windows;
+} run_ctx;
+
+static int prepare(const solve_opts *o, run_ctx *c)
+{
+    double t0 = now();
+    int rc = load_mesh(o->mesh, &c->mesh);
+    if (rc) return rc;
+    c->t_load = now() - t0;
+    gs_error err = {0};
+    if ((rc = gs_patch_create(c->mesh, NULL, 0, &c->patch, &err)) ||
+        (rc = gs_solver_create(c->patch, o->method, &c->solver, &err)))
+        return lib_fail("solve", rc, &err);
+    return 0;
+}
+
+static int run_solve(run_ctx *c, const gs_source *s, uint32_t n, double max_d, double *dist)
+{
+    gs_error err = {0};
+    double t0 = now();
+    int rc = gs_solver_solve(c->solver, s, n, max_d, dist, &err);
+    c->t_solve += now() - t0;
+    uint64_t w = 0;
+    gs_solver_last_stats(c->solver, &w, NULL, NULL);
+    c->windows += w;
+    return rc ? lib_fail("solve", rc, &err) : 0;
+}
+
+static int write_text(const char *path, const double *d, uint32_t n)
+{
+    out_file o;
+    int rc = out_open(&o, path);
+    if (rc) return rc;
+    for (uint32_t v = 0; v < n; ++v) {
+        if (isinf(d[v]))
+            fputs("inf\n", o.f);
+        else
+            fprintf(o.f, "%.17g\n", d[v]);
+    }
+    if (ferror(o.f)) {
+        out_abort(&o);
+        return fail(EXIT_RUNTIME, "%s: write failed", path ? path : "stdout");
+    }
+    return out_commit(&o);
+}
+
+static int solve_text(const solve_opts *o, run_ctx *c)
+{
+    uint32_t n = gs_mesh_num_vertices(c->mesh);
+    double *d = malloc((n ? n : 1) * sizeof *d);
+    if (!d) return fail(EXIT_RUNTIME, "out of memory");
+    int rc = run_solve(c, o->src, o->n_src, o->max_d, d);
+    if (!rc) rc = write_text(o->out, d, n);
+    free(d);
+    return rc;
+}
+
+static int solve_gt(const solve_opts *o, run_ctx *c)
+{
+    gs_gt *gt = NULL;
+    gs_error err = {0};
+    int rc = gs_gt_read(o->sources_from, &gt, &err);
+    if (rc) return lib_fail(o->sources_from, rc, &err);
+    uint32_t n = gs_mesh_num_vertices(c->mesh);
+    double *d = NULL;
+    if (gt->n_vertices != n)
+        rc = fail(EXIT_RUNTIME, "%s: made for %u vertices, but %s has %u", o->sources_from, gt->n_vertices,
+                  o->mesh, n);
+    else if (!(d = malloc(((size_t)n * gt->n_sources + 1) * sizeof *d)))
+        rc = fail(EXIT_RUNTIME, "out of memory for %u fields of %u vertices", gt->n_sources, n);
+    for (uint32_t j = 0; !rc && j < gt->n_sources; ++j) {
+        gs_source s = gs_source_vertex(gt->sources[j]);
+        rc = run_solve(c, &s, 1, 0, d + (size_t)j * n);
+    }
+    if (!rc && (rc = gs_gt_write(o->out, n, gt->n_sources, gt->sources, d, &err)))
+        rc = lib_fail(o->out, rc, &err);
+    free(d);
+    gs_gt_free(gt);
+    return rc;
+}
+
+static int cmd_solve(int argc, char **argv)
+{
+    solve_opts o = {0};
+    o.method = GS_METHOD_EXACT;
+    run_ctx c = {0};
+    int rc = parse_solve(&o, argc, argv);
+    if (rc < 0) {
+        rc = 0; /* --help */
+        goto done;
+    }
+    if (rc) goto done;
+    if ((rc = prepare(&o, &c)) || (rc = check_sources(&o, c.mesh))) goto done;
+    rc = o.gt ? solve_gt(&o, &c) : solve_text(&o, &c);
+    if (!rc && o.verbose)
+        fprintf(stderr, "geosep: %s, %u vertices, %s: load %.3f s, solve %.3f s, %llu windows\n", o.mesh,
+                gs_mesh_num_vertices(c.mesh), gs_method_name(o.method), c.t_load, c.t_solve,
+                (unsigned long long)c.windows);
+done:
+    gs_solver_free(c.solver);
+    gs_patch_free(c.patch);
+    gs_mesh_free(c.mesh);
+    free(o.src);
+    free(o.src_arg);
+    return rc;
+}
+
+/* ---- dispatch ----------------------------------------------------------- */
+
+typedef struct command {
+    const char *name;
+    int (*run)(int argc, char **argv);
+    const char *usage;
+} command;
+
+static const command commands[] = {
+    {"info", cmd_info, usage_info},
+    {"generate", cmd_generate, usage_generate},
+    {"solve", cmd_solve, usage_solve},
+};
+
+static const command *find_command(const char *name)
+{
+    for (size_t i = 0; i < sizeof commands / sizeof *commands; ++i)
+        if (!strcmp(commands[i].name, name)) return &commands[i];
+    return NULL;
+}
+
+static int cmd_help(int argc, char **argv)
+{
+    if (argc < 2) return print_usage(stdout), 0;
+    const command *c = find_command(argv[1]);
+    if (!c) return fail(EXIT_USAGE, "help: unknown command '%s'", argv[1]);
+    fputs(c->usage, stdout);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        print_usage(stderr);
+        return EXIT_USAGE;
+    }
+    const char *cmd = argv[1];
+    if (is_help(cmd) || !strcmp(cmd, "help")) return cmd_help(argc - 1, argv + 1);
+    if (!strcmp(cmd, "version") || !strcmp(cmd, "--version")) return printf("geosep %s\n", gs_version_string()), 0;
+    const command *c = find_command(cmd);
+    if (!c) return fail(EXIT_USAGE, "unknown command '%s' (try geosep --help)", cmd);
+    return c->run(argc - 1, argv + 1);
+}

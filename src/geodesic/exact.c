@@ -1,0 +1,573 @@
+/* exact.c - GS_METHOD_EXACT: exact polyhedral geodesic distances by window
+ * propagation (MMP/ICH family), processed triangle by triangle in order of
+ * distance (as in VTP), with sound pruning by the current vertex distances. */
+/*
+ * Model. A window lives on a half-edge h and carries a family of straight
+ * rays that enter face h/3 through the interval [b0, b1] of h. Coordinates
+ * are local to h: tri[h] at (0,0), tri[next(h)] at (len,0), the face h/3 on
+ * the side y > 0; the (pseudo-)source the rays come from is (sx, sy) with
+ * sy <= 0, at surface distance sigma from the nearest source. The distance
+ * at a point q of the window is sigma + |q - (sx,sy)|.
+ *
+ * Propagation. Faces wait in a min-heap keyed by the smallest distance of the
+ * windows pending on their half-edges. Popping a face consumes all of them:
+ *   1. each window is trimmed against the current distances of the two end
+ *      vertices of its edge (exact: sigma + |q - s| vs d(v) + |q - v| is
+ *      monotone along the edge); what is left updates the opposite vertex;
+ *   2. each window is split at the ray through the opposite vertex into at
+ *      most two children, one per other edge, expressed in the frames of the
+ *      twin half-edges; children are trimmed against their edges' end
+ *      vertices and queued on the neighbouring faces.
+ * Vertices where geodesics can bend (saddles: total angle > 2 pi; boundary
+ * and non-manifold vertices) become pseudo-sources: they sit in a second
+ * heap keyed by distance and, when popped, emit a window on the opposite
+ * edge of each of their faces. Vertex sources do the same at distance 0;
+ * a surface point source emits windows on the twins of its face's edges.
+ *
+ * Soundness. Every vertex distance is the length of a real path, so a part
+ * of a window that is beaten by d(v) + |q - v| by more than a relative
+ * tolerance cannot carry a shortest path and may be dropped; parts that tie
+ * are kept. Pruning is therefore independent of the processing order, which
+ * only affects speed. Distances are never below the exact ones beyond
+ * rounding (coverage slack of 1e-10 edge lengths changes a distance by a
+ * second-order amount only).
+ */
+#include "../core/heap.h"
+#include "geodesic_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* relative tolerance in distance comparisons: a window is pruned only where
+ * it is beaten by more than TOL_REL * distance (rounding is ~1e-14) */
+#define TOL_REL 1e-11
+/* slack, in edge lengths, when deciding that a window covers a vertex */
+#define COVER_REL 1e-10
+/* slack, in radians, on the directions a pseudo-source must serve */
+#define ANGLE_SLACK 1e-9
+
+typedef struct ex_win {
+    double b0, b1; /* interval on the half-edge, 0 <= b0 <= b1 <= len     */
+    double sx, sy; /* pseudo-source in the half-edge frame, sy <= 0       */
+    double sigma;  /* distance of the pseudo-source                       */
+    uint32_t next; /* next window pending on the same half-edge / free list */
+    uint32_t pad;
+} ex_win;
+
+typedef struct ex_state {
+    const gs_topo *t;
+    uint32_t nv, nf;
+    double *hl, *hc, *hs; /* per half-edge: length, cos and sin of the corner */
+    uint8_t *pseudo;      /* per vertex: geodesics may bend here             */
+    double *off;          /* per corner: angle of its first edge in its fan  */
+    uint32_t *fan;        /* per corner: first corner of its fan             */
+    double *ftot;         /* per fan (first corner): total angle             */
+    uint8_t *fclosed;     /* per fan (first corner): 1 if it closes up       */
+    uint32_t *in_c;       /* per vertex: corner its best path arrived in     */
+    double *in_a;         /* per vertex: angle of that path in the corner    */
+    uint32_t *head;       /* per half-edge: pending windows                  */
+    double *fired;        /* per vertex: distance it last emitted windows at */
+    ex_win *win;          /* window pool                                     */
+    uint32_t n_win, cap_win, free_win;
+    gs_iheap fheap, vheap;
+    /* per solve */
+    double *d;
+    double max_d;
+    int oom;
+    uint64_t created, propagated;
+} ex_state;
+
+static void ex_destroy(void *state)
+{
+    ex_state *s = state;
+    if (!s) return;
+    free(s->hl);
+    free(s->hc);
+    free(s->hs);
+    free(s->pseudo);
+    free(s->off);
+    free(s->fan);
+    free(s->ftot);
+    free(s->fclosed);
+    free(s->in_c);
+    free(s->in_a);
+    free(s->head);
+    free(s->fired);
+    free(s->win);
+    gs_iheap_free(&s->fheap);
+    gs_iheap_free(&s->vheap);
+    free(s);
+}
+
+static int ex_create(const gs_topo *t, void **state, gs_error *err)
+{
+    ex_state *s = gs__calloc(1, sizeof *s);
+    if (!s) return gs__fail(err, GS_ENOMEM, "out of memory creating an exact solver");
+    s->t = t;
+    s->nv = t->nv;
+    s->nf = t->nf;
+    size_t nh = 3 * (size_t)t->nf;
+    s->hl = gs__malloc(nh, sizeof *s->hl);
+    s->hc = gs__malloc(nh, sizeof *s->hc);
+    s->hs = gs__malloc(nh, sizeof *s->hs);
+    s->pseudo = gs__malloc(t->nv, 1);
+    s->head = gs__malloc(nh, sizeof *s->head);
+    s->fired = gs__malloc(t->nv, sizeof *s->fired);
+    s->off = gs__malloc(nh, sizeof *s->off);
+    s->fan = gs__malloc(nh, sizeof *s->fan);
+    s->ftot = gs__malloc(nh, sizeof *s->ftot);
+    s->fclosed = gs__malloc(nh, 1);
+    s->in_c = gs__malloc(t->nv, sizeof *s->in_c);
+    s->in_a = gs__malloc(t->nv, sizeof *s->in_a);
+    s->cap_win = 1024;
+    s->win = gs__malloc(s->cap_win, sizeof *s->win);
+    int hf = gs_iheap_init(&s->fheap, t->nf);
+    int hv = gs_iheap_init(&s->vheap, t->nv);
+    if (!s->hl || !s->hc || !s->hs || !s->pseudo || !s->head || !s->fired || !s->win || hf ||
+        hv || !s->off || !s->fan || !s->ftot || !s->fclosed || !s->in_c || !s->in_a) {
+        ex_destroy(s);
+        return gs__fail(err, GS_ENOMEM, "out of memory creating an exact solver");
+    }
+    for (size_t h = 0; h < nh; ++h) {
+        s->hl[h] = t->len[h];
+        s->hc[h] = cos(t->angle[h]);
+        s->hs[h] = sin(t->angle[h]);
+        s->head[h] = GS_NONE;
+        s->fan[h] = GS_NONE;
+    }
+    /* fans: corners of a vertex in counter-clockwise order (c, then the
+     * corner across the edge v -> tri[prev(c)]), angles accumulated from the
+     * first corner (open fans start at a boundary edge) */
+    for (size_t h0 = 0; h0 < nh; ++h0) {
+        if (s->fan[h0] != GS_NONE) continue;
+        uint32_t start = (uint32_t)h0, x = (uint32_t)h0;
+        int closed = 0;
+        for (;;) { /* clockwise to the first corner */
+            uint32_t tw = t->opp[x];
+            if (tw == GS_NONE) break;
+            x = gs_next(tw);
+            if (x == h0) {
+                closed = 1;
+                break;
+            }
+        }
+        if (!closed) start = x;
+        double acc = 0;
+        x = start;
+        for (;;) {
+            s->off[x] = acc;
+            s->fan[x] = start;
+            acc += t->angle[x];
+            uint32_t tw = t->opp[gs_prev(x)];
+            if (tw == GS_NONE || tw == start) break;
+            x = tw;
+        }
+        s->ftot[start] = acc;
+        s->fclosed[start] = (uint8_t)closed;
+    }
+    for (uint32_t v = 0; v < t->nv; ++v)
+        s->pseudo[v] = (t->vflag[v] & (GS_V_SADDLE | GS_V_BOUNDARY | GS_V_NONMANIFOLD)) != 0;
+    *state = s;
+    return GS_OK;
+}
+
+/* ---- vertex distances ---------------------------------------------------- */
+
+/* Lower d(v) to val, reached by a path arriving in corner c at angle a from
+ * the corner's first edge (for pseudo-sources, which only need to emit
+ * windows into the directions that path cannot reach straight). */
+static inline void ex_update_vertex(ex_state *s, uint32_t v, double val, uint32_t c, double a)
+{
+    if (val < s->d[v]) {
+        s->d[v] = val;
+        if (s->pseudo[v]) {
+            s->in_c[v] = c;
+            s->in_a[v] = a;
+            if (val <= s->max_d) gs_iheap_push_or_decrease(&s->vheap, v, val);
+        }
+    }
+}
+
+/* ---- trimming ------------------------------------------------------------ */
+
+/* Shrink [*pb0, *pb1] (a window with source (sx,sy), sigma, on an edge of
+ * length len) to the part that is not beaten, by more than the tolerance,
+ * by the vertex at x = 0 (distance dA) or at x = len (distance dB). Returns 0
+ * when nothing is left. Exact up to rounding: sigma + |q - s| - (dA + x) is
+ * non-increasing in x and sigma + |q - s| - (dB + len - x) non-decreasing, so
+ * each vertex cuts off one end; a cut is verified before it is applied. */
+static int ex_trim(double sx, double sy, double sigma, double len, double dA, double dB,
+                   double *pb0, double *pb1)
+{
+    double b0 = *pb0, b1 = *pb1;
+    double sy2 = sy * sy;
+    if (dA < INFINITY) {
+        double tol = TOL_REL * (dA + len);
+        double k = dA + tol - sigma; /* kept where |q - s| <= x + k */
+        double m = b1 + k;
+        double dx = b1 - sx;
+        if (m < 0 || dx * dx + sy2 > m * m) return 0;
+        m = b0 + k;
+        dx = b0 - sx;
+        if (m < 0 || dx * dx + sy2 > m * m) {
+            double k2 = k + tol; /* aim a little inside the beaten part */
+            double den = 2 * (sx + k2);
+            if (den > 0) {
+                double x = (sx * sx + sy2 - k2 * k2) / den;
+                if (x > b0) {
+                    if (x > b1) x = b1;
+                    m = x + k;
+                    dx = x - sx;
+                    if (m < 0 || dx * dx + sy2 > m * m) b0 = x;
+                }
+            }
+        }
+    }
+    if (dB < INFINITY) {
+        double tol = TOL_REL * (dB + len);
+        double k = dB + tol - sigma; /* kept where |q - s| <= len - x + k */
+        double m = len - b0 + k;
+        double dx = b0 - sx;
+        if (m < 0 || dx * dx + sy2 > m * m) return 0;
+        m = len - b1 + k;
+        dx = b1 - sx;
+        if (m < 0 || dx * dx + sy2 > m * m) {
+            double k2 = k + tol;
+            double tx = len - sx; /* source measured from the far end */
+            double den = 2 * (tx + k2);
+            if (den > 0) {
+                double x = len - (tx * tx + sy2 - k2 * k2) / den;
+                if (x < b1) {
+                    if (x < b0) x = b0;
+                    m = len - x + k;
+                    dx = x - sx;
+                    if (m < 0 || dx * dx + sy2 > m * m) b1 = x;
+                }
+            }
+        }
+    }
+    *pb0 = b0;
+    *pb1 = b1;
+    return 1;
+}
+
+#ifdef EX_DEBUG
+uint64_t ex_dbg[8];
+#endif
+/* ---- window pool --------------------------------------------------------- */
+
+static uint32_t ex_alloc(ex_state *s)
+{
+    if (s->free_win != GS_NONE) {
+        uint32_t w = s->free_win;
+        s->free_win = s->win[w].next;
+        return w;
+    }
+    if (s->n_win == s->cap_win) {
+        if (s->cap_win >= UINT32_MAX / 2) {
+            s->oom = 1;
+            return GS_NONE;
+        }
+        uint32_t nc = s->cap_win * 2;
+        ex_win *nw = gs__realloc(s->win, nc, sizeof *nw);
+        if (!nw) {
+            s->oom = 1;
+            return GS_NONE;
+        }
+        s->win = nw;
+        s->cap_win = nc;
+    }
+    return s->n_win++;
+}
+
+/* Queue a window on half-edge h (after trimming against the end vertices of
+ * h). Windows on boundary half-edges are never created: callers pass twins. */
+static void ex_push(ex_state *s, uint32_t h, double b0, double b1, double sx, double sy,
+                    double sigma)
+{
+    const gs_topo *t = s->t;
+    double len = s->hl[h];
+    if (sy > 0) sy = 0;
+    if (b0 < 0) b0 = 0;
+    if (b1 > len) b1 = len;
+    if (!(b0 <= b1)) return;
+    if (!ex_trim(sx, sy, sigma, len, s->d[t->tri[h]], s->d[t->tri[gs_next(h)]], &b0, &b1))
+        return;
+    double dx = sx < b0 ? b0 - sx : (sx > b1 ? sx - b1 : 0);
+    double dmin = sigma + sqrt(dx * dx + sy * sy);
+    if (dmin > s->max_d) return;
+    uint32_t w = ex_alloc(s);
+    if (w == GS_NONE) return;
+    ex_win *p = &s->win[w];
+    p->b0 = b0;
+    p->b1 = b1;
+    p->sx = sx;
+    p->sy = sy;
+    p->sigma = sigma;
+    p->next = s->head[h];
+    s->head[h] = w;
+    s->created++;
+#ifdef EX_DEBUG
+    ex_dbg[sigma == 0 ? 0 : 1]++;
+    if (b1 - b0 < 1e-9 * len) ex_dbg[2]++;
+#endif
+    gs_iheap_push_or_decrease(&s->fheap, h / 3, dmin);
+}
+
+/* ---- sources ------------------------------------------------------------- */
+
+/* Emit the windows of vertex v at its current distance (a source or a
+ * pseudo-source): on the twin of the opposite edge of each face, restricted
+ * to the rays that leave v at an angle >= pi (both ways round) from the
+ * direction its shortest path came from; any other ray can be shortcut
+ * inside the star of v. Sources (no incoming path) emit everything. */
+static void ex_fire_vertex(ex_state *s, uint32_t v)
+{
+    const gs_topo *t = s->t;
+    double dv = s->d[v];
+    s->fired[v] = dv;
+    for (uint32_t k = t->vc_start[v]; k < t->vc_start[v + 1]; ++k) {
+        uint32_t c = t->vc[k], cn = gs_next(c), cp = gs_prev(c);
+        ex_update_vertex(s, t->tri[cn], dv + s->hl[c], cn, t->angle[cn]);
+        ex_update_vertex(s, t->tri[cp], dv + s->hl[cp], cp, 0.0);
+    }
+    uint32_t cin = s->in_c[v], fin = GS_NONE;
+    double b = 0, tot = 0;
+    int closed = 0;
+    if (cin != GS_NONE) {
+        fin = s->fan[cin];
+        b = s->off[cin] + s->in_a[v];
+        tot = s->ftot[fin];
+        closed = s->fclosed[fin];
+    }
+    for (uint32_t k = t->vc_start[v]; k < t->vc_start[v + 1]; ++k) {
+        uint32_t c = t->vc[k];
+        uint32_t ho = gs_next(c), tw = t->opp[ho];
+        if (tw == GS_NONE) continue;
+        double a = t->angle[c], lo = 0, hi = a;
+        if (s->fan[c] == fin) {
+            /* needed directions of this corner, relative to its first edge */
+            double o = s->off[c];
+            if (closed) {
+                double w = tot - 2 * M_PI, n0 = fmod(b + M_PI, tot);
+                if (n0 < 0) n0 += tot;
+                lo = INFINITY;
+                hi = -INFINITY;
+                for (int r = -1; r <= 1; ++r) {
+                    double p0 = n0 + r * tot - o, p1 = p0 + w;
+                    if (p0 < 0) p0 = 0;
+                    if (p1 > a) p1 = a;
+                    if (p0 <= p1) {
+                        if (p0 < lo) lo = p0;
+                        if (p1 > hi) hi = p1;
+                    }
+                }
+            } else {
+                double l1 = b - M_PI - o, l2 = b + M_PI - o; /* [0,l1] and [l2,tot] */
+                lo = INFINITY;
+                hi = -INFINITY;
+                if (l1 >= 0) {
+                    lo = 0;
+                    hi = l1 < a ? l1 : a;
+                }
+                if (l2 <= a) {
+                    if (l2 < lo) lo = l2 > 0 ? l2 : 0;
+                    hi = a;
+                }
+            }
+            lo -= ANGLE_SLACK;
+            hi += ANGLE_SLACK;
+            if (!(lo <= hi)) continue;
+            if (lo < 0) lo = 0;
+            if (hi > a) hi = a;
+        }
+        /* v in the frame of ho is len[c] * (cos, sin) of the corner at ho */
+        double lv = s->hl[c], L = s->hl[ho];
+        double x = lv * s->hc[ho], y = lv * s->hs[ho];
+        double x0 = 0, x1 = L; /* on tw: x = L - |B X| for the ray at angle th */
+        if (lo > 0 || hi < a) {
+            /* sine rule in (v, B, X): |BX| = |vB| sin th / sin(th + beta) */
+            double beta = t->angle[ho];
+            if (hi < a) x0 = L - lv * sin(hi) / sin(hi + beta);
+            if (lo > 0) x1 = L - lv * sin(lo) / sin(lo + beta);
+        }
+        s->propagated++;
+        ex_push(s, tw, x0, x1, L - x, -y, dv);
+    }
+}
+
+/* A point of face f: the corners get their straight distances, and each edge
+ * emits a window into the face across it (rays from the point). */
+static void ex_fire_point(ex_state *s, const gs_source *src)
+{
+    const gs_topo *t = s->t;
+    uint32_t f = src->face;
+    for (int i = 0; i < 3; ++i) {
+        uint32_t h = 3 * f + (uint32_t)i;
+        double len = s->hl[h], lac = s->hl[gs_prev(h)];
+        double cx = lac * s->hc[h], cy = lac * s->hs[h];
+        double w1 = src->bary[(i + 1) % 3], w2 = src->bary[(i + 2) % 3];
+        double px = w1 * len + w2 * cx, py = w2 * cy;
+        /* distance to the corner at the start of h */
+        ex_update_vertex(s, t->tri[h], sqrt(px * px + py * py), h, atan2(py, px));
+        uint32_t tw = t->opp[h];
+        if (tw == GS_NONE) continue;
+        s->propagated++;
+        ex_push(s, tw, 0, len, len - px, -py, 0.0);
+    }
+}
+
+/* ---- propagation --------------------------------------------------------- */
+
+static void ex_process_face(ex_state *s, uint32_t f)
+{
+    const gs_topo *t = s->t;
+    double *d = s->d;
+    /* pass 1: trim the pending windows against the face's vertices as they
+     * are now, and let them update the opposite vertices */
+    for (int i = 0; i < 3; ++i) {
+        uint32_t h = 3 * f + (uint32_t)i;
+        if (s->head[h] == GS_NONE) continue;
+        uint32_t hn = gs_next(h), hp = gs_prev(h);
+        uint32_t A = t->tri[h], B = t->tri[hn], C = t->tri[hp];
+        double len = s->hl[h], lac = s->hl[hp];
+        double cx = lac * s->hc[h], cy = lac * s->hs[h];
+        double slack = COVER_REL * len;
+        uint32_t *link = &s->head[h];
+        while (*link != GS_NONE) {
+            uint32_t wi = *link;
+            ex_win *w = &s->win[wi];
+            if (!ex_trim(w->sx, w->sy, w->sigma, len, d[A], d[B], &w->b0, &w->b1)) {
+                *link = w->next; /* drop it */
+                w->next = s->free_win;
+                s->free_win = wi;
+                continue;
+            }
+            double xc = w->sx + (cx - w->sx) * (-w->sy) / (cy - w->sy);
+            if (xc >= w->b0 - slack && xc <= w->b1 + slack) {
+                double ex = w->sx - cx, ey = w->sy - cy; /* C -> source */
+                double val = w->sigma + sqrt(ex * ex + ey * ey);
+                if (val < d[C]) {
+                    /* direction back to the source, from the edge C -> A */
+                    double a = s->pseudo[C] ? atan2(cy * ex - cx * ey, -cx * ex - cy * ey) : 0;
+                    ex_update_vertex(s, C, val, hp, a);
+                }
+            }
+            link = &w->next;
+        }
+    }
+    /* pass 2: split every window at the ray through the opposite vertex and
+     * send the parts across the two other edges */
+    for (int i = 0; i < 3; ++i) {
+        uint32_t h = 3 * f + (uint32_t)i;
+        uint32_t wi = s->head[h];
+        if (wi == GS_NONE) continue;
+        s->head[h] = GS_NONE;
+        uint32_t hn = gs_next(h), hp = gs_prev(h);
+        uint32_t tl = t->opp[hp], tr = t->opp[hn]; /* twins of A->C side, C->B side */
+        double len = s->hl[h], lac = s->hl[hp], lbc = s->hl[hn];
+        double ca = s->hc[h], sa = s->hs[h], cb = s->hc[hn], sb = s->hs[hn];
+        double cx = lac * ca, cy = lac * sa;
+        double lmc = lbc * cb; /* len - cx, without cancellation */
+        (void)len;
+        while (wi != GS_NONE) {
+            ex_win w = s->win[wi];
+            /* free the slot first: ex_push may reuse (and move) the pool */
+            s->win[wi].next = s->free_win;
+            s->free_win = wi;
+            uint32_t nx = w.next;
+            s->propagated++;
+            double sx = w.sx, sy = w.sy;
+            double xc = sx + (cx - sx) * (-sy) / (cy - sy);
+            if (tl != GS_NONE && w.b0 < xc) {
+                /* rays through (b,0) meet A->C at t*C, t = b sy / (sy cx + cy (b - sx)) */
+                double t0 = w.b0 * sy / (sy * cx + cy * (w.b0 - sx));
+                double t1 = 1.0;
+                if (w.b1 < xc) t1 = w.b1 * sy / (sy * cx + cy * (w.b1 - sx));
+                if (!(t0 >= 0)) t0 = 0;
+                if (!(t1 <= 1)) t1 = 1;
+                if (t0 > 1) t0 = 1;
+                if (t1 < 0) t1 = 0;
+                /* frame of tl: origin A, x towards C */
+                double nsx = sx * ca + sy * sa, nsy = sy * ca - sx * sa;
+                ex_push(s, tl, t0 * lac, t1 * lac, nsx, nsy, w.sigma);
+            }
+            if (tr != GS_NONE && w.b1 > xc) {
+                /* rays through (b,0) meet C->B at C + u (B - C) */
+                double ex = sx - cx, ey = sy - cy;
+                double u0 = 0.0, u1;
+                if (w.b0 > xc) {
+                    double bx = w.b0 - sx;
+                    u0 = (-ex * sy - ey * bx) / (-lmc * sy + cy * bx);
+                }
+                {
+                    double bx = w.b1 - sx;
+                    u1 = (-ex * sy - ey * bx) / (-lmc * sy + cy * bx);
+                }
+                if (!(u0 >= 0)) u0 = 0;
+                if (!(u1 <= 1)) u1 = 1;
+                if (u0 > 1) u0 = 1;
+                if (u1 < 0) u1 = 0;
+                /* frame of tr: origin C, x towards B */
+                double nsx = ex * cb - ey * sb, nsy = ey * cb + ex * sb;
+                ex_push(s, tr, u0 * lbc, u1 * lbc, nsx, nsy, w.sigma);
+            }
+            wi = nx;
+        }
+    }
+}
+
+static int ex_solve(void *state, const gs_source *src, uint32_t n_src, double max_d,
+                    double *dist, gs_solve_stats *stats, gs_error *err)
+{
+    ex_state *s = state;
+    const gs_topo *t = s->t;
+    size_t nh = 3 * (size_t)t->nf;
+    s->d = dist;
+    s->max_d = max_d;
+    s->oom = 0;
+    s->created = s->propagated = 0;
+    s->n_win = 0;
+    s->free_win = GS_NONE;
+    for (uint32_t v = 0; v < t->nv; ++v) {
+        dist[v] = INFINITY;
+        s->fired[v] = INFINITY;
+        s->in_c[v] = GS_NONE;
+    }
+    for (size_t h = 0; h < nh; ++h) s->head[h] = GS_NONE;
+    gs_iheap_clear(&s->fheap);
+    gs_iheap_clear(&s->vheap);
+
+    for (uint32_t i = 0; i < n_src; ++i)
+        if (src[i].face == GS_NONE) dist[src[i].vertex] = 0;
+    for (uint32_t i = 0; i < n_src; ++i)
+        if (src[i].face == GS_NONE) {
+            if (s->fired[src[i].vertex] != 0) ex_fire_vertex(s, src[i].vertex);
+        } else {
+            ex_fire_point(s, &src[i]);
+        }
+
+    while (!s->oom) {
+        int have_f = s->fheap.n > 0, have_v = s->vheap.n > 0;
+        if (!have_f && !have_v) break;
+        double kf = have_f ? s->fheap.key[s->fheap.ids[0]] : INFINITY;
+        double kv = have_v ? s->vheap.key[s->vheap.ids[0]] : INFINITY;
+        if (kv <= kf) {
+            if (kv > max_d) break;
+            uint32_t v = gs_iheap_pop(&s->vheap, NULL);
+            if (dist[v] < s->fired[v]) ex_fire_vertex(s, v);
+        } else {
+            if (kf > max_d) break;
+            uint32_t f = gs_iheap_pop(&s->fheap, NULL);
+            ex_process_face(s, f);
+        }
+    }
+    stats->windows_created = s->created;
+    stats->windows_propagated = s->propagated;
+    s->d = NULL;
+    if (s->oom) return gs__fail(err, GS_ENOMEM, "out of memory in the exact solver");
+    return GS_OK;
+}
+
+const gs_method_ops gs_exact_ops = {"exact", ex_create, ex_destroy, ex_solve};

@@ -1,0 +1,63 @@
+/* atomic_file.c - temporary-file-then-rename writing (see atomic_file.h). */
+#include "atomic_file.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+int gs_atomic_open(gs_atomic_file *af, const char *path, gs_error *err)
+{
+    memset(af, 0, sizeof *af);
+    size_t n = strlen(path);
+    af->final_path = gs__malloc(n + 1, 1);
+    af->tmp_path = gs__malloc(n + 12, 1);
+    if (!af->final_path || !af->tmp_path) {
+        gs_atomic_abort(af);
+        return gs__fail(err, GS_ENOMEM, "%s: out of memory", path);
+    }
+    memcpy(af->final_path, path, n + 1);
+    memcpy(af->tmp_path, path, n);
+    memcpy(af->tmp_path + n, ".tmp.XXXXXX", 12);
+    int fd = mkstemp(af->tmp_path);
+    if (fd < 0) {
+        int e = errno;
+        free(af->tmp_path);
+        af->tmp_path = NULL;
+        gs_atomic_abort(af);
+        return gs__fail(err, GS_EIO, "%s: cannot create a temporary file: %s", path, strerror(e));
+    }
+    af->fp = fdopen(fd, "wb");
+    if (!af->fp) {
+        close(fd);
+        gs_atomic_abort(af);
+        return gs__fail(err, GS_EIO, "%s: cannot open for writing", path);
+    }
+    return GS_OK;
+}
+
+void gs_atomic_abort(gs_atomic_file *af)
+{
+    if (af->fp) fclose(af->fp);
+    if (af->tmp_path) remove(af->tmp_path);
+    free(af->tmp_path);
+    free(af->final_path);
+    memset(af, 0, sizeof *af);
+}
+
+int gs_atomic_commit(gs_atomic_file *af, gs_error *err)
+{
+    int bad = fflush(af->fp) != 0 || ferror(af->fp);
+    bad |= fclose(af->fp) != 0;
+    af->fp = NULL;
+    if (bad || rename(af->tmp_path, af->final_path) != 0) {
+        int e = errno;
+        int rc = gs__fail(err, GS_EIO, "%s: cannot write: %s", af->final_path, strerror(e));
+        gs_atomic_abort(af);
+        return rc;
+    }
+    free(af->tmp_path);
+    free(af->final_path);
+    memset(af, 0, sizeof *af);
+    return GS_OK;
+}

@@ -1,0 +1,23 @@
+/* atomic_file.h - write a file under a temporary name in the same folder and
+ * rename it into place on commit, so that readers never see a partial file
+ * and a failure leaves nothing behind. */
+#ifndef GS_ATOMIC_FILE_H
+#define GS_ATOMIC_FILE_H
+
+#include "../core/internal.h"
+#include <stdio.h>
+
+typedef struct gs_atomic_file {
+    FILE *fp;
+    char *final_path;
+    char *tmp_path;
+} gs_atomic_file;
+
+/* Create "<path>.tmp.XXXXXX" and open it for writing. */
+int gs_atomic_open(gs_atomic_file *af, const char *path, gs_error *err);
+/* Flush, close and rename to the final path (on failure: remove the temp). */
+int gs_atomic_commit(gs_atomic_file *af, gs_error *err);
+/* Close and remove the temporary file. */
+void gs_atomic_abort(gs_atomic_file *af);
+
+#endif

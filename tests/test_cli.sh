@@ -1,0 +1,173 @@
+#!/usr/bin/env bash
+# test_cli.sh - end-to-end tests of the geosep command on generated meshes:
+# generate/info/solve outputs (checked against Euclidean distances with awk),
+# exit codes and messages for bad arguments and missing files, the GEOGT1
+# round trip, and that a failure never leaves a partial output file.
+# Usage: test_cli.sh PATH/TO/geosep
+set -u
+BIN=${1:?usage: test_cli.sh PATH/TO/geosep}
+T=$(mktemp -d "${TMPDIR:-/tmp}/geosep-cli.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+pass=0
+fail=0
+
+ok() { pass=$((pass + 1)); echo "ok   - $1"; }
+ko() { fail=$((fail + 1)); echo "FAIL - $1"; [ -s "$T/err" ] && sed 's/^/       stderr: /' "$T/err" | head -5; }
+# verdict NAME: pass if the previous command (a condition list) succeeded
+verdict() { if [ "$?" -eq 0 ]; then ok "$1"; else ko "$1"; fi; }
+
+# run ARGS...: stdout -> $T/out, stderr -> $T/err, exit status -> $rc
+run() { "$BIN" "$@" >"$T/out" 2>"$T/err"; rc=$?; }
+
+# expect_fail CODE PATTERN NAME ARGS...: exit CODE, stderr "geosep: ..." matching PATTERN
+expect_fail() {
+    local code=$1 pat=$2 name=$3; shift 3
+    run "$@"
+    if [ "$rc" -eq "$code" ] && grep -q '^geosep: ' "$T/err" && grep -qiE -- "$pat" "$T/err"; then
+        ok "$name (exit $code: $(head -c 100 "$T/err" | head -1))"
+    else
+        ko "$name: exit $rc, expected $code with /$pat/"
+    fi
+}
+
+# compare DIST OBJ X Y Z [X Y Z ...]: every line of DIST equals the minimum
+# Euclidean distance from the vertex (OBJ v lines) to the given points
+euclid_ok() {
+    local dist=$1 obj=$2; shift 2
+    awk -v pts="$*" '
+        BEGIN { np = split(pts, p, " ") / 3 }
+        FNR == NR { if ($1 == "v") { x[n] = $2; y[n] = $3; z[n] = $4; n++ } next }
+        { best = -1
+          for (k = 0; k < np; k++) {
+              dx = x[m] - p[3*k+1]; dy = y[m] - p[3*k+2]; dz = z[m] - p[3*k+3]
+              d = sqrt(dx*dx + dy*dy + dz*dz); if (best < 0 || d < best) best = d }
+          e = $1 - best; if (e < 0) e = -e; if (e > maxe) maxe = e; m++ }
+        END { if (m != n) { print "lines " m " != vertices " n > "/dev/stderr"; exit 1 }
+              if (maxe > 1e-12) { print "max error " maxe > "/dev/stderr"; exit 1 } }' "$obj" "$dist"
+}
+
+vertex_xyz() { awk -v i="$2" '$1 == "v" { if (n++ == i) { print $2, $3, $4; exit } }' "$1"; }
+
+# ---- help and usage ------------------------------------------------------
+run --help
+{ [ "$rc" -eq 0 ] && grep -q "solve MESH" "$T/out"; }; verdict "--help exits 0 with the command list"
+run help
+{ [ "$rc" -eq 0 ] && grep -q "usage: geosep" "$T/out"; }; verdict "help exits 0"
+run help solve
+{ [ "$rc" -eq 0 ] && grep -q -- "--sources-from" "$T/out"; }; verdict "help solve"
+for c in info generate solve; do
+    run "$c" --help
+    { [ "$rc" -eq 0 ] && grep -q "usage: geosep $c" "$T/out"; }; verdict "$c --help"
+done
+run --version
+{ [ "$rc" -eq 0 ] && grep -qE "^geosep [0-9]+\.[0-9]+\.[0-9]+" "$T/out"; }; verdict "--version"
+run
+{ [ "$rc" -eq 2 ] && grep -q usage "$T/err"; }; verdict "no arguments: usage on stderr, exit 2"
+expect_fail 2 "unknown command" "unknown command" frobnicate
+expect_fail 2 "unknown command" "help of an unknown command" help frobnicate
+
+# ---- generate and info ---------------------------------------------------
+run generate grid:11,6,2,1 -o "$T/grid.obj"
+{ [ "$rc" -eq 0 ] && [ "$(grep -c '^v ' "$T/grid.obj")" -eq 66 ] && [ "$(grep -c '^f ' "$T/grid.obj")" -eq 100 ]; }; verdict "generate grid"
+run info "$T/grid.obj"
+{ grep -qE "^vertices +66 \(0 unreferenced\)" "$T/out"; }; verdict "info grid: counts"
+{ grep -qE "^faces +100" "$T/out" && grep -qE "^genus +0" "$T/out" && grep -qE "in 1 loops" "$T/out"; }; verdict "info grid: faces, genus, loops"
+{ grep -qF "[0, 0, 0] - [2, 1, 0]" "$T/out"; }; verdict "info grid: bbox"
+for case in "plate:400|in 4 loops|boundary" "torus:16,8|^genus +1|genus" "two:4|^components +2|components" "cube:3|^euler +2|euler" "sphere:1|^vertices +42 |vertices"; do
+    IFS='|' read -r spec pat what <<<"$case"
+    run generate "$spec" -o "$T/m.obj" && run info "$T/m.obj"
+    { [ "$rc" -eq 0 ] && grep -qE "$pat" "$T/out"; }; verdict "info $spec: $what"
+done
+expect_fail 2 "accepted|expected" "generate: bad spec" generate grid:1,1 -o "$T/bad.obj"
+{ [ ! -e "$T/bad.obj" ]; }; verdict "generate: bad spec leaves no file"
+expect_fail 2 "expected" "generate: bad size" generate grid:4,4,-1,1 -o "$T/bad.obj"
+expect_fail 2 "missing -o" "generate: no -o" generate grid:3,3
+expect_fail 2 "unknown option" "generate: unknown option" generate grid:3,3 -x -o "$T/bad.obj"
+expect_fail 1 "cannot|No such" "generate: unwritable folder" generate grid:3,3 -o "$T/nodir/x.obj"
+expect_fail 1 "cannot open|No such" "info: missing file" info "$T/missing.obj"
+printf 'v 0 0 0\nv 1 0 0\nf 1 2 7\n' >"$T/broken.obj"
+expect_fail 1 "broken.obj" "info: malformed file names the file" info "$T/broken.obj"
+expect_fail 2 "exactly one MESH" "info: no mesh" info
+
+# ---- solve: known distances on a flat grid (Euclidean) -------------------
+run solve "$T/grid.obj" --source 0
+cp "$T/out" "$T/d0.txt"
+{ [ "$rc" -eq 0 ] && euclid_ok "$T/d0.txt" "$T/grid.obj" 0 0 0; }; verdict "solve --source 0: Euclidean within 1e-12"
+run solve "$T/grid.obj" --source 0 --source 65 -o "$T/d2.txt"
+{ [ "$rc" -eq 0 ] && [ ! -s "$T/out" ] && euclid_ok "$T/d2.txt" "$T/grid.obj" 0 0 0 2 1 0; }; verdict "solve two sources: the minimum"
+# face 7 = f line 8; point 0.2*a + 0.3*b + 0.5*c
+read -r fa fb fc < <(awk '$1 == "f" { if (n++ == 7) { print $2 - 1, $3 - 1, $4 - 1; exit } }' "$T/grid.obj")
+read -r px py pz < <( { vertex_xyz "$T/grid.obj" "$fa"; vertex_xyz "$T/grid.obj" "$fb"; vertex_xyz "$T/grid.obj" "$fc"; } |
+    awk '{ w = NR == 1 ? 0.2 : NR == 2 ? 0.3 : 0.5; x += w * $1; y += w * $2; z += w * $3 } END { printf "%.17g %.17g %.17g\n", x, y, z }')
+run solve "$T/grid.obj" --source-point 7:0.2,0.3,0.5 -o "$T/dp.txt"
+{ [ "$rc" -eq 0 ] && euclid_ok "$T/dp.txt" "$T/grid.obj" "$px" "$py" "$pz"; }; verdict "solve --source-point: Euclidean within 1e-12"
+run solve "$T/grid.obj" --source=0 --method=graph -o "$T/dg.txt"
+{ [ "$rc" -eq 0 ] && paste "$T/dg.txt" "$T/d0.txt" | awk '{ if ($1 < $2 - 1e-12) bad = 1; if (NR <= 11 && ($1 - $2 > 1e-12 || $2 - $1 > 1e-12)) bad = 1 } END { exit bad }'; }; verdict "solve --method graph: >= exact, equal along the first row"
+run solve "$T/grid.obj" --source 0 --max-distance 0.75 -o "$T/dm.txt"
+{ [ "$rc" -eq 0 ] && paste "$T/dm.txt" "$T/d0.txt" | awk '{ if ($2 <= 0.75) { e = $1 - $2; if (e > 1e-12 || e < -1e-12) bad = 1 } else if (!($1 == "inf" || $1 > 0.75)) bad = 1 } END { exit bad }'; }; verdict "solve --max-distance: exact within, > bound beyond"
+run solve "$T/grid.obj" --source 0 --verbose -o "$T/dv.txt"
+{ [ "$rc" -eq 0 ] && grep -q "solve .* s" "$T/err" && cmp -s "$T/dv.txt" "$T/d0.txt"; }; verdict "solve --verbose: timing on stderr"
+run generate two:4 -o "$T/two.obj" && run solve "$T/two.obj" --source 0
+{ [ "$rc" -eq 0 ] && [ "$(sed -n '17,32p' "$T/out" | grep -c '^inf$')" -eq 16 ] && [ "$(head -16 "$T/out" | grep -c inf)" -eq 0 ]; }; verdict "solve on two components: inf on the other"
+
+# ---- solve: argument validation ------------------------------------------
+G=$T/grid.obj
+expect_fail 2 "vertex out of range" "source out of range" solve "$G" --source 66
+expect_fail 2 "expected a vertex id" "source not a number" solve "$G" --source abc
+expect_fail 2 "expected a vertex id" "negative source" solve "$G" --source -1
+expect_fail 2 "needs a value" "source without value" solve "$G" --source
+expect_fail 2 "F:b0,b1,b2" "source-point with two coordinates" solve "$G" --source-point 0:0.5,0.5
+expect_fail 2 "F:b0,b1,b2" "source-point without face" solve "$G" --source-point 0.2,0.3,0.5
+expect_fail 2 "F:b0,b1,b2" "source-point with junk" solve "$G" --source-point 1:0.2,0.3,0.5x
+expect_fail 2 "sum to 1" "source-point not summing to 1" solve "$G" --source-point 0:0.5,0.6,0.2
+expect_fail 2 "sum to 1|>= 0" "source-point negative" solve "$G" --source-point 0:-0.5,1,0.5
+expect_fail 2 "face out of range" "source-point face out of range" solve "$G" --source-point 100:1,0,0
+expect_fail 2 "exact or graph" "unknown method" solve "$G" --source 0 --method fmm
+expect_fail 2 "number >= 0" "negative max distance" solve "$G" --source 0 --max-distance -1
+expect_fail 2 "number >= 0" "malformed max distance" solve "$G" --source 0 --max-distance 1x
+expect_fail 2 "no source" "no source" solve "$G"
+expect_fail 2 "missing MESH" "no mesh" solve --source 0
+expect_fail 2 "unexpected argument" "two meshes" solve "$G" "$G" --source 0
+expect_fail 2 "unknown option" "unknown option" solve "$G" --source 0 --fast
+expect_fail 2 "text or gt" "unknown format" solve "$G" --source 0 --format csv
+expect_fail 1 "cannot open|No such" "missing mesh file" solve "$T/missing.obj" --source 0
+
+# ---- no partial output after a failure -----------------------------------
+echo keep >"$T/keep.txt"
+run solve "$G" --source 66 -o "$T/keep.txt"
+{ [ "$rc" -eq 2 ] && [ "$(cat "$T/keep.txt")" = keep ]; }; verdict "failed solve keeps an existing OUT"
+run solve "$T/missing.obj" --source 0 -o "$T/none.txt"
+{ [ "$rc" -eq 1 ] && [ ! -e "$T/none.txt" ]; }; verdict "failed solve creates no OUT"
+expect_fail 1 "cannot create|No such" "OUT in a missing folder" solve "$G" --source 0 -o "$T/nodir/d.txt"
+{ [ -z "$(find "$T" -name '*.tmp.*')" ]; }; verdict "no temporary files left behind"
+
+# ---- --format gt ---------------------------------------------------------
+# a GEOGT1 file for 66 vertices with sources 0, 65, 30 (distances zero)
+le32() { printf "\\x$(printf %02x $(($1 & 255)))\\x$(printf %02x $((($1 >> 8) & 255)))\\x$(printf %02x $((($1 >> 16) & 255)))\\x$(printf %02x $((($1 >> 24) & 255)))"; }
+make_gt() { # FILE NV SOURCES...
+    local f=$1 nv=$2; shift 2
+    { printf 'GEOGT1\0\0'; le32 "$nv"; le32 $#; for s in "$@"; do le32 "$s"; head -c $((8 * nv)) /dev/zero; done; } >"$f"
+}
+make_gt "$T/src.gt" 66 0 65 30
+run solve "$G" --format gt --sources-from "$T/src.gt" -o "$T/out.gt"
+{ [ "$rc" -eq 0 ] && [ "$(stat -c %s "$T/out.gt")" -eq $((16 + 3 * (4 + 8 * 66))) ]; }; verdict "gt: solve writes a file of the right size"
+# record 1 (source 65): the 8-byte doubles after its 4-byte id
+od -A n -v -t f8 -j $((16 + 1 * (4 + 8 * 66) + 4)) -N $((8 * 66)) "$T/out.gt" | tr -s ' ' '\n' | sed '/^$/d' >"$T/gt65.txt"
+{ euclid_ok "$T/gt65.txt" "$G" 2 1 0; }; verdict "gt: field of source 65 is Euclidean"
+run solve "$G" --format gt --sources-from "$T/out.gt" -o "$T/out2.gt"
+{ [ "$rc" -eq 0 ] && cmp -s "$T/out.gt" "$T/out2.gt"; }; verdict "gt: round trip reproduces the file"
+make_gt "$T/wrong.gt" 65 0
+expect_fail 1 "65 vertices|vertices" "gt: vertex count mismatch" solve "$G" --format gt --sources-from "$T/wrong.gt" -o "$T/w.gt"
+{ [ ! -e "$T/w.gt" ]; }; verdict "gt: mismatch leaves no OUT"
+head -c 100 "$T/out.gt" >"$T/trunc.gt"
+expect_fail 1 "trunc.gt" "gt: truncated sources file" solve "$G" --format gt --sources-from "$T/trunc.gt" -o "$T/w.gt"
+{ [ ! -e "$T/w.gt" ]; }; verdict "gt: truncated input leaves no OUT"
+expect_fail 1 "cannot open|No such" "gt: missing sources file" solve "$G" --format gt --sources-from "$T/nope.gt" -o "$T/w.gt"
+expect_fail 2 "needs -o" "gt: no -o" solve "$G" --format gt --sources-from "$T/src.gt"
+expect_fail 2 "needs --sources-from" "gt: no --sources-from" solve "$G" --format gt -o "$T/w.gt"
+expect_fail 2 "not --source" "gt: with --source" solve "$G" --format gt --sources-from "$T/src.gt" --source 0 -o "$T/w.gt"
+expect_fail 2 "needs --format gt" "--sources-from without gt" solve "$G" --sources-from "$T/src.gt" --source 0
+{ [ -z "$(find "$T" -name '*.tmp.*')" ]; }; verdict "gt: no temporary files left behind"
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# install-deps.sh - install the Debian packages geosep needs (as root on a
+# fresh Debian 12 machine; uses sudo when not root). Installs only what is
+# missing, so it is fast when everything is there.
+set -euo pipefail
+pkgs=(build-essential cmake pkg-config libmetis-dev libsuitesparse-dev
+      liblapacke-dev libopenblas-dev)
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all packages present"
+  exit 0
+fi
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "install-deps: done"
