@@ -125,17 +125,20 @@ typedef struct gs_mesh_report {
 int gs_mesh_get_report(const gs_mesh *mesh, gs_mesh_report *report,
                        gs_error *err);
 
-/* Generate a test or demo mesh from a spec string (all sizes in mesh units):
- *   "grid:NX,NY[,W,H]"        flat NX x NY vertex grid on [0,W]x[0,H] (default 1x1)
- *   "peaks:N"                 N x N grid of MATLAB's peaks surface on [-3,3]^2
- *   "plate:N"                 flat square plate [0,1]^2 with circular holes,
- *                             about N vertices
- *   "cylinder:NU,NV[,R,H]"    open cylinder radius R, height H (NU around)
- *   "cone:NU,NV[,R,H]"        open cone (apex cut off), base radius R, height H
- *   "cube:N[,S]"              closed cube surface of side S, N x N per face
- *   "torus:NU,NV[,R,r]"       closed torus, radii R > r
- *   "sphere:N"                closed sphere (icosphere, N subdivisions)
- *   "two:N"                   two disjoint flat grids N x N (two components)
+/* Generate a test or demo mesh from a spec string (all sizes in mesh units;
+ * defaults in brackets). Flat meshes face +z, closed ones face outwards.
+ *   "grid:NX,NY[,W,H]"        flat NX x NY vertex grid on [0,W]x[0,H] [1,1]; NX,NY >= 2
+ *   "peaks:N"                 N x N grid of MATLAB's peaks surface on [-3,3]^2; N >= 2
+ *   "plate:N"                 flat plate [0,1]^2 with three round (polygonal)
+ *                             holes, about N vertices; N >= 50
+ *   "cylinder:NU,NV[,R,H]"    open prism-cylinder, NU >= 3 around, NV >= 2 rings [1,1]
+ *   "cone:NU,NV[,R,H]"        open frustum of height H, base radius R, top radius
+ *                             R/4 (the apex, cut off, would be at 4H/3) [1,1]
+ *   "cube:N[,S]"              closed cube surface of side S, N x N quads per face [1]
+ *   "torus:NU,NV[,R,r]"       closed torus, radii R > r [1,0.4]; NU,NV >= 3
+ *   "sphere:N"                closed unit icosphere, N <= 9 subdivisions
+ *   "two:N"                   two disjoint flat N x N grids (two components)
+ * Bad specs give GS_EARG, sizes over 2^26 vertices GS_ELIMIT.
  * *out receives a new mesh (caller frees). */
 int gs_mesh_generate(const char *spec, gs_mesh **out, gs_error *err);
 

@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 int gs_atomic_open(gs_atomic_file *af, const char *path, gs_error *err)
@@ -27,6 +28,10 @@ int gs_atomic_open(gs_atomic_file *af, const char *path, gs_error *err)
         gs_atomic_abort(af);
         return gs__fail(err, GS_EIO, "%s: cannot create a temporary file: %s", path, strerror(e));
     }
+    /* mkstemp creates the file 0600: give it the mode of the file it
+     * replaces, or 0644 for a new one (reading the umask would change it). */
+    struct stat st;
+    (void)fchmod(fd, stat(path, &st) == 0 ? (st.st_mode & 07777) : 0644);
     af->fp = fdopen(fd, "wb");
     if (!af->fp) {
         close(fd);

@@ -142,7 +142,7 @@ static int link_twins(gs_topo *t, const gs_origin *o, gs_error *err)
             if (j - i > 2) {
                 where(w, sizeof w, o, e[i + 2].h / 3);
                 rc = gs__fail(err, GS_EMESH,
-                              "%s: non-manifold edge %u-%u (shared by %u faces)", w, v,
+                              "%s: non-manifold edge between vertices %u and %u (0-based ids; shared by %u faces)", w, v,
                               e[i].other, j - i);
                 break;
             }
