@@ -142,6 +142,14 @@ int gs_mesh_get_report(const gs_mesh *mesh, gs_mesh_report *report,
  * *out receives a new mesh (caller frees). */
 int gs_mesh_generate(const char *spec, gs_mesh **out, gs_error *err);
 
+/* Choose k distinct vertices used by faces, deterministically: candidates
+ * are the referenced vertices in increasing id order (m of them); a
+ * splitmix64 generator with state = seed draws v = candidates[next() % m],
+ * skipping repeats, until k are chosen (the procedure of the shared
+ * ground-truth files). out receives k ids in draw order. GS_EARG if k > m. */
+int gs_mesh_random_vertices(const gs_mesh *mesh, uint32_t k, uint64_t seed, uint32_t *out,
+                            gs_error *err);
+
 /* Write a mesh as OBJ (vertex order kept; "%.17g" so it reads back bit-exact).
  * The file is written to a temporary name and renamed: never left partial. */
 int gs_mesh_save_obj(const gs_mesh *mesh, const char *path, gs_error *err);
@@ -228,6 +236,144 @@ void gs_solver_last_stats(const gs_solver *solver, uint64_t *windows_created,
 int gs_distance_field(const gs_patch *patch, gs_method method,
                       const gs_source *sources, uint32_t n_sources,
                       double max_distance, double *dist, gs_error *err);
+
+/* ======================================================================== */
+/* Query databases (the paper's SEP method)                                 */
+/* ======================================================================== */
+
+/* An opened, validated database: immutable, safe to query from any number
+ * of threads at once. */
+typedef struct gs_db gs_db;
+
+/* Progress callback: stage name ("tree", "fields", "fits", "write") and the
+ * fraction done in [0,1]. Called from the building thread only. */
+typedef void (*gs_progress_fn)(void *user, const char *stage, double fraction);
+
+typedef struct gs_build_options {
+    gs_method method;        /* distance fields to compress [GS_METHOD_EXACT]  */
+    uint32_t vmax;           /* leaf patch size [30]                           */
+    uint32_t mmax;           /* maximum polynomial degree [12]                 */
+    double tol;              /* fit mean relative error target [0.005]         */
+    uint32_t threads;        /* 0: all cores [0]                               */
+    int vertex_sources;      /* 1: fields from the corners of the triangles    */
+                             /*   holding samples + barycentric interpolation  */
+                             /*   (the paper); 0: from the samples [0]         */
+    int sampled;             /* 1: SEPsam (sampled values, piecewise linear)   */
+    int leaf_exact;          /* 1: store exact distances inside leaves [0]     */
+    uint32_t seed;           /* partitioning seed [1]                          */
+    gs_progress_fn progress; /* may be NULL                                    */
+    void *progress_user;
+} gs_build_options;
+
+void gs_build_options_default(gs_build_options *opt);
+
+typedef struct gs_build_stats {
+    double seconds_tree, seconds_fields, seconds_fits, seconds_total;
+    uint64_t n_fields;       /* distance fields solved                         */
+    uint64_t n_functions;    /* separator distance functions fitted            */
+    double mean_degree;
+} gs_build_stats;
+
+/* Build a database in memory. stats may be NULL. *out receives a new
+ * database (caller frees with gs_db_free); save it with gs_db_save. */
+int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt, gs_db **out,
+                gs_build_stats *stats, gs_error *err);
+
+/* Write atomically (temporary file, then rename). */
+int gs_db_save(const gs_db *db, const char *path, gs_error *err);
+
+/* Open a database file (memory-mapped). Every offset, count and checksum is
+ * validated before use: a corrupt or truncated file gives GS_EPARSE with the
+ * section and field that is wrong, never a crash. */
+int gs_db_open(const char *path, gs_db **out, gs_error *err);
+
+/* Same from a caller's buffer (copied). */
+int gs_db_open_memory(const void *data, size_t size, gs_db **out, gs_error *err);
+
+void gs_db_free(gs_db *db);
+
+typedef struct gs_db_info {
+    uint32_t format_version;
+    uint32_t n_vertices, n_nodes, n_leaves, n_curves;
+    double avg_depth;        /* average leaf depth over vertices (paper: h) */
+    uint32_t max_depth;
+    double cost;             /* numbers stored per vertex, as Table 1 counts */
+    double bytes_per_vertex; /* whole file / n_vertices                      */
+    uint64_t file_bytes;
+    gs_method method;
+    uint32_t vmax, mmax;
+    double tol;
+    int vertex_sources, sampled, leaf_exact;
+} gs_db_info;
+
+int gs_db_get_info(const gs_db *db, gs_db_info *info, gs_error *err);
+
+/* Approximate geodesic distance between vertices x and y: +INFINITY if they
+ * are not connected, NaN if an id is out of range. Thread-safe, allocation
+ * free. */
+double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y);
+
+/* n pairs (pairs[2i], pairs[2i+1]) -> out[i]. GS_EARG names the first
+ * out-of-range id. */
+int gs_db_distances(const gs_db *db, const uint32_t *pairs, size_t n, double *out,
+                    gs_error *err);
+
+/* Distances from x to every vertex (out: n_vertices doubles). */
+int gs_db_field(const gs_db *db, uint32_t x, double *out, gs_error *err);
+
+/* ======================================================================== */
+/* Evaluation (paper section 5) and the LAND baseline                       */
+/* ======================================================================== */
+
+/* Errors of one candidate field against an exact one, as section 5 defines
+ * them: e(y) = |d - d^|/d over y != source with finite d > 0. */
+typedef struct gs_field_errors {
+    double me, rmse, max;    /* mean, root-mean-square, max relative error  */
+    uint64_t n_used;         /* pairs in the means                          */
+    uint64_t n_skipped;      /* d = 0 (y != source) or d not finite         */
+    uint64_t n_invalid;      /* candidate negative or non-finite, d finite  */
+} gs_field_errors;
+
+int gs_field_errors_compute(const double *exact, const double *approx, uint32_t n,
+                            uint32_t source, gs_field_errors *out, gs_error *err);
+
+/* LAND (Burghard & Klein 2015), the baseline of the paper's Table 1: m
+ * landmarks chosen by farthest-point sampling with geodesic distances (the
+ * first is the lowest-numbered vertex used by a face; each next one is the
+ * vertex farthest from all chosen ones, unreachable vertices first, so that
+ * every component gets one), the exact distances from each landmark to
+ * every vertex (m numbers per vertex), and the triangle-inequality bounds
+ *   lower(x,y) = max_l |d(l,x) - d(l,y)|,  upper(x,y) = min_l d(l,x) + d(l,y)
+ * over the landmarks l that reach x or y. LAND's estimate is the lower
+ * bound (which the authors show has bounded relative error and is a metric).
+ * Immutable after build: safe to query from any number of threads. */
+typedef struct gs_land gs_land;
+
+/* Choose m landmarks (1 <= m <= number of vertices used by faces, else
+ * GS_EARG) and solve their fields with `method` on the whole mesh. The mesh
+ * is only read during the call. *out receives a new object (caller frees). */
+int gs_land_build(const gs_mesh *mesh, uint32_t m, gs_method method, gs_land **out,
+                  gs_error *err);
+
+/* LAND's estimate (the lower bound) of d(x, y): 0 if x == y; +INFINITY if x
+ * and y are not connected (or lie in a component without a landmark); NaN
+ * if an id is out of range. Allocation free. */
+double gs_land_distance(const gs_land *l, uint32_t x, uint32_t y);
+
+/* Both bounds (lower <= exact <= upper for exact landmark fields); either
+ * pointer may be NULL. GS_EARG if an id is out of range. */
+int gs_land_bounds(const gs_land *l, uint32_t x, uint32_t y, double *lower, double *upper,
+                   gs_error *err);
+
+/* Estimates from x to every vertex (out: gs_land_num_vertices() doubles). */
+int gs_land_field(const gs_land *l, uint32_t x, double *out, gs_error *err);
+
+uint32_t gs_land_num_vertices(const gs_land *l);
+uint32_t gs_land_num_landmarks(const gs_land *l);
+/* Borrowed: the landmark vertex ids in the order chosen, valid while l lives. */
+const uint32_t *gs_land_landmarks(const gs_land *l);
+
+void gs_land_free(gs_land *l);
 
 /* ======================================================================== */
 /* Ground-truth distance files (format GEOGT1, doc/file-formats.md)         */

@@ -58,7 +58,7 @@ static grid make_grid(uint32_t nx, uint32_t ny, double W, double H, double jitte
         for (uint32_t i = 0; i <= nx; ++i) {
             double u = W * i / nx, v = H * j / ny;
             if (i > 0 && i < nx && j > 0 && j < ny) {
-                u += jitter * (2 * rnd() - 1) * W / nx;
+                if ((3 * i) % nx != 0) u += jitter * (2 * rnd() - 1) * W / nx;
                 v += jitter * (2 * rnd() - 1) * H / ny;
             }
             uint32_t k = gv(&g, i, j);
@@ -214,25 +214,22 @@ static void test_single_triangle(void)
     gs_mesh_free(m);
 }
 
-/* Fold a flat grid along the lines u = W/3 and u = 2W/3 (mesh lines): the
- * intrinsic geometry stays flat, so distances stay Euclidean in uv. */
+/* Fold a flat grid along the lines u = W/3 and u = 2W/3 (mesh lines; the
+ * jitter never moves those columns off them): each third is placed rigidly,
+ * so the intrinsic geometry stays flat and distances stay Euclidean in uv. */
 static void fold(grid *g, double W)
 {
+    const double a1 = 1.0, a2 = -1.9; /* directions of the 2nd and 3rd panels */
     for (uint32_t k = 0; k < g->nv; ++k) {
         double u = g->uv[2 * k];
         double *x = g->xyz + 3 * k;
-        if (u > W / 3 && u <= 2 * W / 3) { /* rises at 60 degrees */
-            x[0] = W / 3 + (u - W / 3) * 0.5;
-            x[2] = (u - W / 3) * sqrt(0.75);
-        } else if (u > 2 * W / 3) { /* then goes back down, 100 degrees */
-            double a = W / 3 * 0.5, b = W / 3 * sqrt(0.75);
-            x[0] = W / 3 + a + (u - 2 * W / 3) * cos(-100.0 * M_PI / 180);
-            x[2] = b + (u - 2 * W / 3) * sin(-100.0 * M_PI / 180) * 0.2;
-            x[1] = g->uv[2 * k + 1] + 0 * b;
-            /* keep the third panel planar and isometric: rotate in xz */
-            double len = u - 2 * W / 3, ang = -1.1;
-            x[0] = W / 3 + a + len * cos(ang);
-            x[2] = b + len * sin(ang);
+        if (u <= W / 3) continue;
+        double l1 = (u < 2 * W / 3 ? u : 2 * W / 3) - W / 3, l2 = u - 2 * W / 3;
+        x[0] = W / 3 + l1 * cos(a1);
+        x[2] = l1 * sin(a1);
+        if (l2 > 0) {
+            x[0] += l2 * cos(a2);
+            x[2] += l2 * sin(a2);
         }
     }
 }
