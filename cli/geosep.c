@@ -1,7 +1,7 @@
 /* geosep.c - the geosep command: mesh health reports, generated meshes and
  * geodesic distance fields (text, or GEOGT1 ground-truth files), built on
  * the public API only. Exit status: 0 ok, 1 runtime error, 2 usage error. */
-#include "geosep.h"
+#include "cli.h"
 
 #include <errno.h>
 #include <math.h>
@@ -13,43 +13,9 @@
 #include <time.h>
 #include <unistd.h>
 
-enum { EXIT_RUNTIME = 1, EXIT_USAGE = 2 };
 
 /* ---- messages ----------------------------------------------------------- */
 
-#if defined(__GNUC__)
-#define CLI_PRINTF(a, b) __attribute__((format(printf, a, b)))
-#else
-#define CLI_PRINTF(a, b)
-#endif
-
-/* Print "geosep: MESSAGE" to stderr and return the exit code. */
-static int fail(int code, const char *fmt, ...) CLI_PRINTF(2, 3);
-static int fail(int code, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    fputs("geosep: ", stderr);
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
-    va_end(ap);
-    return code;
-}
-
-/* A library failure: its message, prefixed by `what` unless it names it. */
-static int lib_fail(const char *what, int rc, const gs_error *err)
-{
-    const char *msg = err->message[0] ? err->message : gs_status_string(rc);
-    if (strstr(msg, what)) return fail(EXIT_RUNTIME, "%s", msg);
-    return fail(EXIT_RUNTIME, "%s: %s", what, msg);
-}
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* ---- usage -------------------------------------------------------------- */
 
@@ -68,7 +34,7 @@ static const char usage_generate[] =
 static const char usage_solve[] =
     "usage: geosep solve MESH --source V [--source V ...] [--source-point F:b0,b1,b2 ...]\n"
     "                    [--method exact|graph] [--max-distance D] [-o OUT] [--verbose]\n"
-    "       geosep solve MESH --format gt --sources-from FILE.gt -o OUT.gt\n"
+    "       geosep solve MESH --format gt (--sources-from FILE.gt | --random K [--seed S]) -o OUT.gt\n"
     "                    [--method exact|graph] [--verbose]\n"
     "  Geodesic distances from the sources to every vertex. Text output: one\n"
     "  distance per line in vertex order (\"%.17g\", \"inf\" if unreachable), the\n"
@@ -76,8 +42,10 @@ static const char usage_solve[] =
     "  (0-based); --source-point F:b0,b1,b2 is a point of face F (0-based) with\n"
     "  barycentric coordinates b >= 0 summing to 1. --max-distance D > 0 stops\n"
     "  at D (vertices farther away print a value > D or inf; 0 = no bound).\n"
-    "  --format gt: solve each source listed in FILE.gt (GEOGT1) separately and\n"
-    "  write all fields to OUT.gt. Files are written atomically.\n";
+    "  --format gt: solve each source listed in FILE.gt (GEOGT1), or K sources\n"
+    "  drawn as the shared ground truth draws them (splitmix64, --seed, default\n"
+    "  0), separately, and write all fields to OUT.gt. Files are written\n"
+    "  atomically.\n";
 
 static void print_usage(FILE *f)
 {
@@ -88,107 +56,18 @@ static void print_usage(FILE *f)
             "  info MESH                       mesh health report\n"
             "  generate SPEC -o OUT.obj        write a generated test mesh\n"
             "  solve MESH --source V ...       distance field from sources\n"
+            "  build MESH -o DB                build a query database\n"
+            "  query DB X Y                    approximate geodesic distance\n"
+            "  field DB --source X             distances from X through the database\n"
+            "  eval DB --groundtruth F.gt      accuracy against exact distances\n"
+            "  land MESH --landmarks M ...     the LAND baseline, evaluated\n"
             "  help [COMMAND]                  this text, or a command's usage\n"
             "  version                         print the version\n",
             gs_version_string());
 }
 
-static int is_help(const char *a) { return !strcmp(a, "--help") || !strcmp(a, "-h"); }
-
-/* ---- strict number parsing ---------------------------------------------- */
-
-static int parse_u32(const char *s, uint32_t *out)
-{
-    uint64_t v = 0;
-    if (!*s) return -1;
-    for (; *s; ++s) {
-        if (*s < '0' || *s > '9') return -1;
-        v = v * 10 + (uint64_t)(*s - '0');
-        if (v > UINT32_MAX - 1) return -1;
-    }
-    *out = (uint32_t)v;
-    return 0;
-}
-
-static int parse_double(const char *s, double *out)
-{
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end || isnan(v)) return -1;
-    *out = v;
-    return 0;
-}
-
-/* ---- atomic text output: temporary file + rename ------------------------ */
-
-typedef struct out_file {
-    FILE *f;
-    char *tmp;
-    const char *path; /* NULL: stdout */
-} out_file;
-
-static int out_open(out_file *o, const char *path)
-{
-    o->f = stdout;
-    o->tmp = NULL;
-    o->path = (path && strcmp(path, "-")) ? path : NULL;
-    if (!o->path) return 0;
-    size_t n = strlen(path) + 16;
-    o->tmp = malloc(n);
-    if (!o->tmp) return fail(EXIT_RUNTIME, "out of memory");
-    snprintf(o->tmp, n, "%s.tmp.XXXXXX", path);
-    int fd = mkstemp(o->tmp);
-    if (fd < 0) {
-        int e = errno;
-        free(o->tmp);
-        o->tmp = NULL;
-        return fail(EXIT_RUNTIME, "%s: cannot create: %s", path, strerror(e));
-    }
-    mode_t mask = umask(0);
-    umask(mask);
-    fchmod(fd, 0666 & ~mask);
-    o->f = fdopen(fd, "w");
-    if (!o->f) {
-        close(fd);
-        unlink(o->tmp);
-        free(o->tmp);
-        return fail(EXIT_RUNTIME, "%s: cannot open: %s", path, strerror(errno));
-    }
-    return 0;
-}
-
-static void out_abort(out_file *o)
-{
-    if (!o->path) return;
-    fclose(o->f);
-    unlink(o->tmp);
-    free(o->tmp);
-}
-
-static int out_commit(out_file *o)
-{
-    if (!o->path) return fflush(stdout) || ferror(stdout) ? fail(EXIT_RUNTIME, "write error on stdout") : 0;
-    int bad = fflush(o->f) != 0 || ferror(o->f) || fsync(fileno(o->f)) != 0;
-    int e = errno;
-    bad |= fclose(o->f) != 0;
-    if (!bad && rename(o->tmp, o->path) != 0) {
-        e = errno;
-        bad = 1;
-    }
-    if (bad) unlink(o->tmp);
-    free(o->tmp);
-    return bad ? fail(EXIT_RUNTIME, "%s: write failed: %s", o->path, strerror(e)) : 0;
-}
 
 /* ---- info --------------------------------------------------------------- */
-
-static int load_mesh(const char *path, gs_mesh **m)
-{
-    gs_error err = {0};
-    int rc = gs_mesh_load(path, GS_FORMAT_AUTO, m, &err);
-    return rc ? lib_fail(path, rc, &err) : 0;
-}
 
 static void print_report(const char *path, const gs_mesh_report *r)
 {
@@ -262,6 +141,7 @@ typedef struct solve_opts {
     gs_method method;
     double max_d;
     int gt, verbose;
+    uint32_t random_k, seed; /* --random K --seed S (GEOGT1 output) */
     gs_source *src;
     uint32_t n_src, cap_src;
     const char **src_arg; /* the argument each source came from */
@@ -302,27 +182,11 @@ static int parse_point(const char *a, gs_source *s)
     return 0;
 }
 
-/* Value of option argv[*i] ("--opt VALUE" or "--opt=VALUE"); NULL if absent. */
-static const char *opt_value(int argc, char **argv, int *i, const char *name)
-{
-    size_t n = strlen(name);
-    if (strncmp(argv[*i], name, n)) return NULL;
-    if (argv[*i][n] == '=') return argv[*i] + n + 1;
-    if (argv[*i][n] || *i + 1 >= argc) return NULL;
-    return argv[++*i];
-}
-
-static int is_opt(const char *arg, const char *name)
-{
-    size_t n = strlen(name);
-    return !strncmp(arg, name, n) && (arg[n] == 0 || arg[n] == '=');
-}
-
 static int solve_option(solve_opts *o, int argc, char **argv, int *i)
 {
     const char *a = argv[*i], *v;
     static const char *const with_value[] = {"--source", "--source-point", "--method", "--max-distance",
-                                             "--format", "--sources-from", "-o"};
+                                             "--format", "--sources-from", "--random", "--seed", "-o"};
     for (size_t k = 0; k < sizeof with_value / sizeof *with_value; ++k) {
         if (!is_opt(a, with_value[k])) continue;
         if (!(v = opt_value(argc, argv, i, with_value[k])) || !*v)
@@ -355,6 +219,13 @@ static int solve_option(solve_opts *o, int argc, char **argv, int *i)
             o->gt = !strcmp(v, "gt");
             return 0;
         case 5: o->sources_from = v; return 0;
+        case 6:
+            if (parse_u32(v, &o->random_k) || o->random_k == 0)
+                return fail(EXIT_USAGE, "solve: --random '%s': expected a positive count", v);
+            return 0;
+        case 7:
+            if (parse_u32(v, &o->seed)) return fail(EXIT_USAGE, "solve: --seed '%s': expected an integer >= 0", v);
+            return 0;
         default: o->out = v; return 0;
         }
     }
@@ -366,7 +237,8 @@ static int check_solve_opts(const solve_opts *o)
 {
     if (!o->mesh) return fail(EXIT_USAGE, "solve: missing MESH");
     if (o->gt) {
-        if (!o->sources_from) return fail(EXIT_USAGE, "solve: --format gt needs --sources-from FILE.gt");
+        if (!o->sources_from == !o->random_k)
+            return fail(EXIT_USAGE, "solve: --format gt needs either --sources-from FILE.gt or --random K");
         if (!o->out || !strcmp(o->out, "-")) return fail(EXIT_USAGE, "solve: --format gt needs -o OUT.gt");
         if (o->n_src) return fail(EXIT_USAGE, "solve: --format gt takes its sources from --sources-from, not --source");
         if (o->max_d != 0 && !isinf(o->max_d))
@@ -374,6 +246,7 @@ static int check_solve_opts(const solve_opts *o)
         return 0;
     }
     if (o->sources_from) return fail(EXIT_USAGE, "solve: --sources-from needs --format gt");
+    if (o->random_k) return fail(EXIT_USAGE, "solve: --random needs --format gt");
     if (!o->n_src) return fail(EXIT_USAGE, "solve: no source given (--source V or --source-point F:b0,b1,b2)");
     return 0;
 }
@@ -452,24 +325,6 @@ static int run_solve(run_ctx *c, const gs_source *s, uint32_t n, double max_d, d
     return rc ? lib_fail("solve", rc, &err) : 0;
 }
 
-static int write_text(const char *path, const double *d, uint32_t n)
-{
-    out_file o;
-    int rc = out_open(&o, path);
-    if (rc) return rc;
-    for (uint32_t v = 0; v < n; ++v) {
-        if (isinf(d[v]))
-            fputs("inf\n", o.f);
-        else
-            fprintf(o.f, "%.17g\n", d[v]);
-    }
-    if (ferror(o.f)) {
-        out_abort(&o);
-        return fail(EXIT_RUNTIME, "%s: write failed", path ? path : "stdout");
-    }
-    return out_commit(&o);
-}
-
 static int solve_text(const solve_opts *o, run_ctx *c)
 {
     uint32_t n = gs_mesh_num_vertices(c->mesh);
@@ -481,27 +336,45 @@ static int solve_text(const solve_opts *o, run_ctx *c)
     return rc;
 }
 
-static int solve_gt(const solve_opts *o, run_ctx *c)
+/* The sources of a GEOGT1 run: those of --sources-from, or --random K. */
+static int gt_sources(const solve_opts *o, const gs_mesh *m, uint32_t **src, uint32_t *k)
 {
-    gs_gt *gt = NULL;
     gs_error err = {0};
+    uint32_t n = gs_mesh_num_vertices(m);
+    if (o->random_k) {
+        *k = o->random_k;
+        if (!(*src = malloc(*k * sizeof **src))) return fail(EXIT_RUNTIME, "out of memory");
+        int rc = gs_mesh_random_vertices(m, *k, o->seed, *src, &err);
+        return rc ? fail(EXIT_USAGE, "solve: --random: %s", err.message) : 0;
+    }
+    gs_gt *gt = NULL;
     int rc = gs_gt_read(o->sources_from, &gt, &err);
     if (rc) return lib_fail(o->sources_from, rc, &err);
-    uint32_t n = gs_mesh_num_vertices(c->mesh);
-    double *d = NULL;
     if (gt->n_vertices != n)
         rc = fail(EXIT_RUNTIME, "%s: made for %u vertices, but %s has %u", o->sources_from, gt->n_vertices,
                   o->mesh, n);
-    else if (!(d = malloc(((size_t)n * gt->n_sources + 1) * sizeof *d)))
-        rc = fail(EXIT_RUNTIME, "out of memory for %u fields of %u vertices", gt->n_sources, n);
-    for (uint32_t j = 0; !rc && j < gt->n_sources; ++j) {
-        gs_source s = gs_source_vertex(gt->sources[j]);
+    *k = gt->n_sources;
+    *src = gt->sources; /* taken over */
+    gt->sources = NULL;
+    gs_gt_free(gt);
+    return rc;
+}
+
+static int solve_gt(const solve_opts *o, run_ctx *c)
+{
+    uint32_t *src = NULL, k = 0, n = gs_mesh_num_vertices(c->mesh);
+    gs_error err = {0};
+    double *d = NULL;
+    int rc = gt_sources(o, c->mesh, &src, &k);
+    if (!rc && !(d = malloc(((size_t)n * k + 1) * sizeof *d)))
+        rc = fail(EXIT_RUNTIME, "out of memory for %u fields of %u vertices", k, n);
+    for (uint32_t j = 0; !rc && j < k; ++j) {
+        gs_source s = gs_source_vertex(src[j]);
         rc = run_solve(c, &s, 1, 0, d + (size_t)j * n);
     }
-    if (!rc && (rc = gs_gt_write(o->out, n, gt->n_sources, gt->sources, d, &err)))
-        rc = lib_fail(o->out, rc, &err);
+    if (!rc && (rc = gs_gt_write(o->out, n, k, src, d, &err))) rc = lib_fail(o->out, rc, &err);
     free(d);
-    gs_gt_free(gt);
+    free(src);
     return rc;
 }
 
@@ -543,6 +416,11 @@ static const command commands[] = {
     {"info", cmd_info, usage_info},
     {"generate", cmd_generate, usage_generate},
     {"solve", cmd_solve, usage_solve},
+    {"build", cmd_build, usage_build},
+    {"query", cmd_query, usage_query},
+    {"field", cmd_field, usage_field},
+    {"eval", cmd_eval, usage_eval},
+    {"land", cmd_land, usage_land},
 };
 
 static const command *find_command(const char *name)

@@ -261,6 +261,8 @@ typedef struct gs_build_options {
     int sampled;             /* 1: SEPsam (sampled values, piecewise linear)   */
     int leaf_exact;          /* 1: store exact distances inside leaves [0]     */
     uint32_t seed;           /* partitioning seed [1]                          */
+    double sample_spacing;   /* separator sample spacing / mean edge length    */
+                             /*   [0.5]                                        */
     gs_progress_fn progress; /* may be NULL                                    */
     void *progress_user;
 } gs_build_options;
@@ -272,6 +274,8 @@ typedef struct gs_build_stats {
     uint64_t n_fields;       /* distance fields solved                         */
     uint64_t n_functions;    /* separator distance functions fitted            */
     double mean_degree;
+    uint64_t n_over_tol;     /* fits that missed tol even at degree mmax       */
+    double mean_fit_error;   /* mean relative error of the fits on the samples */
 } gs_build_stats;
 
 /* Build a database in memory. stats may be NULL. *out receives a new
@@ -346,6 +350,9 @@ int gs_field_errors_compute(const double *exact, const double *approx, uint32_t 
  *   lower(x,y) = max_l |d(l,x) - d(l,y)|,  upper(x,y) = min_l d(l,x) + d(l,y)
  * over the landmarks l that reach x or y. LAND's estimate is the lower
  * bound (which the authors show has bounded relative error and is a metric).
+ * Note: the paper's Table 1 LAND errors have RMSE > sqrt(ME), impossible for
+ * the lower bound (its relative error is <= 1); they lie between what the
+ * midpoint and the upper bound give (gs_land_bounds).
  * Immutable after build: safe to query from any number of threads. */
 typedef struct gs_land gs_land;
 

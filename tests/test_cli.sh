@@ -164,7 +164,7 @@ expect_fail 1 "trunc.gt" "gt: truncated sources file" solve "$G" --format gt --s
 { [ ! -e "$T/w.gt" ]; }; verdict "gt: truncated input leaves no OUT"
 expect_fail 1 "cannot open|No such" "gt: missing sources file" solve "$G" --format gt --sources-from "$T/nope.gt" -o "$T/w.gt"
 expect_fail 2 "needs -o" "gt: no -o" solve "$G" --format gt --sources-from "$T/src.gt"
-expect_fail 2 "needs --sources-from" "gt: no --sources-from" solve "$G" --format gt -o "$T/w.gt"
+expect_fail 2 "needs either --sources-from FILE.gt or --random K" "gt: no --sources-from" solve "$G" --format gt -o "$T/w.gt"
 expect_fail 2 "not --source" "gt: with --source" solve "$G" --format gt --sources-from "$T/src.gt" --source 0 -o "$T/w.gt"
 expect_fail 2 "needs --format gt" "--sources-from without gt" solve "$G" --sources-from "$T/src.gt" --source 0
 { [ -z "$(find "$T" -name '*.tmp.*')" ]; }; verdict "gt: no temporary files left behind"

@@ -1,0 +1,117 @@
+/* bench/query.c - query speed of a database (paper sec. 3.2, appendix A.2):
+ * median time of single point-to-point queries over a million random pairs
+ * (one thread), queries per second, full distance fields, open time, size. */
+#include "geosep.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define N_PAIRS 1000000u
+#define BATCH 1000u
+#define N_FIELDS 20u
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static uint64_t rng_state = 0x853C49E6748FEA9Bull;
+static uint32_t rng(uint32_t n)
+{
+    rng_state ^= rng_state << 13, rng_state ^= rng_state >> 7, rng_state ^= rng_state << 17;
+    return (uint32_t)((rng_state >> 11) % n);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Single queries, timed individually (timer overhead subtracted) and in
+ * batches of BATCH. */
+static void bench_pairs(const gs_db *db, uint32_t nv)
+{
+    uint32_t *pairs = malloc(sizeof *pairs * 2 * N_PAIRS);
+    double *t = malloc(sizeof *t * N_PAIRS), *tb = malloc(sizeof *tb * (N_PAIRS / BATCH)), sum = 0;
+    for (uint32_t i = 0; i < 2 * N_PAIRS; ++i) pairs[i] = rng(nv);
+    double t_empty[1000];
+    for (int i = 0; i < 1000; ++i) {
+        double a = now();
+        t_empty[i] = now() - a;
+    }
+    qsort(t_empty, 1000, sizeof *t_empty, cmp_double);
+    for (uint32_t i = 0; i < N_PAIRS; ++i) {
+        double a = now();
+        sum += gs_db_distance(db, pairs[2 * i], pairs[2 * i + 1]);
+        t[i] = now() - a - t_empty[500];
+    }
+    double total = now();
+    for (uint32_t b = 0; b < N_PAIRS / BATCH; ++b) {
+        double a = now();
+        for (uint32_t i = b * BATCH; i < (b + 1) * BATCH; ++i) sum += gs_db_distance(db, pairs[2 * i], pairs[2 * i + 1]);
+        tb[b] = (now() - a) / BATCH;
+    }
+    total = now() - total;
+    qsort(t, N_PAIRS, sizeof *t, cmp_double);
+    qsort(tb, N_PAIRS / BATCH, sizeof *tb, cmp_double);
+    printf("single queries (%u random pairs, one thread):\n", N_PAIRS);
+    printf("  median %.0f ns, p90 %.0f ns, p99 %.0f ns (individually timed, timer %.0f ns subtracted)\n",
+           1e9 * t[N_PAIRS / 2], 1e9 * t[N_PAIRS / 10 * 9], 1e9 * t[N_PAIRS / 100 * 99], 1e9 * t_empty[500]);
+    printf("  median of %u-query batches: %.0f ns/query; %.3g queries/s overall (checksum %g)\n", BATCH,
+           1e9 * tb[N_PAIRS / BATCH / 2], N_PAIRS / total, sum);
+    free(pairs);
+    free(t);
+    free(tb);
+}
+
+static void bench_fields(const gs_db *db, uint32_t nv)
+{
+    double *out = malloc(sizeof *out * nv), tf = 0, tq = 0, sum = 0;
+    for (uint32_t k = 0; k < N_FIELDS; ++k) {
+        uint32_t x = rng(nv);
+        double a = now();
+        gs_db_field(db, x, out, NULL);
+        tf += now() - a;
+        a = now();
+        for (uint32_t y = 0; y < nv; ++y) sum += gs_db_distance(db, x, y);
+        tq += now() - a;
+    }
+    printf("full field (%u vertices): %.3f ms with gs_db_field, %.3f ms through %u single queries (checksum %g)\n", nv,
+           1e3 * tf / N_FIELDS, 1e3 * tq / N_FIELDS, nv, sum);
+    free(out);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        printf("usage: %s DB.gsdb\n"
+               "make a database first, e.g.:\n"
+               "  geosep build ../shared/meshes/bunny-5k.obj -o bunny-5k.gsdb\n"
+               "  (or a generated mesh: geosep generate sphere:5 -o sphere.obj)\n",
+               argv[0]);
+        return 0;
+    }
+    gs_db *db = NULL;
+    gs_error err = {0};
+    double t = now();
+    if (gs_db_open(argv[1], &db, &err) != GS_OK) {
+        fprintf(stderr, "%s\n", err.message);
+        return 1;
+    }
+    t = now() - t;
+    gs_db_info info;
+    gs_db_get_info(db, &info, NULL);
+    printf("%s: %u vertices, %u nodes, %u leaves, %u curves, depth avg %.2f max %u\n", argv[1], info.n_vertices,
+           info.n_nodes, info.n_leaves, info.n_curves, info.avg_depth, info.max_depth);
+    printf("size %llu bytes, %.1f bytes/vertex, cost %.1f reals/vertex; open+validate %.3f ms\n",
+           (unsigned long long)info.file_bytes, info.bytes_per_vertex, info.cost, 1e3 * t);
+    bench_pairs(db, info.n_vertices);
+    bench_fields(db, info.n_vertices);
+    gs_db_free(db);
+    return 0;
+}

@@ -1,0 +1,412 @@
+/* db_cmds.c - the database subcommands: build, query, field, eval (section 5
+ * error measures against a GEOGT1 file) and the LAND baseline. */
+#include "cli.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+const char usage_build[] =
+    "usage: geosep build MESH -o DB [--method exact|graph] [--vmax N] [--mmax N] [--tol F]\n"
+    "                    [--threads N] [--vertex-sources] [--sampled] [--seed N] [--spacing F]\n"
+    "                    [--quiet]\n"
+    "  Build a query database: nested bisection tree (leaves of at most --vmax\n"
+    "  vertices, default 30), distance fields from every separator sample inside\n"
+    "  its patch (--method, default exact), and per-vertex polynomial separator\n"
+    "  distance functions of degree <= --mmax (12) fitted to mean relative error\n"
+    "  --tol (0.005). --vertex-sources: fields from the corners of the sample\n"
+    "  triangles + barycentric interpolation (the paper's way). --sampled: store\n"
+    "  the sampled values (SEPsam) instead of polynomials. --spacing: separator\n"
+    "  sample spacing in mean edge lengths (0.5). --threads 0 = all cores.\n"
+    "  Shows progress on a terminal; prints the stage times and the size.\n";
+const char usage_query[] =
+    "usage: geosep query DB X Y\n"
+    "       geosep query DB --pairs FILE   (FILE: lines 'X Y'; '-' = stdin)\n"
+    "  Approximate geodesic distance between vertices X and Y, one per line\n"
+    "  (\"inf\" if they are not connected).\n";
+const char usage_field[] =
+    "usage: geosep field DB --source X [-o OUT]\n"
+    "       geosep field DB --format gt --sources-from FILE.gt -o OUT.gt\n"
+    "  Database distances from X to every vertex, one per line (or, with\n"
+    "  --format gt, for every source of FILE.gt, written as GEOGT1).\n";
+const char usage_eval[] =
+    "usage: geosep eval DB --groundtruth FILE.gt\n"
+    "  Compare the database with exact distances (GEOGT1): ME and RMSE of the\n"
+    "  relative error as the paper's section 5 defines them (averaged over the\n"
+    "  sources), maximum relative error, cost (numbers stored per vertex, as\n"
+    "  Table 1 counts them), bytes per vertex, tree depth, query speed.\n";
+const char usage_land[] =
+    "usage: geosep land MESH --landmarks M --groundtruth FILE.gt [--method exact|graph]\n"
+    "  The LAND baseline (Burghard & Klein 2015) with M landmarks, evaluated\n"
+    "  against FILE.gt like geosep eval.\n";
+
+/* ---- build --------------------------------------------------------------- */
+
+typedef struct bar {
+    int tty;
+    double t0;
+    const char *stage;
+    int last_pct;
+} bar;
+
+static void on_progress(void *user, const char *stage, double f)
+{
+    bar *b = user;
+    if (!b->tty) return;
+    int pct = (int)(f * 100);
+    if (b->stage == stage && pct == b->last_pct) return;
+    b->stage = stage;
+    b->last_pct = pct;
+    double el = now() - b->t0;
+    char eta[32] = "";
+    if (f > 0.02 && f < 1) snprintf(eta, sizeof eta, " ~%.0f s left", el * (1 - f) / f);
+    int w = 30, k = (int)(f * w);
+    fprintf(stderr, "\r%-7s [%.*s%*s] %3d%% %6.1f s%-16s", stage, k, "##############################",
+            w - k, "", pct, el, eta);
+    fflush(stderr);
+}
+
+static int build_option(gs_build_options *o, const char **out, int *quiet, int argc, char **argv, int *i)
+{
+    const char *a = argv[*i], *v;
+    if (!strcmp(a, "--vertex-sources")) return o->vertex_sources = 1, 0;
+    if (!strcmp(a, "--sampled")) return o->sampled = 1, 0;
+    if (!strcmp(a, "--quiet")) return *quiet = 1, 0;
+    if ((v = opt_value(argc, argv, i, "-o")) || (v = opt_value(argc, argv, i, "--output"))) return *out = v, 0;
+    if ((v = opt_value(argc, argv, i, "--method"))) {
+        gs_error e = {0};
+        return gs_method_from_name(v, &o->method, &e) ? fail(EXIT_USAGE, "build: %s", e.message) : 0;
+    }
+    if ((v = opt_value(argc, argv, i, "--vmax")))
+        return parse_u32(v, &o->vmax) ? fail(EXIT_USAGE, "build: --vmax '%s' is not a count", v) : 0;
+    if ((v = opt_value(argc, argv, i, "--mmax")))
+        return parse_u32(v, &o->mmax) ? fail(EXIT_USAGE, "build: --mmax '%s' is not a count", v) : 0;
+    if ((v = opt_value(argc, argv, i, "--threads")))
+        return parse_u32(v, &o->threads) ? fail(EXIT_USAGE, "build: --threads '%s' is not a count", v) : 0;
+    if ((v = opt_value(argc, argv, i, "--seed")))
+        return parse_u32(v, &o->seed) ? fail(EXIT_USAGE, "build: --seed '%s' is not a count", v) : 0;
+    if ((v = opt_value(argc, argv, i, "--spacing")))
+        return parse_double(v, &o->sample_spacing) ? fail(EXIT_USAGE, "build: --spacing '%s' is not a number", v) : 0;
+    if ((v = opt_value(argc, argv, i, "--tol")))
+        return parse_double(v, &o->tol) ? fail(EXIT_USAGE, "build: --tol '%s' is not a number", v) : 0;
+    return fail(EXIT_USAGE, "build: unknown or incomplete option '%s'", a);
+}
+
+int cmd_build(int argc, char **argv)
+{
+    gs_build_options o;
+    gs_build_options_default(&o);
+    const char *mesh_path = NULL, *out = NULL;
+    int quiet = 0;
+    for (int i = 1; i < argc; ++i) {
+        if (is_help(argv[i])) return fputs(usage_build, stdout), 0;
+        if (argv[i][0] == '-' && argv[i][1]) {
+            int rc = build_option(&o, &out, &quiet, argc, argv, &i);
+            if (rc) return rc;
+        } else if (!mesh_path)
+            mesh_path = argv[i];
+        else
+            return fail(EXIT_USAGE, "build: unexpected argument '%s'", argv[i]);
+    }
+    if (!mesh_path || !out) return fail(EXIT_USAGE, "build: need MESH and -o DB (see geosep build --help)");
+    gs_mesh *m = NULL;
+    int rc = load_mesh(mesh_path, &m);
+    if (rc) return rc;
+    bar b = {isatty(2) && !quiet, now(), NULL, -1};
+    o.progress = on_progress;
+    o.progress_user = &b;
+    gs_db *db = NULL;
+    gs_build_stats st = {0};
+    gs_error err = {0};
+    rc = gs_db_build(m, &o, &db, &st, &err);
+    if (b.tty) fputc('\n', stderr);
+    if (rc) {
+        gs_mesh_free(m);
+        return lib_fail("build", rc, &err);
+    }
+    double tw = now();
+    rc = gs_db_save(db, out, &err);
+    tw = now() - tw;
+    if (rc) rc = lib_fail(out, rc, &err);
+    gs_db_info info;
+    if (!rc && !quiet && gs_db_get_info(db, &info, &err) == GS_OK) {
+        printf("%s: %u vertices, %u nodes (%u leaves), %u curves, depth avg %.2f max %u\n", out,
+               info.n_vertices, info.n_nodes, info.n_leaves, info.n_curves, info.avg_depth, info.max_depth);
+        printf("fields %llu (%s), functions %llu, mean degree %.2f, mean fit error %.3f%%, %llu above tol\n",
+               (unsigned long long)st.n_fields, gs_method_name(o.method), (unsigned long long)st.n_functions,
+               st.mean_degree, 100 * st.mean_fit_error, (unsigned long long)st.n_over_tol);
+        printf("time: tree %.2f s, fields %.2f s, fits %.2f s, write %.2f s, total %.2f s\n", st.seconds_tree,
+               st.seconds_fields, st.seconds_fits, tw, st.seconds_total + tw);
+        printf("size: %llu bytes, %.1f bytes/vertex, cost %.1f numbers/vertex\n",
+               (unsigned long long)info.file_bytes, info.bytes_per_vertex, info.cost);
+    }
+    gs_db_free(db);
+    gs_mesh_free(m);
+    return rc;
+}
+
+/* ---- query / field -------------------------------------------------------- */
+
+static int open_db(const char *path, gs_db **db)
+{
+    gs_error err = {0};
+    int rc = gs_db_open(path, db, &err);
+    return rc ? lib_fail(path, rc, &err) : 0;
+}
+
+static void print_distance(FILE *f, double d)
+{
+    if (isinf(d))
+        fputs("inf\n", f);
+    else
+        fprintf(f, "%.17g\n", d);
+}
+
+static int query_id(const char *s, uint32_t n, uint32_t *v)
+{
+    if (parse_u32(s, v)) return fail(EXIT_USAGE, "query: '%s' is not a vertex id", s);
+    if (*v >= n) return fail(EXIT_USAGE, "query: vertex %u out of range (the database has %u)", *v, n);
+    return 0;
+}
+
+static int query_pairs(const gs_db *db, uint32_t n, const char *path)
+{
+    FILE *f = strcmp(path, "-") ? fopen(path, "r") : stdin;
+    if (!f) return fail(EXIT_RUNTIME, "%s: cannot open", path);
+    char line[256];
+    int rc = 0;
+    for (unsigned long ln = 1; !rc && fgets(line, sizeof line, f); ++ln) {
+        char a[64], b[64], extra[2];
+        int k = sscanf(line, "%63s %63s %1s", a, b, extra);
+        if (k <= 0) continue;
+        uint32_t x, y;
+        if (k != 2 || parse_u32(a, &x) || parse_u32(b, &y) || x >= n || y >= n) {
+            rc = fail(EXIT_RUNTIME, "%s:%lu: expected two vertex ids below %u", path, ln, n);
+            break;
+        }
+        print_distance(stdout, gs_db_distance(db, x, y));
+    }
+    if (f != stdin) fclose(f);
+    return rc;
+}
+
+int cmd_query(int argc, char **argv)
+{
+    for (int i = 1; i < argc; ++i)
+        if (is_help(argv[i])) return fputs(usage_query, stdout), 0;
+    if (argc != 4) return fail(EXIT_USAGE, "query: need DB X Y or DB --pairs FILE");
+    gs_db *db = NULL;
+    int rc = open_db(argv[1], &db);
+    if (rc) return rc;
+    gs_db_info info;
+    gs_db_get_info(db, &info, NULL);
+    if (!strcmp(argv[2], "--pairs"))
+        rc = query_pairs(db, info.n_vertices, argv[3]);
+    else {
+        uint32_t x, y;
+        if (!(rc = query_id(argv[2], info.n_vertices, &x)) && !(rc = query_id(argv[3], info.n_vertices, &y)))
+            print_distance(stdout, gs_db_distance(db, x, y));
+    }
+    gs_db_free(db);
+    return rc;
+}
+
+static int field_gt(const gs_db *db, uint32_t n, const char *from, const char *out)
+{
+    gs_gt *gt = NULL;
+    gs_error err = {0};
+    int rc = gs_gt_read(from, &gt, &err);
+    if (rc) return lib_fail(from, rc, &err);
+    double *d = NULL;
+    if (gt->n_vertices != n)
+        rc = fail(EXIT_RUNTIME, "%s: made for %u vertices, the database has %u", from, gt->n_vertices, n);
+    else if (!(d = malloc(((size_t)n * gt->n_sources + 1) * sizeof *d)))
+        rc = fail(EXIT_RUNTIME, "out of memory");
+    for (uint32_t j = 0; !rc && j < gt->n_sources; ++j)
+        if ((rc = gs_db_field(db, gt->sources[j], d + (size_t)j * n, &err))) rc = lib_fail("field", rc, &err);
+    if (!rc && (rc = gs_gt_write(out, n, gt->n_sources, gt->sources, d, &err))) rc = lib_fail(out, rc, &err);
+    free(d);
+    gs_gt_free(gt);
+    return rc;
+}
+
+int cmd_field(int argc, char **argv)
+{
+    const char *dbp = NULL, *out = NULL, *from = NULL, *src = NULL, *fmt = NULL, *v;
+    for (int i = 1; i < argc; ++i) {
+        if (is_help(argv[i])) return fputs(usage_field, stdout), 0;
+        if ((v = opt_value(argc, argv, &i, "-o"))) out = v;
+        else if ((v = opt_value(argc, argv, &i, "--source"))) src = v;
+        else if ((v = opt_value(argc, argv, &i, "--sources-from"))) from = v;
+        else if ((v = opt_value(argc, argv, &i, "--format"))) fmt = v;
+        else if (argv[i][0] == '-' && argv[i][1]) return fail(EXIT_USAGE, "field: unknown option '%s'", argv[i]);
+        else if (!dbp) dbp = argv[i];
+        else return fail(EXIT_USAGE, "field: unexpected argument '%s'", argv[i]);
+    }
+    if (fmt && strcmp(fmt, "gt") && strcmp(fmt, "text"))
+        return fail(EXIT_USAGE, "field: unknown --format '%s' (text or gt)", fmt);
+    int gt = fmt && !strcmp(fmt, "gt");
+    if (!dbp || (gt ? (!from || !out || src) : (!src || from)))
+        return fail(EXIT_USAGE, "field: need DB --source X, or DB --format gt --sources-from FILE.gt -o OUT.gt");
+    gs_db *db = NULL;
+    int rc = open_db(dbp, &db);
+    if (rc) return rc;
+    gs_db_info info;
+    gs_db_get_info(db, &info, NULL);
+    uint32_t n = info.n_vertices, x;
+    if (gt)
+        rc = field_gt(db, n, from, out);
+    else if (!(rc = query_id(src, n, &x))) {
+        double *d = malloc((n ? n : 1) * sizeof *d);
+        gs_error err = {0};
+        if (!d)
+            rc = fail(EXIT_RUNTIME, "out of memory");
+        else if ((rc = gs_db_field(db, x, d, &err)))
+            rc = lib_fail("field", rc, &err);
+        else
+            rc = write_text(out, d, n);
+        free(d);
+    }
+    gs_db_free(db);
+    return rc;
+}
+
+/* ---- eval / land ------------------------------------------------------------ */
+
+/* Average of the per-source errors of fields produced by `field_fn`. */
+typedef int (*field_fn)(const void *obj, uint32_t x, double *out, gs_error *err);
+
+static int db_field_fn(const void *obj, uint32_t x, double *out, gs_error *err)
+{
+    return gs_db_field(obj, x, out, err);
+}
+
+static int land_field_fn(const void *obj, uint32_t x, double *out, gs_error *err)
+{
+    return gs_land_field(obj, x, out, err);
+}
+
+static int evaluate(const gs_gt *gt, field_fn fn, const void *obj, gs_field_errors *avg, double *secs)
+{
+    uint32_t n = gt->n_vertices;
+    double *d = malloc((n ? n : 1) * sizeof *d);
+    if (!d) return fail(EXIT_RUNTIME, "out of memory");
+    memset(avg, 0, sizeof *avg);
+    gs_error err = {0};
+    int rc = 0;
+    *secs = 0;
+    for (uint32_t j = 0; j < gt->n_sources && !rc; ++j) {
+        double t0 = now();
+        if ((rc = fn(obj, gt->sources[j], d, &err))) {
+            rc = lib_fail("eval", rc, &err);
+            break;
+        }
+        *secs += now() - t0;
+        gs_field_errors e;
+        if ((rc = gs_field_errors_compute(gt->dist + (size_t)j * n, d, n, gt->sources[j], &e, &err))) {
+            rc = lib_fail("eval", rc, &err);
+            break;
+        }
+        avg->me += e.me / gt->n_sources;
+        avg->rmse += e.rmse / gt->n_sources;
+        avg->max = fmax(avg->max, e.max);
+        avg->n_used += e.n_used;
+        avg->n_skipped += e.n_skipped;
+        avg->n_invalid += e.n_invalid;
+    }
+    free(d);
+    return rc;
+}
+
+static void print_errors(const gs_field_errors *e, uint32_t n_sources)
+{
+    printf("ME %.3f%%  RMSE %.3f%%  max %.3f%%  (%u sources, %llu pairs, %llu skipped, %llu invalid)\n",
+           100 * e->me, 100 * e->rmse, 100 * e->max, n_sources, (unsigned long long)e->n_used,
+           (unsigned long long)e->n_skipped, (unsigned long long)e->n_invalid);
+}
+
+static int read_gt(const char *path, uint32_t n, gs_gt **gt)
+{
+    gs_error err = {0};
+    int rc = gs_gt_read(path, gt, &err);
+    if (rc) return lib_fail(path, rc, &err);
+    if ((*gt)->n_vertices != n) {
+        rc = fail(EXIT_RUNTIME, "%s: made for %u vertices, but the mesh/database has %u", path,
+                  (*gt)->n_vertices, n);
+        gs_gt_free(*gt);
+        *gt = NULL;
+    }
+    return rc;
+}
+
+int cmd_eval(int argc, char **argv)
+{
+    const char *dbp = NULL, *gtp = NULL, *v;
+    for (int i = 1; i < argc; ++i) {
+        if (is_help(argv[i])) return fputs(usage_eval, stdout), 0;
+        if ((v = opt_value(argc, argv, &i, "--groundtruth"))) gtp = v;
+        else if (argv[i][0] == '-') return fail(EXIT_USAGE, "eval: unknown option '%s'", argv[i]);
+        else if (!dbp) dbp = argv[i];
+        else return fail(EXIT_USAGE, "eval: unexpected argument '%s'", argv[i]);
+    }
+    if (!dbp || !gtp) return fail(EXIT_USAGE, "eval: need DB --groundtruth FILE.gt");
+    gs_db *db = NULL;
+    int rc = open_db(dbp, &db);
+    if (rc) return rc;
+    gs_db_info info;
+    gs_db_get_info(db, &info, NULL);
+    gs_gt *gt = NULL;
+    gs_field_errors e;
+    double secs = 0;
+    if (!(rc = read_gt(gtp, info.n_vertices, &gt)) && !(rc = evaluate(gt, db_field_fn, db, &e, &secs))) {
+        print_errors(&e, gt->n_sources);
+        printf("cost %.1f numbers/vertex, %.1f bytes/vertex, depth avg %.2f max %u, %u leaves, %u curves\n",
+               info.cost, info.bytes_per_vertex, info.avg_depth, info.max_depth, info.n_leaves, info.n_curves);
+        printf("query time %.1f ns per pair (through %u fields)\n",
+               1e9 * secs / ((double)gt->n_sources * info.n_vertices), gt->n_sources);
+    }
+    gs_gt_free(gt);
+    gs_db_free(db);
+    return rc;
+}
+
+int cmd_land(int argc, char **argv)
+{
+    const char *mp = NULL, *gtp = NULL, *v;
+    uint32_t m = 0;
+    gs_method method = GS_METHOD_EXACT;
+    for (int i = 1; i < argc; ++i) {
+        if (is_help(argv[i])) return fputs(usage_land, stdout), 0;
+        if ((v = opt_value(argc, argv, &i, "--groundtruth"))) gtp = v;
+        else if ((v = opt_value(argc, argv, &i, "--landmarks"))) {
+            if (parse_u32(v, &m) || m == 0) return fail(EXIT_USAGE, "land: --landmarks '%s' is not a positive count", v);
+        } else if ((v = opt_value(argc, argv, &i, "--method"))) {
+            gs_error e = {0};
+            if (gs_method_from_name(v, &method, &e)) return fail(EXIT_USAGE, "land: %s", e.message);
+        } else if (argv[i][0] == '-') return fail(EXIT_USAGE, "land: unknown option '%s'", argv[i]);
+        else if (!mp) mp = argv[i];
+        else return fail(EXIT_USAGE, "land: unexpected argument '%s'", argv[i]);
+    }
+    if (!mp || !gtp || !m) return fail(EXIT_USAGE, "land: need MESH --landmarks M --groundtruth FILE.gt");
+    gs_mesh *mesh = NULL;
+    int rc = load_mesh(mp, &mesh);
+    if (rc) return rc;
+    gs_gt *gt = NULL;
+    gs_land *land = NULL;
+    gs_error err = {0};
+    gs_field_errors e;
+    double secs = 0, t0 = now();
+    if (!(rc = read_gt(gtp, gs_mesh_num_vertices(mesh), &gt))) {
+        if ((rc = gs_land_build(mesh, m, method, &land, &err)))
+            rc = lib_fail("land", rc, &err);
+        else if (!(rc = evaluate(gt, land_field_fn, land, &e, &secs))) {
+            printf("LAND m=%u (build %.2f s)\n", m, now() - t0 - secs);
+            print_errors(&e, gt->n_sources);
+        }
+    }
+    gs_land_free(land);
+    gs_gt_free(gt);
+    gs_mesh_free(mesh);
+    return rc;
+}

@@ -1,0 +1,163 @@
+/* util.c - helpers shared by the geosep subcommands: messages, strict number
+ * parsing, option values, atomic text output, mesh loading. */
+#include "cli.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+int is_help(const char *a) { return !strcmp(a, "--help") || !strcmp(a, "-h"); }
+
+/* Print "geosep: MESSAGE" to stderr and return the exit code. */
+int fail(int code, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("geosep: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+    return code;
+}
+
+/* A library failure: its message, prefixed by `what` unless it names it. */
+int lib_fail(const char *what, int rc, const gs_error *err)
+{
+    const char *msg = err->message[0] ? err->message : gs_status_string(rc);
+    if (strstr(msg, what)) return fail(EXIT_RUNTIME, "%s", msg);
+    return fail(EXIT_RUNTIME, "%s: %s", what, msg);
+}
+
+double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* ---- strict number parsing ---------------------------------------------- */
+
+int parse_u32(const char *s, uint32_t *out)
+{
+    uint64_t v = 0;
+    if (!*s) return -1;
+    for (; *s; ++s) {
+        if (*s < '0' || *s > '9') return -1;
+        v = v * 10 + (uint64_t)(*s - '0');
+        if (v > UINT32_MAX - 1) return -1;
+    }
+    *out = (uint32_t)v;
+    return 0;
+}
+
+int parse_double(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end || isnan(v)) return -1;
+    *out = v;
+    return 0;
+}
+
+/* ---- atomic text output: temporary file + rename ------------------------ */
+
+int out_open(out_file *o, const char *path)
+{
+    o->f = stdout;
+    o->tmp = NULL;
+    o->path = (path && strcmp(path, "-")) ? path : NULL;
+    if (!o->path) return 0;
+    size_t n = strlen(path) + 16;
+    o->tmp = malloc(n);
+    if (!o->tmp) return fail(EXIT_RUNTIME, "out of memory");
+    snprintf(o->tmp, n, "%s.tmp.XXXXXX", path);
+    int fd = mkstemp(o->tmp);
+    if (fd < 0) {
+        int e = errno;
+        free(o->tmp);
+        o->tmp = NULL;
+        return fail(EXIT_RUNTIME, "%s: cannot create: %s", path, strerror(e));
+    }
+    mode_t mask = umask(0);
+    umask(mask);
+    fchmod(fd, 0666 & ~mask);
+    o->f = fdopen(fd, "w");
+    if (!o->f) {
+        close(fd);
+        unlink(o->tmp);
+        free(o->tmp);
+        return fail(EXIT_RUNTIME, "%s: cannot open: %s", path, strerror(errno));
+    }
+    return 0;
+}
+
+void out_abort(out_file *o)
+{
+    if (!o->path) return;
+    fclose(o->f);
+    unlink(o->tmp);
+    free(o->tmp);
+}
+
+int out_commit(out_file *o)
+{
+    if (!o->path) return fflush(stdout) || ferror(stdout) ? fail(EXIT_RUNTIME, "write error on stdout") : 0;
+    int bad = fflush(o->f) != 0 || ferror(o->f) || fsync(fileno(o->f)) != 0;
+    int e = errno;
+    bad |= fclose(o->f) != 0;
+    if (!bad && rename(o->tmp, o->path) != 0) {
+        e = errno;
+        bad = 1;
+    }
+    if (bad) unlink(o->tmp);
+    free(o->tmp);
+    return bad ? fail(EXIT_RUNTIME, "%s: write failed: %s", o->path, strerror(e)) : 0;
+}
+
+int load_mesh(const char *path, gs_mesh **m)
+{
+    gs_error err = {0};
+    int rc = gs_mesh_load(path, GS_FORMAT_AUTO, m, &err);
+    return rc ? lib_fail(path, rc, &err) : 0;
+}
+
+/* Value of option argv[*i] ("--opt VALUE" or "--opt=VALUE"); NULL if absent. */
+const char *opt_value(int argc, char **argv, int *i, const char *name)
+{
+    size_t n = strlen(name);
+    if (strncmp(argv[*i], name, n)) return NULL;
+    if (argv[*i][n] == '=') return argv[*i] + n + 1;
+    if (argv[*i][n] || *i + 1 >= argc) return NULL;
+    return argv[++*i];
+}
+
+int is_opt(const char *arg, const char *name)
+{
+    size_t n = strlen(name);
+    return !strncmp(arg, name, n) && (arg[n] == 0 || arg[n] == '=');
+}
+
+int write_text(const char *path, const double *d, uint32_t n)
+{
+    out_file o;
+    int rc = out_open(&o, path);
+    if (rc) return rc;
+    for (uint32_t v = 0; v < n; ++v) {
+        if (isinf(d[v]))
+            fputs("inf\n", o.f);
+        else
+            fprintf(o.f, "%.17g\n", d[v]);
+    }
+    if (ferror(o.f)) {
+        out_abort(&o);
+        return fail(EXIT_RUNTIME, "%s: write failed", path ? path : "stdout");
+    }
+    return out_commit(&o);
+}
+

@@ -1,0 +1,532 @@
+/* build.c - gs_db_build: the preprocessing pipeline of the paper (sec. 3.1,
+ * 4.1, 4.2): nested bisection tree -> for every separator curve, distance
+ * fields inside its patch from the curve's samples (any gs_method, one
+ * solver per thread) -> per-vertex separator distance functions -> packed
+ * database. Nodes are processed one at a time, root first; work inside a
+ * node is split across threads by samples (fields) and by vertices (fits). */
+#include "../db/db_content.h"
+#include "../db/db_internal.h"
+#include "../fit/fit.h"
+#include "../geodesic/geodesic_internal.h"
+#include "../partition/tree.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+void gs_build_options_default(gs_build_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->method = GS_METHOD_EXACT;
+    o->vmax = 30;
+    o->mmax = 12;
+    o->tol = 0.005;
+    o->threads = 0;
+    o->vertex_sources = 0;
+    o->sampled = 0;
+    o->leaf_exact = 0;
+    o->seed = 1;
+    o->sample_spacing = 0.5;
+}
+
+/* Per-vertex function slots: vertex x owns funs[fun_start[x] ..) and each
+ * function's coefficients live in a per-node arena. */
+typedef struct builder {
+    const gs_mesh *mesh;
+    const gs_build_options *opt;
+    const gs_tree *tree;
+    uint32_t nthreads;
+    uint64_t *fun_start;   /* nv+1 */
+    gs_fun *funs;
+    double **arenas;       /* one coefficient arena per node (or NULL)     */
+    /* progress */
+    double work_total, work_done;
+    /* stats */
+    uint64_t n_fields, n_functions, n_mixed, n_over_tol;
+    double degree_sum, fit_err_sum;
+} builder;
+
+static void progress(builder *b, const char *stage, double frac)
+{
+    if (b->opt->progress) b->opt->progress(b->opt->progress_user, stage, frac);
+}
+
+/* mesh face -> position in a node's face list, by binary search over a
+ * sorted copy of (face, position) pairs. */
+typedef struct face_pos {
+    uint32_t face, pos;
+} face_pos;
+
+static int cmp_face_pos(const void *a, const void *b)
+{
+    const face_pos *x = a, *y = b;
+    return x->face < y->face ? -1 : (x->face > y->face);
+}
+
+static uint32_t local_face(const face_pos *fp, uint32_t n, uint32_t face)
+{
+    uint32_t lo = 0, hi = n;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (fp[mid].face < face)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return (lo < n && fp[lo].face == face) ? fp[lo].pos : GS_NONE;
+}
+
+/* Everything one node needs while its fields and fits are computed. */
+typedef struct node_job {
+    const gs_tree_node *node;
+    gs_patch *patch;
+    uint32_t n_samples;       /* over all curves of the node              */
+    uint32_t *sample_first;   /* per curve: first column                  */
+    uint32_t *owned_local;    /* owned vertex -> patch-local id           */
+    double *D;                /* n_owned x n_samples distances (row = x)  */
+    gs_source *src;           /* one per sample (patch-local)             */
+} node_job;
+
+static void job_free(node_job *j)
+{
+    gs_patch_free(j->patch);
+    free(j->sample_first);
+    free(j->owned_local);
+    free(j->D);
+    free(j->src);
+    memset(j, 0, sizeof *j);
+}
+
+static int job_prepare(builder *b, const gs_tree_node *nd, node_job *j, gs_error *err)
+{
+    const gs_tree *t = b->tree;
+    memset(j, 0, sizeof *j);
+    j->node = nd;
+    int rc = gs_patch_create(b->mesh, t->faces + nd->face_start, nd->n_faces, &j->patch, err);
+    if (rc) return rc;
+    face_pos *fp = gs__malloc(nd->n_faces, sizeof *fp);
+    j->sample_first = gs__malloc(nd->n_curves + 1, sizeof *j->sample_first);
+    j->owned_local = gs__malloc(nd->n_verts, sizeof *j->owned_local);
+    if (!fp || !j->sample_first || !j->owned_local) {
+        free(fp);
+        return gs__fail(err, GS_ENOMEM, "out of memory preparing node");
+    }
+    for (uint32_t i = 0; i < nd->n_faces; ++i) fp[i] = (face_pos){t->faces[nd->face_start + i], i};
+    qsort(fp, nd->n_faces, sizeof *fp, cmp_face_pos);
+    uint32_t ns = 0;
+    for (uint32_t c = 0; c < nd->n_curves; ++c) {
+        j->sample_first[c] = ns;
+        ns += t->curves[nd->curve_start + c].n_samples;
+    }
+    j->sample_first[nd->n_curves] = ns;
+    j->n_samples = ns;
+    j->src = gs__malloc(ns, sizeof *j->src);
+    j->D = gs__malloc((size_t)nd->n_verts * ns, sizeof *j->D);
+    if (!j->src || !j->D) {
+        free(fp);
+        return gs__fail(err, GS_ENOMEM, "out of memory: %u vertices x %u samples", nd->n_verts, ns);
+    }
+    for (uint32_t c = 0; c < nd->n_curves; ++c) {
+        const gs_sep_curve *cv = &t->curves[nd->curve_start + c];
+        for (uint32_t k = 0; k < cv->n_samples; ++k) {
+            const gs_sep_sample *s = &t->samples[cv->sample_start + k];
+            uint32_t lf = local_face(fp, nd->n_faces, s->face);
+            if (lf == GS_NONE) {
+                free(fp);
+                return gs__fail(err, GS_EINTERNAL, "sample %u of curve %u lies on face %u outside its patch",
+                                k, nd->curve_start + c, s->face);
+            }
+            j->src[j->sample_first[c] + k] = gs_source_point(lf, s->bary[0], s->bary[1], s->bary[2]);
+        }
+    }
+    free(fp);
+    for (uint32_t i = 0; i < nd->n_verts; ++i) {
+        uint32_t lv = gs_patch_vertex_from_mesh(j->patch, t->verts[nd->vert_start + i]);
+        if (lv == GS_NONE)
+            return gs__fail(err, GS_EINTERNAL, "vertex %u is owned by a node whose patch lacks it",
+                            t->verts[nd->vert_start + i]);
+        j->owned_local[i] = lv;
+    }
+    return GS_OK;
+}
+
+/* Solve a field from each source inside the node's patch, in parallel (one
+ * solver per thread), and store source k's distances to the owned vertices
+ * as column k of M (row-major, n_owned x ncols). */
+static int solve_columns(builder *b, node_job *j, const gs_source *src, uint32_t nsrc, double *M,
+                         uint32_t ncols, gs_error *err)
+{
+    uint32_t nl = gs_patch_num_vertices(j->patch), nown = j->node->n_verts;
+    int rc = GS_OK;
+#pragma omp parallel num_threads(b->nthreads)
+    {
+        gs_solver *s = NULL;
+        gs_error e;
+        double *dist = gs__malloc(nl, sizeof *dist);
+        int my = dist ? gs_solver_create(j->patch, b->opt->method, &s, &e) : GS_ENOMEM;
+        if (!dist) gs__fail(&e, GS_ENOMEM, "out of memory");
+#pragma omp for schedule(dynamic, 1)
+        for (uint32_t k = 0; k < nsrc; ++k) {
+            if (my) continue;
+            my = gs_solver_solve(s, &src[k], 1, 0, dist, &e);
+            if (my) continue;
+            for (uint32_t i = 0; i < nown; ++i) M[(size_t)i * ncols + k] = dist[j->owned_local[i]];
+        }
+#pragma omp critical
+        if (my && rc == GS_OK) {
+            rc = my;
+            if (err) *err = e;
+        }
+        gs_solver_free(s);
+        free(dist);
+    }
+    b->n_fields += nsrc;
+    return rc;
+}
+
+/* Fields from every sample (sample sources). Column k of D. */
+static int fields_from_samples(builder *b, node_job *j, gs_error *err)
+{
+    return solve_columns(b, j, j->src, j->n_samples, j->D, j->n_samples, err);
+}
+
+/* The paper's variant: fields from the corners of the sample faces, then
+ * d(x,s)^2 ~ sum l_i d(x,v_i)^2 - sum_{i<j} l_i l_j |v_i - v_j|^2. */
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? -1 : (x > y);
+}
+
+static uint32_t find_u32(const uint32_t *a, uint32_t n, uint32_t v)
+{
+    uint32_t lo = 0, hi = n;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (a[mid] < v)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+static int fields_from_vertices(builder *b, node_job *j, gs_error *err)
+{
+    const gs_topo *pt = j->patch->topo;
+    uint32_t nown = j->node->n_verts, ns = j->n_samples;
+    uint32_t *corners = gs__malloc(3 * (size_t)ns, sizeof *corners);
+    if (!corners) return gs__fail(err, GS_ENOMEM, "out of memory");
+    for (uint32_t k = 0; k < ns; ++k)
+        for (int i = 0; i < 3; ++i) corners[3 * (size_t)k + i] = pt->tri[3 * (size_t)j->src[k].face + i];
+    uint32_t *uniq = gs__malloc(3 * (size_t)ns, sizeof *uniq);
+    if (!uniq) {
+        free(corners);
+        return gs__fail(err, GS_ENOMEM, "out of memory");
+    }
+    memcpy(uniq, corners, 3 * (size_t)ns * sizeof *uniq);
+    qsort(uniq, 3 * (size_t)ns, sizeof *uniq, cmp_u32);
+    uint32_t nu = 0;
+    for (uint32_t i = 0; i < 3 * ns; ++i)
+        if (i == 0 || uniq[i] != uniq[i - 1]) uniq[nu++] = uniq[i];
+    double *V = gs__malloc((size_t)nown * nu, sizeof *V); /* row x, column corner */
+    if (!V) {
+        free(corners);
+        free(uniq);
+        return gs__fail(err, GS_ENOMEM, "out of memory: %u vertices x %u corner fields", nown, nu);
+    }
+    gs_source *vs = gs__malloc(nu, sizeof *vs);
+    int rc = vs ? GS_OK : gs__fail(err, GS_ENOMEM, "out of memory");
+    for (uint32_t k = 0; vs && k < nu; ++k) vs[k] = gs_source_vertex(uniq[k]);
+    if (rc == GS_OK) rc = solve_columns(b, j, vs, nu, V, nu, err);
+    free(vs);
+    if (rc == GS_OK) {
+#pragma omp parallel for num_threads(b->nthreads) schedule(static)
+        for (uint32_t i = 0; i < nown; ++i) {
+            const double *row = V + (size_t)i * nu;
+            for (uint32_t k = 0; k < ns; ++k) {
+                const double *l = j->src[k].bary;
+                const uint32_t *c = corners + 3 * (size_t)k;
+                double d[3], p[3][3];
+                for (int q = 0; q < 3; ++q) {
+                    d[q] = row[find_u32(uniq, nu, c[q])];
+                    memcpy(p[q], pt->xyz + 3 * (size_t)c[q], sizeof p[q]);
+                }
+                double v = 0;
+                for (int q = 0; q < 3; ++q) v += l[q] * d[q] * d[q];
+                for (int q = 0; q < 3; ++q)
+                    for (int r = q + 1; r < 3; ++r) {
+                        double dx = p[q][0] - p[r][0], dy = p[q][1] - p[r][1], dz = p[q][2] - p[r][2];
+                        v -= l[q] * l[r] * (dx * dx + dy * dy + dz * dz);
+                    }
+                j->D[(size_t)i * ns + k] = isfinite(v) ? sqrt(v > 0 ? v : 0) : INFINITY;
+            }
+        }
+    }
+    free(corners);
+    free(uniq);
+    free(V);
+    return rc;
+}
+
+/* Fit every owned vertex's function for every curve of the node. */
+static int fit_node(builder *b, node_job *j, uint32_t node_id, gs_error *err)
+{
+    const gs_tree *t = b->tree;
+    const gs_tree_node *nd = j->node;
+    uint32_t ns = j->n_samples, nc = nd->n_curves;
+    uint32_t cap_total = 0; /* coefficient room per vertex */
+    for (uint32_t c = 0; c < nc; ++c)
+        cap_total += b->opt->sampled ? t->curves[nd->curve_start + c].n_samples : b->opt->mmax + 1;
+    double *arena = gs__malloc((size_t)nd->n_verts * cap_total, sizeof *arena);
+    double *u_all = gs__malloc(ns, sizeof *u_all);
+    if (!arena || !u_all) {
+        free(arena);
+        free(u_all);
+        return gs__fail(err, GS_ENOMEM, "out of memory for node %u's functions", node_id);
+    }
+    b->arenas[node_id] = arena;
+    for (uint32_t c = 0; c < nc; ++c) {
+        const gs_sep_curve *cv = &t->curves[nd->curve_start + c];
+        for (uint32_t k = 0; k < cv->n_samples; ++k) {
+            double s = t->samples[cv->sample_start + k].s;
+            u_all[j->sample_first[c] + k] =
+                cv->closed ? -1.0 + 2.0 * k / cv->n_samples : -1.0 + 2.0 * s / cv->length;
+        }
+        if (!cv->closed) u_all[j->sample_first[c] + cv->n_samples - 1] = 1.0;
+    }
+    gs_fit_options fo;
+    gs_fit_options_default(&fo);
+    fo.m_max = b->opt->mmax;
+    fo.tol = b->opt->tol;
+    int rc = GS_OK;
+    uint64_t n_fun = 0, n_mixed = 0, n_over = 0;
+    double deg_sum = 0, err_sum = 0;
+#pragma omp parallel num_threads(b->nthreads) reduction(+ : n_fun, n_mixed, deg_sum, n_over, err_sum)
+    {
+        gs_fit_work *w = NULL;
+        gs_error e;
+        uint32_t max_ns = 0;
+        for (uint32_t c = 0; c < nc; ++c)
+            if (t->curves[nd->curve_start + c].n_samples > max_ns) max_ns = t->curves[nd->curve_start + c].n_samples;
+        double *d = gs__malloc(max_ns, sizeof *d);
+        int my = d ? gs_fit_work_create(max_ns, &fo, &w, &e) : GS_ENOMEM;
+        gs_fit_result res;
+#pragma omp for schedule(dynamic, 64)
+        for (uint32_t i = 0; i < nd->n_verts; ++i) {
+            if (my) continue;
+            uint32_t x = t->verts[nd->vert_start + i];
+            double *slot = arena + (size_t)i * cap_total;
+            for (uint32_t c = 0; c < nc && !my; ++c) {
+                const gs_sep_curve *cv = &t->curves[nd->curve_start + c];
+                uint32_t n = cv->n_samples;
+                const double *row = j->D + (size_t)i * ns + j->sample_first[c];
+                double mx = 0, mn = INFINITY;
+                uint32_t n_inf = 0;
+                for (uint32_t k = 0; k < n; ++k) {
+                    if (isfinite(row[k])) {
+                        if (row[k] > mx) mx = row[k];
+                        if (row[k] < mn) mn = row[k];
+                    } else
+                        n_inf++;
+                }
+                gs_fun *f = &b->funs[b->fun_start[x] + nd->curve_prefix + c];
+                uint32_t cap = b->opt->sampled ? n : b->opt->mmax + 1;
+                memset(f, 0, sizeof *f);
+                f->closed = cv->closed;
+                if (n_inf == n) { /* the curve is in another component */
+                    f->minval = INFINITY;
+                    slot += cap;
+                    continue;
+                }
+                for (uint32_t k = 0; k < n; ++k) d[k] = isfinite(row[k]) ? row[k] : 2 * mx;
+                if (n_inf) n_mixed++;
+                if (b->opt->sampled) {
+                    memcpy(slot, d, n * sizeof *d);
+                    f->kind = GS_FUN_SAMPLED;
+                    f->degree = n - 1;
+                    f->minval = n_inf ? fmin(mn, 2 * mx) : mn;
+                    f->coef = slot;
+                } else {
+                    my = gs_fit_distance(w, u_all + j->sample_first[c], d, n, cv->closed, &res, &e);
+                    if (my) break;
+                    *f = res.fun;
+                    memcpy(slot, res.coef, (res.fun.degree + 1) * sizeof *slot);
+                    f->coef = slot;
+                    deg_sum += res.fun.degree;
+                    err_sum += res.mean_rel_err;
+                    n_over += res.mean_rel_err > fo.tol;
+                }
+                n_fun++;
+                slot += cap;
+            }
+        }
+#pragma omp critical
+        if (my && rc == GS_OK) {
+            rc = my;
+            if (err) *err = e;
+        }
+        gs_fit_work_free(w);
+        free(d);
+    }
+    free(u_all);
+    b->n_functions += n_fun;
+    b->n_mixed += n_mixed;
+    b->degree_sum += deg_sum;
+    b->n_over_tol += n_over;
+    b->fit_err_sum += err_sum;
+    return rc;
+}
+
+static int assemble(builder *b, gs_db **out, gs_error *err)
+{
+    const gs_tree *t = b->tree;
+    gs_db_node *nodes = gs__malloc(t->n_nodes, sizeof *nodes);
+    gs_db_curve *curves = gs__malloc(t->n_curves, sizeof *curves);
+    if (!nodes || !curves) {
+        free(nodes);
+        free(curves);
+        return gs__fail(err, GS_ENOMEM, "out of memory");
+    }
+    for (uint32_t i = 0; i < t->n_nodes; ++i) {
+        const gs_tree_node *n = &t->nodes[i];
+        nodes[i] = (gs_db_node){n->parent, n->depth, n->curve_start, n->n_curves, n->curve_prefix};
+    }
+    for (uint32_t i = 0; i < t->n_curves; ++i) {
+        const gs_sep_curve *c = &t->curves[i];
+        curves[i] = (gs_db_curve){c->node, c->closed, c->n_samples, c->length};
+    }
+    gs_db_content c;
+    memset(&c, 0, sizeof c);
+    c.nv = b->mesh->nv;
+    c.xyz = b->mesh->xyz;
+    c.n_nodes = t->n_nodes;
+    c.nodes = nodes;
+    c.n_curves = t->n_curves;
+    c.curves = curves;
+    c.leaf = t->leaf_of_vertex;
+    c.fun_start = b->fun_start;
+    c.funs = b->funs;
+    c.method = (uint32_t)b->opt->method;
+    c.vmax = b->opt->vmax;
+    c.mmax = b->opt->mmax;
+    c.tol = b->opt->tol;
+    c.vertex_sources = (uint32_t)b->opt->vertex_sources;
+    c.sampled = (uint32_t)b->opt->sampled;
+    c.avg_depth = t->avg_leaf_depth;
+    c.max_depth = t->max_depth;
+    c.n_leaves = t->n_leaves;
+    int rc = gs_db_pack(&c, out, err);
+    free(nodes);
+    free(curves);
+    return rc;
+}
+
+static int check_options(const gs_build_options *o, gs_error *err)
+{
+    if (!gs_method_name(o->method)) return gs__fail(err, GS_EARG, "unknown method %d", (int)o->method);
+    if (o->vmax < 3) return gs__fail(err, GS_EARG, "vmax %u is too small (>= 3)", o->vmax);
+    if (o->mmax < 2 || o->mmax > GS_FUN_MAX_DEGREE)
+        return gs__fail(err, GS_EARG, "mmax %u out of range [2, %d]", o->mmax, GS_FUN_MAX_DEGREE);
+    if (!(o->tol > 0 && o->tol < 1)) return gs__fail(err, GS_EARG, "tol %g out of range (0, 1)", o->tol);
+    if (!(o->sample_spacing >= 0.01 && o->sample_spacing <= 100))
+        return gs__fail(err, GS_EARG, "sample_spacing %g out of range [0.01, 100]", o->sample_spacing);
+    if (o->threads > 1024) return gs__fail(err, GS_EARG, "threads %u is absurd", o->threads);
+    if (o->leaf_exact) return gs__fail(err, GS_EARG, "leaf_exact is not supported yet");
+    return GS_OK;
+}
+
+int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt_in, gs_db **out,
+                gs_build_stats *stats, gs_error *err)
+{
+    if (!out) return gs__fail(err, GS_EARG, "gs_db_build: out is NULL");
+    *out = NULL;
+    if (!mesh) return gs__fail(err, GS_EARG, "gs_db_build: mesh is NULL");
+    gs_build_options defaults;
+    gs_build_options_default(&defaults);
+    const gs_build_options *opt = opt_in ? opt_in : &defaults;
+    int rc = check_options(opt, err);
+    if (rc) return rc;
+    builder b;
+    memset(&b, 0, sizeof b);
+    b.mesh = mesh;
+    b.opt = opt;
+    b.nthreads = opt->threads ? opt->threads : (uint32_t)omp_get_max_threads();
+    double t0 = gs__now();
+
+    gs_tree_options to;
+    gs_tree_options_default(&to);
+    to.vmax = opt->vmax;
+    to.seed = opt->seed;
+    to.sample_spacing = opt->sample_spacing;
+    gs_tree *tree = NULL;
+    progress(&b, "tree", 0);
+    rc = gs_tree_build(mesh, &to, &tree, err);
+    if (rc) return rc;
+    b.tree = tree;
+    double t1 = gs__now();
+    progress(&b, "tree", 1);
+
+    b.fun_start = gs__malloc((size_t)mesh->nv + 1, sizeof *b.fun_start);
+    b.arenas = gs__calloc(tree->n_nodes, sizeof *b.arenas);
+    if (!b.fun_start || !b.arenas) {
+        rc = gs__fail(err, GS_ENOMEM, "out of memory");
+        goto done;
+    }
+    b.fun_start[0] = 0;
+    for (uint32_t x = 0; x < mesh->nv; ++x) {
+        uint32_t l = tree->leaf_of_vertex[x];
+        b.fun_start[x + 1] = b.fun_start[x] + (l == GS_NONE ? 0 : tree->nodes[l].curve_prefix);
+    }
+    b.funs = gs__calloc(b.fun_start[mesh->nv], sizeof *b.funs);
+    if (!b.funs) {
+        rc = gs__fail(err, GS_ENOMEM, "out of memory for %llu functions",
+                      (unsigned long long)b.fun_start[mesh->nv]);
+        goto done;
+    }
+    for (uint32_t i = 0; i < tree->n_nodes; ++i)
+        if (tree->nodes[i].n_curves)
+            b.work_total += (double)tree->nodes[i].n_faces * tree->nodes[i].n_curves;
+    double t_fields = 0, t_fits = 0;
+    for (uint32_t i = 0; i < tree->n_nodes && rc == GS_OK; ++i) {
+        const gs_tree_node *nd = &tree->nodes[i];
+        if (nd->n_curves == 0) continue;
+        node_job j;
+        double ta = gs__now();
+        rc = job_prepare(&b, nd, &j, err);
+        if (rc == GS_OK)
+            rc = opt->vertex_sources ? fields_from_vertices(&b, &j, err) : fields_from_samples(&b, &j, err);
+        double tb = gs__now();
+        if (rc == GS_OK) rc = fit_node(&b, &j, i, err);
+        t_fields += tb - ta;
+        t_fits += gs__now() - tb;
+        job_free(&j);
+        b.work_done += (double)nd->n_faces * nd->n_curves;
+        progress(&b, "fields", b.work_total > 0 ? b.work_done / b.work_total : 1);
+    }
+    if (rc == GS_OK) {
+        progress(&b, "write", 0);
+        rc = assemble(&b, out, err);
+        progress(&b, "write", 1);
+    }
+    if (rc == GS_OK && stats) {
+        stats->seconds_tree = t1 - t0;
+        stats->seconds_fields = t_fields;
+        stats->seconds_fits = t_fits;
+        stats->seconds_total = gs__now() - t0;
+        stats->n_fields = b.n_fields;
+        stats->n_functions = b.n_functions;
+        stats->mean_degree = b.n_functions ? b.degree_sum / (double)b.n_functions : 0;
+        stats->n_over_tol = b.n_over_tol;
+        stats->mean_fit_error = b.n_functions ? b.fit_err_sum / (double)b.n_functions : 0;
+    }
+done:
+    if (b.arenas)
+        for (uint32_t i = 0; i < tree->n_nodes; ++i) free(b.arenas[i]);
+    free(b.arenas);
+    free(b.funs);
+    free(b.fun_start);
+    gs_tree_free(tree);
+    return rc;
+}

@@ -1,0 +1,60 @@
+/* db_content.h - what the builder hands to the database writer: the tree's
+ * shape, the curves, every vertex's separator distance functions (paper sec.
+ * 3.1: leaf index, curves J_x, function parameters), positions for same-leaf
+ * queries and the build parameters. The writer packs it into the on-disk
+ * layout (doc/database-format.md), which is also the in-memory layout that
+ * queries read. Internal. */
+#ifndef GS_DB_CONTENT_H
+#define GS_DB_CONTENT_H
+
+#include "../fit/fun.h"
+#include "../core/internal.h"
+
+typedef struct gs_db_node {
+    uint32_t parent;       /* GS_NONE for the root (node 0)                 */
+    uint32_t depth;
+    uint32_t curve_start;  /* its separator's curves: [start, start+n)      */
+    uint32_t n_curves;
+    uint32_t curve_prefix; /* curves of all proper ancestors                */
+} gs_db_node;
+
+typedef struct gs_db_curve {
+    uint32_t node;
+    uint32_t closed;
+    uint32_t n_samples;
+    double length;
+} gs_db_curve;
+
+typedef struct gs_db_content {
+    uint32_t nv;
+    const double *xyz;          /* 3*nv                                      */
+    uint32_t n_nodes;
+    const gs_db_node *nodes;
+    uint32_t n_curves;
+    const gs_db_curve *curves;
+    const uint32_t *leaf;       /* nv: leaf node of each vertex, GS_NONE if  */
+                                /*   unreferenced                            */
+    /* Vertex x has nodes[leaf[x]].curve_prefix functions, one per curve of
+     * its leaf's proper ancestors, root's curves first (so the function of
+     * curve j of ancestor A is number nodes[A].curve_prefix + j - A's first
+     * curve... i.e. index nodes[A].curve_prefix + (j - nodes[A].curve_start)).
+     * funs[fun_start[x] + i]; fun.coef arrays are owned by the builder. */
+    const uint64_t *fun_start;  /* nv+1                                      */
+    const gs_fun *funs;
+    /* Optional exact distances inside each leaf (leaf_exact option), else
+     * NULL: leaf_verts lists each leaf's vertices (ranges leaf_vstart[l]..)
+     * and leaf_dist the row-major table of each leaf, at leaf_dstart[l]. */
+    const uint32_t *leaf_vstart;  /* n_nodes+1 (empty for internal nodes)    */
+    const uint32_t *leaf_verts;
+    const uint64_t *leaf_dstart;  /* n_nodes+1                               */
+    const double *leaf_dist;
+    /* build parameters, recorded in the file */
+    uint32_t method;              /* gs_method                               */
+    uint32_t vmax, mmax;
+    double tol;
+    uint32_t vertex_sources, sampled;
+    double avg_depth;
+    uint32_t max_depth, n_leaves;
+} gs_db_content;
+
+#endif

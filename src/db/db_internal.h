@@ -1,0 +1,133 @@
+/* db_internal.h - the opened database (struct gs_db) and the on-disk layout
+ * constants of doc/database-format.md; the packer the builder calls (paper
+ * sec. 3.1: what is stored per vertex). Internal. */
+#ifndef GS_DB_INTERNAL_H
+#define GS_DB_INTERNAL_H
+
+#include "db_content.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#define GS_DB_MAGIC "GSEPDB\0\0"
+#define GS_DB_VERSION 1u
+#define GS_DB_ENDIAN_TAG 0x0A0B0C0Du
+#define GS_DB_HEADER_BYTES 128u
+#define GS_DB_ENTRY_BYTES 32u
+#define GS_DB_FLAG_LEAF_EXACT 1u
+#define GS_DB_BUILD_VERTEX_SOURCES 1u
+#define GS_DB_BUILD_SAMPLED 2u
+#define GS_DB_MAX_SAMPLED 65535u
+#define GS_DB_MAX_SHIFT 2.0
+
+enum {
+    GS_SEC_POSITIONS = 1,
+    GS_SEC_LEAVES,
+    GS_SEC_NODES,
+    GS_SEC_CURVES,
+    GS_SEC_VERTEX_DIR,
+    GS_SEC_FUNCTIONS,
+    GS_SEC_WORDS,
+    GS_SEC_LEAF_VSTART,
+    GS_SEC_LEAF_LOCAL,
+    GS_SEC_LEAF_DSTART,
+    GS_SEC_LEAF_DIST,
+    GS_SEC_COUNT_BASE = 7,
+    GS_SEC_COUNT_FULL = 11
+};
+
+/* Function meta word (doc: "meta"). */
+#define GS_META_DEGREE(m) ((m) & 0xFFFFu)
+#define GS_META_KIND(m) (((m) >> 16) & 3u)
+#define GS_META_SQUARED(m) (((m) >> 18) & 1u)
+#define GS_META_CLOSED(m) (((m) >> 19) & 1u)
+#define GS_META_UNKNOWN_BITS 0xFFF00000u
+
+/* On-disk records, used in place (little-endian hosts only). */
+typedef struct gs_db_disk_curve {
+    uint32_t node, closed, n_samples, reserved;
+    double length;
+} gs_db_disk_curve;
+
+typedef struct gs_db_vdir {
+    uint64_t first_function;
+    uint64_t first_word;
+} gs_db_vdir;
+
+typedef struct gs_db_fentry {
+    double minval;
+    uint32_t word_offset;
+    uint32_t meta;
+} gs_db_fentry;
+
+struct gs_db {
+    /* storage: either a mapping (munmap) or a malloc'ed buffer (free) */
+    void *storage;
+    size_t storage_size;
+    int mapped;
+    const unsigned char *bytes; /* the whole file                         */
+    uint64_t size;
+    /* header */
+    uint32_t nv, n_nodes, n_curves, n_leaves, max_depth;
+    uint64_t n_functions, n_words, leaf_entries;
+    uint32_t flags, build_flags, method, vmax, mmax;
+    double avg_depth, tol, cost;
+    /* sections, in place */
+    const double *xyz;
+    const uint32_t *leaf;
+    const gs_db_node *nodes;
+    const gs_db_disk_curve *curves;
+    const gs_db_vdir *vdir;
+    const gs_db_fentry *funs;
+    const double *words;
+    const uint32_t *leaf_vstart, *leaf_local; /* NULL without leaf tables */
+    const uint64_t *leaf_dstart;
+    const double *leaf_dist;
+};
+
+/* Serialise c into the on-disk layout and open the result through the
+ * file reader's validation. *out: new database (gs_db_free). */
+int gs_db_pack(const gs_db_content *c, gs_db **out, gs_error *err);
+
+/* Validate `size` bytes and wrap them in a database. On success the
+ * database owns `storage` (munmap'ed if mapped, else freed); on failure the
+ * caller keeps it. `name` prefixes messages ("db.gsdb: ..."). */
+int gs__db_attach(void *storage, size_t size, int mapped, const char *name, gs_db **out,
+                  gs_error *err);
+
+/* The format's 64-bit checksum (doc/database-format.md "Checksum") of the
+ * concatenation of a and b (b may be NULL with nb == 0). */
+uint64_t gs__db_checksum(const void *a, size_t na, const void *b, size_t nb);
+
+/* Sizes in bytes of sections 1..11 (size[0] unused) from the header counts;
+ * tables: leaf exact tables present (else size[8..11] = 0). Returns 0 if a
+ * size would exceed 2^62 (the caller reports it). */
+int gs__db_layout(uint32_t nv, uint32_t n_nodes, uint32_t n_curves, uint64_t n_functions,
+                  uint64_t n_words, uint64_t leaf_entries, int tables, uint64_t size[12]);
+
+/* 1 on little-endian hosts (the only ones that can use the format in place). */
+int gs__db_host_little_endian(void);
+
+/* Decode function i (< the leaf's curve_prefix) of vertex x. */
+static inline void gs__db_fun(const gs_db *db, uint32_t x, uint64_t i, gs_fun *f)
+{
+    const gs_db_vdir *vd = &db->vdir[x];
+    const gs_db_fentry *e = &db->funs[vd->first_function + i];
+    const double *rec = db->words + vd->first_word + e->word_offset;
+    uint32_t m = e->meta;
+    f->kind = GS_META_KIND(m);
+    f->degree = GS_META_DEGREE(m);
+    f->squared = GS_META_SQUARED(m);
+    f->closed = GS_META_CLOSED(m);
+    f->minval = e->minval;
+    if (e->minval == (double)INFINITY) { /* unreachable: empty record */
+        f->shift = 0.0;
+        f->coef = NULL;
+        return;
+    }
+    f->shift = f->closed ? rec[0] : 0.0;
+    f->coef = rec + f->closed;
+}
+
+#endif

@@ -1,0 +1,263 @@
+/* fit.c - fitting separator distance functions (paper sec. 4.2): weighted
+ * least squares (weights 1/d) of d and d^2 in the Chebyshev basis by one
+ * Householder QR per target, degree escalation m_min..m_max; SEPsam. */
+#include "fit.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cheb.h"
+
+#define RANK_TOL 1e-13 /* |R_jj| below this times max |R_ii|: column dropped */
+
+struct gs_fit_work {
+    gs_fit_options opt;
+    uint32_t cap;        /* rows: max_samples + 1 (a loop's closing row)      */
+    double *t, *y;       /* abscissae and normalised distances, per row       */
+    double *basis;       /* column-major T_j(t_r), cap x (m_max + 1)          */
+    double *qa, *qb;     /* the weighted d and d^2 systems, factorised (QR)   */
+    double *ra, *rb;     /* their right-hand sides, Q^T applied               */
+    double *val;         /* scratch: fitted values at the rows                */
+};
+
+/* One candidate fit (coefficients on normalised distances). */
+typedef struct cand {
+    double c[GS_FUN_MAX_DEGREE + 1];
+    uint32_t m, sq;
+    double mean, max;
+} cand;
+
+void gs_fit_options_default(gs_fit_options *o)
+{
+    o->m_min = 2;
+    o->m_max = 12;
+    o->tol = 0.005;
+}
+
+void gs_fit_work_free(gs_fit_work *w)
+{
+    if (!w)
+        return;
+    free(w->t), free(w->y), free(w->basis), free(w->qa), free(w->qb);
+    free(w->ra), free(w->rb), free(w->val);
+    free(w);
+}
+
+int gs_fit_work_create(uint32_t max_samples, const gs_fit_options *o, gs_fit_work **out,
+                       gs_error *err)
+{
+    gs_fit_options def;
+    gs_fit_options_default(&def);
+    if (!o)
+        o = &def;
+    if (!out || max_samples == 0 || max_samples > (1u << 26) || o->m_min > o->m_max ||
+        o->m_max > GS_FUN_MAX_DEGREE || !(o->tol >= 0.0 && o->tol < INFINITY))
+        return gs__fail(err, GS_EARG, "gs_fit_work_create: bad arguments (samples %u, m %u..%u)",
+                        max_samples, o->m_min, o->m_max);
+    gs_fit_work *w = gs__calloc(1, sizeof *w);
+    size_t cap = (size_t)max_samples + 1, cols = o->m_max + 1;
+    if (w) {
+        w->opt = *o, w->cap = (uint32_t)cap;
+        w->t = gs__malloc(cap, sizeof(double)), w->y = gs__malloc(cap, sizeof(double));
+        w->basis = gs__malloc(cap * cols, sizeof(double));
+        w->qa = gs__malloc(cap * cols, sizeof(double)), w->qb = gs__malloc(cap * cols, sizeof(double));
+        w->ra = gs__malloc(cap, sizeof(double)), w->rb = gs__malloc(cap, sizeof(double));
+        w->val = gs__malloc(cap, sizeof(double));
+    }
+    if (!w || !w->t || !w->y || !w->basis || !w->qa || !w->qb || !w->ra || !w->rb || !w->val) {
+        gs_fit_work_free(w);
+        return gs__fail(err, GS_ENOMEM, "gs_fit_work_create: out of memory");
+    }
+    *out = w;
+    return GS_OK;
+}
+
+static int check_samples(const double *u, const double *d, uint32_t n, int closed, gs_error *err)
+{
+    for (uint32_t k = 0; k < n; k++) {
+        if (!isfinite(u[k]) || !isfinite(d[k]) || d[k] < 0.0)
+            return gs__fail(err, GS_EARG, "gs_fit_distance: sample %u not finite or negative", k);
+        if (u[k] < -1.0 || u[k] > 1.0 || (closed && u[k] >= 1.0) || (k > 0 && u[k] <= u[k - 1]))
+            return gs__fail(err, GS_EARG, "gs_fit_distance: parameter %u out of order or range", k);
+    }
+    return GS_OK;
+}
+
+/* Rows in fitting order; returns the row count. Loops start at the largest
+ * distance (t = -1) and repeat it at t = 1 so the fit closes up. */
+static uint32_t prepare_rows(gs_fit_work *w, const double *u, const double *d, uint32_t n,
+                             int closed, double dmax, double *shift)
+{
+    uint32_t kmax = 0;
+    for (uint32_t k = 1; k < n; k++)
+        if (d[k] > d[kmax])
+            kmax = k;
+    *shift = closed ? gs_fun_wrap(u[kmax] + 1.0) : 0.0; /* t(u[kmax]) = -1 */
+    for (uint32_t r = 0; r < n; r++) {
+        uint32_t k = closed ? (kmax + r) % n : r;
+        w->t[r] = closed ? (r == 0 ? -1.0 : gs_fun_wrap(u[k] - *shift)) : u[k];
+        w->y[r] = d[k] / dmax;
+    }
+    if (!closed)
+        return n;
+    w->t[n] = 1.0, w->y[n] = d[kmax] / dmax;
+    return n + 1;
+}
+
+/* Basis columns, and the two row-weighted systems (d: 1/d, d^2: 1/d^2). */
+static void build_systems(gs_fit_work *w, uint32_t rows, uint32_t cols)
+{
+    for (uint32_t r = 0; r < rows; r++) {
+        double t = w->t[r], t0 = 1.0, t1 = t;
+        double wa = 1.0 / fmax(w->y[r], GS_FIT_DFLOOR), wb = wa * wa;
+        for (uint32_t j = 0; j < cols; j++) {
+            double tj = j == 0 ? 1.0 : (j == 1 ? t : 2.0 * t * t1 - t0);
+            if (j >= 2)
+                t0 = t1, t1 = tj;
+            w->basis[(size_t)j * rows + r] = tj;
+            w->qa[(size_t)j * rows + r] = tj * wa;
+            w->qb[(size_t)j * rows + r] = tj * wb;
+        }
+        w->ra[r] = w->y[r] * wa;
+        w->rb[r] = w->y[r] * w->y[r] * wb;
+    }
+}
+
+/* In-place Householder QR of the rows x cols column-major A; the reflections
+ * are applied to y. R is left in the upper triangle. */
+static void householder(double *a, double *y, uint32_t rows, uint32_t cols)
+{
+    for (uint32_t j = 0; j < cols && j < rows; j++) {
+        double *aj = a + (size_t)j * rows, nrm = 0.0;
+        for (uint32_t i = j; i < rows; i++)
+            nrm += aj[i] * aj[i];
+        nrm = sqrt(nrm);
+        if (nrm == 0.0)
+            continue;
+        double alpha = aj[j] > 0.0 ? -nrm : nrm;
+        double vv = 2.0 * nrm * (nrm + fabs(aj[j]));
+        aj[j] -= alpha;
+        for (uint32_t k = j + 1; k <= cols; k++) {
+            double *ak = k < cols ? a + (size_t)k * rows : y, dot = 0.0;
+            for (uint32_t i = j; i < rows; i++)
+                dot += aj[i] * ak[i];
+            double f = 2.0 * dot / vv;
+            for (uint32_t i = j; i < rows; i++)
+                ak[i] -= f * aj[i];
+        }
+        aj[j] = alpha;
+    }
+}
+
+/* Least-squares coefficients of degree m from the factorised system. */
+static void solve_degree(const double *a, const double *y, uint32_t rows, uint32_t m, double *c)
+{
+    double rmax = 0.0;
+    for (uint32_t j = 0; j <= m; j++)
+        rmax = fmax(rmax, fabs(a[(size_t)j * rows + j]));
+    for (uint32_t jj = m + 1; jj-- > 0;) {
+        double s = y[jj], rjj = a[(size_t)jj * rows + jj];
+        for (uint32_t k = jj + 1; k <= m; k++)
+            s -= a[(size_t)k * rows + jj] * c[k];
+        c[jj] = fabs(rjj) > RANK_TOL * rmax ? s / rjj : 0.0;
+    }
+}
+
+/* Mean and max relative error of candidate f on the first n rows. */
+static void measure(gs_fit_work *w, uint32_t rows, uint32_t n, cand *f)
+{
+    double *v = w->val, sum = 0.0, mx = 0.0;
+    for (uint32_t r = 0; r < n; r++)
+        v[r] = f->c[0];
+    for (uint32_t j = 1; j <= f->m; j++) {
+        const double cj = f->c[j], *col = w->basis + (size_t)j * rows;
+        for (uint32_t r = 0; r < n; r++)
+            v[r] += cj * col[r];
+    }
+    for (uint32_t r = 0; r < n; r++) {
+        double p = v[r] > 0.0 ? v[r] : 0.0, q = f->sq ? sqrt(p) : p;
+        double e = fabs(q - w->y[r]) / fmax(w->y[r], GS_FIT_DFLOOR);
+        sum += e;
+        mx = e > mx ? e : mx;
+    }
+    f->mean = sum / n, f->max = mx;
+}
+
+/* Degree escalation: the better of d / d^2 per degree; the first below tol
+ * wins, else the lowest mean error seen. */
+static void escalate(gs_fit_work *w, uint32_t rows, uint32_t n, uint32_t mlo, uint32_t mhi,
+                     cand *best)
+{
+    cand ca, cb;
+    best->mean = INFINITY;
+    for (uint32_t m = mlo; m <= mhi; m++) {
+        ca.m = cb.m = m, ca.sq = 0, cb.sq = 1;
+        solve_degree(w->qa, w->ra, rows, m, ca.c);
+        solve_degree(w->qb, w->rb, rows, m, cb.c);
+        measure(w, rows, n, &ca);
+        measure(w, rows, n, &cb);
+        const cand *c = cb.mean < ca.mean ? &cb : &ca;
+        if (c->mean < best->mean || c->mean < w->opt.tol)
+            *best = *c;
+        if (c->mean < w->opt.tol)
+            return;
+    }
+}
+
+static int store_result(const cand *b, double dmax, double shift, int closed, gs_fit_result *res,
+                        gs_error *err)
+{
+    double scale = b->sq ? dmax * dmax : dmax;
+    memset(res->coef, 0, sizeof res->coef);
+    for (uint32_t k = 0; k <= b->m; k++) {
+        res->coef[k] = b->c[k] * scale;
+        if (!isfinite(res->coef[k]))
+            return gs__fail(err, GS_EINTERNAL, "gs_fit_distance: non-finite coefficient");
+    }
+    res->fun = (gs_fun){GS_FUN_CHEBYSHEV, b->m, b->sq, closed ? 1u : 0u, shift, 0.0, res->coef};
+    res->fun.minval = gs_fun_min(&res->fun, NULL);
+    res->mean_rel_err = b->mean, res->max_rel_err = b->max;
+    res->cost = gs_fun_cost(&res->fun);
+    return GS_OK;
+}
+
+int gs_fit_distance(gs_fit_work *w, const double *u, const double *d, uint32_t n, int closed,
+                    gs_fit_result *res, gs_error *err)
+{
+    if (!w || !u || !d || !res || n == 0 || n + 1 > w->cap)
+        return gs__fail(err, GS_EARG, "gs_fit_distance: bad arguments (n = %u)", n);
+    int rc = check_samples(u, d, n, closed, err);
+    if (rc)
+        return rc;
+    double dmax = 0.0, shift = 0.0;
+    for (uint32_t k = 0; k < n; k++)
+        dmax = fmax(dmax, d[k]);
+    cand best = {{0.0}, 0, 0, 0.0, 0.0};
+    if (dmax == 0.0) /* every sample on the curve: d = 0 */
+        return store_result(&best, 1.0, closed ? u[0] : 0.0, closed, res, err);
+    uint32_t rows = prepare_rows(w, u, d, n, closed, dmax, &shift);
+    uint32_t mhi = w->opt.m_max < n - 1 ? w->opt.m_max : n - 1;
+    uint32_t mlo = w->opt.m_min < mhi ? w->opt.m_min : mhi;
+    build_systems(w, rows, mhi + 1);
+    householder(w->qa, w->ra, rows, mhi + 1);
+    householder(w->qb, w->rb, rows, mhi + 1);
+    escalate(w, rows, n, mlo, mhi, &best);
+    return store_result(&best, dmax, shift, closed, res, err);
+}
+
+int gs_fun_make_sampled(const double *d, uint32_t n, int closed, double *coef, gs_fun *out,
+                        gs_error *err)
+{
+    if (!d || !coef || !out || n == 0)
+        return gs__fail(err, GS_EARG, "gs_fun_make_sampled: bad arguments (n = %u)", n);
+    double mn = INFINITY;
+    for (uint32_t k = 0; k < n; k++) {
+        if (!isfinite(d[k]) || d[k] < 0.0)
+            return gs__fail(err, GS_EARG, "gs_fun_make_sampled: sample %u not finite or negative", k);
+        mn = fmin(mn, d[k]);
+    }
+    memmove(coef, d, (size_t)n * sizeof *coef);
+    *out = (gs_fun){GS_FUN_SAMPLED, n - 1, 0, closed ? 1u : 0u, 0.0, mn, coef};
+    return GS_OK;
+}

@@ -1,0 +1,53 @@
+/* fit.h - fitting separator distance functions (paper sec. 4.2): weighted
+ * least squares (weights 1/d) of d and of d^2 by Chebyshev series of degree
+ * 2..m_max, the better kept, stopping at the first degree whose mean
+ * relative error is below tol; loops shifted so the largest distance sits
+ * at the interval ends. Internal. Arrays in, coefficients out. */
+#ifndef GS_FIT_H
+#define GS_FIT_H
+
+#include "fun.h"
+#include "../core/internal.h"
+
+typedef struct gs_fit_options {
+    uint32_t m_min;   /* 2  */
+    uint32_t m_max;   /* 12 */
+    double tol;       /* 0.005: mean relative error target */
+} gs_fit_options;
+
+void gs_fit_options_default(gs_fit_options *o);
+
+/* Result of one fit; coef has room for GS_FUN_MAX_DEGREE+1 values. */
+typedef struct gs_fit_result {
+    gs_fun fun;                             /* fun.coef points into coef[] */
+    double coef[GS_FUN_MAX_DEGREE + 1];
+    double mean_rel_err, max_rel_err;       /* on the samples              */
+    uint32_t cost;                          /* doubles to store: gs_fun_cost */
+} gs_fit_result;
+
+/* Relative errors are measured against max(d, GS_FIT_DFLOOR * max d), and the
+ * least-squares weights use the same floor (a vertex on the curve, d = 0,
+ * must not blow up). */
+#define GS_FIT_DFLOOR 1e-3
+
+/* Scratch space for fitting, one per thread. */
+typedef struct gs_fit_work gs_fit_work;
+int gs_fit_work_create(uint32_t max_samples, const gs_fit_options *o, gs_fit_work **out,
+                       gs_error *err);
+void gs_fit_work_free(gs_fit_work *w);
+
+/* Fit n samples: u[k] in [-1,1] increasing (curve parameter; for loops in
+ * [-1,1), spacing uniform), d[k] > 0 the distances (d[k] == 0 allowed: the
+ * vertex lies on the curve; non-finite values are an error). closed: loop.
+ * The result's fun.coef points into res->coef. */
+int gs_fit_distance(gs_fit_work *w, const double *u, const double *d, uint32_t n,
+                    int closed, gs_fit_result *res, gs_error *err);
+
+/* SEPsam: a function holding the n >= 1 sample values d[k] >= 0 (finite) at
+ * uniform u (paths: u_k = -1 + 2k/(n-1); loops: u_k = -1 + 2k/n), evaluated
+ * by piecewise-linear interpolation. The values are copied to coef (n
+ * doubles, caller-owned, may alias d); out->coef points to coef. */
+int gs_fun_make_sampled(const double *d, uint32_t n, int closed, double *coef, gs_fun *out,
+                        gs_error *err);
+
+#endif

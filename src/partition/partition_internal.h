@@ -1,0 +1,64 @@
+/* partition_internal.h - what the pieces of the nested bisection (paper sec.
+ * 3.1, 4.1) share: the local view of one node being split (owned vertices
+ * first, then ghost vertices), the growable output arrays, and the steps. */
+#ifndef GS_PARTITION_INTERNAL_H
+#define GS_PARTITION_INTERNAL_H
+
+#include "tree.h"
+
+/* One node N being split. Local vertex ids: 0..no-1 are the vertices V(N)
+ * owned by N, no..nl-1 the ghost vertices (corners of faces of P(N) that N
+ * does not own). vloc/floc are mesh-sized maps that hold local ids for the
+ * vertices and faces of this node only (GS_NONE elsewhere), so every step
+ * costs time proportional to the node's size. */
+typedef struct gs_part_node {
+    const gs_mesh *mesh;
+    uint32_t id;            /* tree node id                                   */
+    uint32_t no, nl, nf;    /* owned vertices, local vertices, faces of P(N)  */
+    const uint32_t *lv;     /* nl: local -> mesh vertex                       */
+    const uint32_t *faces;  /* nf: local -> mesh face                         */
+    const uint32_t *vloc;   /* mesh vertex -> local id or GS_NONE             */
+    const uint32_t *floc;   /* mesh face -> local face id or GS_NONE          */
+    uint8_t *side;          /* nl: 0 or 1 (child) for owned and ghost ones    */
+    double *phi;            /* nl: the smoothed side function minus its cut  */
+                            /*   level (side = phi > 0), or NULL              */
+    int phi_valid;          /* phi holds that function for the current sides */
+} gs_part_node;
+
+/* Growable output arrays of the curve builder. */
+typedef struct gs_part_out {
+    gs_sep_curve *curves;
+    size_t n_curves, cap_curves;
+    gs_sep_sample *samples;
+    size_t n_samples, cap_samples;
+    gs_sep_cross *cross;
+    size_t n_cross, cap_cross;
+} gs_part_out;
+
+/* Grow *p (elements of size `size`) so that it holds at least `need`. */
+int gs__part_reserve(void **p, size_t *cap, size_t need, size_t size);
+
+/* Sides of the owned vertices (side[0..no)): the connected components of the
+ * graph induced by V(N) grouped into two balanced halves when that is
+ * possible, otherwise a METIS bisection. Both sides are non-empty (no >= 2).
+ * Then every ghost vertex takes the side of the majority of its owned
+ * neighbours. (split.c, the only file that includes metis.h) */
+int gs__part_sides(gs_part_node *nd, uint32_t seed, gs_error *err);
+
+/* Smooth separator (paper 4.1's aim, by a level set): diffuse the +-1 side
+ * indicator of the METIS cut over the graph of P(N) for `iters` rounds of
+ * edge-length-weighted averaging, cut at the median over the owned vertices
+ * (exact balance), and set every local vertex's side from it. nd->phi then
+ * holds the function minus the cut level, whose zero set (linear on each
+ * face) is the separator. Keeps the METIS sides if the cut would empty a
+ * side. (split.c) */
+int gs__part_level_set(gs_part_node *nd, uint32_t iters, gs_error *err);
+
+/* The separator curves of a node whose sides are set: the faces of P(N)
+ * with corners on both sides are chained into paths and loops; each one is
+ * placed on the zero level of nd->phi (or, without it, pulled taut between
+ * anchors inside its strip and smoothed) and resampled (curve.c). */
+int gs__part_curves(const gs_part_node *nd, const gs_tree_options *opt,
+                    double mean_edge, gs_part_out *out, gs_error *err);
+
+#endif

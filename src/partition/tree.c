@@ -1,0 +1,259 @@
+/* tree.c - the nested bisection tree (paper sec. 2.2, 3.1, 4.1): nodes are
+ * split breadth-first until they own at most vmax vertices; each child's
+ * patch holds every face of its parent touching a vertex the child owns, so
+ * the faces crossed by the separator go to both children (ghost triangles). */
+#include "partition_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void gs_tree_options_default(gs_tree_options *o)
+{
+    if (!o) return;
+    o->vmax = 30;
+    o->sample_spacing = 1.0;
+    o->smooth_iters = 0; /* level-set curves are smooth; projecting filtered
+                          * points back onto the cut edges re-kinks them */
+    o->seed = 1;
+    o->level_iters = 16;
+}
+
+void gs_tree_free(gs_tree *t)
+{
+    if (!t) return;
+    free(t->nodes);
+    free(t->curves);
+    free(t->samples);
+    free(t->cross);
+    free(t->faces);
+    free(t->verts);
+    free(t->leaf_of_vertex);
+    free(t);
+}
+
+typedef struct builder {
+    const gs_mesh *mesh;
+    const gs_tree_options *opt;
+    gs_tree *t;
+    size_t cap_nodes, cap_faces;
+    gs_part_out out;
+    double mean_edge;
+    uint32_t *vloc, *floc;     /* mesh-sized maps, GS_NONE outside a node */
+    uint32_t *lv, *lf, *tmp;   /* node scratch (grown as needed)          */
+    uint8_t *side;
+    double *phi;
+    size_t cap_lv, cap_lf, cap_tmp, cap_side, cap_phi;
+} builder;
+
+static void builder_free(builder *b)
+{
+    free(b->out.curves);
+    free(b->out.samples);
+    free(b->out.cross);
+    free(b->vloc);
+    free(b->floc);
+    free(b->lv);
+    free(b->lf);
+    free(b->tmp);
+    free(b->side);
+    free(b->phi);
+}
+
+#define RESERVE(ptr, cap, need) gs__part_reserve((void **)&(ptr), &(cap), (need), sizeof *(ptr))
+
+/* The root: every referenced vertex, every face. */
+static int init_root(builder *b)
+{
+    const gs_mesh *m = b->mesh;
+    gs_tree *t = b->t;
+    t->verts = gs__malloc(m->nv ? m->nv : 1, sizeof *t->verts);
+    t->leaf_of_vertex = gs__malloc(m->nv ? m->nv : 1, sizeof *t->leaf_of_vertex);
+    b->vloc = gs__malloc(m->nv ? m->nv : 1, sizeof *b->vloc);
+    b->floc = gs__malloc(m->nf ? m->nf : 1, sizeof *b->floc);
+    if (!t->verts || !t->leaf_of_vertex || !b->vloc || !b->floc) return GS_ENOMEM;
+    if (RESERVE(t->faces, b->cap_faces, m->nf) || RESERVE(t->nodes, b->cap_nodes, 1))
+        return GS_ENOMEM;
+    for (uint32_t v = 0; v < m->nv; ++v) {
+        b->vloc[v] = GS_NONE;
+        t->leaf_of_vertex[v] = GS_NONE;
+        if (!(m->topo.vflag[v] & GS_V_UNUSED)) t->verts[t->n_verts++] = v;
+    }
+    for (uint32_t f = 0; f < m->nf; ++f) {
+        b->floc[f] = GS_NONE;
+        t->faces[f] = f;
+    }
+    t->n_face_refs = m->nf;
+    t->nodes[0] = (gs_tree_node){GS_NONE, {GS_NONE, GS_NONE}, 0, 0, m->nf, 0, t->n_verts,
+                                 0, 0, 0};
+    t->n_nodes = 1;
+    return GS_OK;
+}
+
+/* Local view of node id: owned vertices first, then ghosts. */
+static int load_node(builder *b, uint32_t id, gs_part_node *nd)
+{
+    const gs_tree_node *n = &b->t->nodes[id];
+    const uint32_t *tri = b->mesh->tri;
+    size_t max_lv = (size_t)n->n_verts + 3 * (size_t)n->n_faces;
+    if (RESERVE(b->lf, b->cap_lf, n->n_faces) || RESERVE(b->lv, b->cap_lv, max_lv))
+        return GS_ENOMEM;
+    memcpy(b->lf, b->t->faces + n->face_start, (size_t)n->n_faces * sizeof *b->lf);
+    uint32_t nl = 0;
+    for (uint32_t i = 0; i < n->n_verts; ++i) {
+        uint32_t v = b->t->verts[n->vert_start + i];
+        b->vloc[v] = nl;
+        b->lv[nl++] = v;
+    }
+    for (uint32_t i = 0; i < n->n_faces; ++i) {
+        b->floc[b->lf[i]] = i;
+        for (int k = 0; k < 3; ++k) {
+            uint32_t v = tri[3 * (size_t)b->lf[i] + k];
+            if (b->vloc[v] != GS_NONE) continue;
+            b->vloc[v] = nl;
+            b->lv[nl++] = v;
+        }
+    }
+    if (RESERVE(b->side, b->cap_side, nl ? nl : 1) || RESERVE(b->phi, b->cap_phi, nl ? nl : 1))
+        return GS_ENOMEM;
+    *nd = (gs_part_node){b->mesh, id, n->n_verts, nl, n->n_faces, b->lv, b->lf,
+                         b->vloc, b->floc, b->side, b->phi, 0};
+    return GS_OK;
+}
+
+static void unload_node(builder *b, const gs_part_node *nd)
+{
+    for (uint32_t i = 0; i < nd->nl; ++i) b->vloc[nd->lv[i]] = GS_NONE;
+    for (uint32_t i = 0; i < nd->nf; ++i) b->floc[nd->faces[i]] = GS_NONE;
+}
+
+/* Faces of P(N) with a corner owned on side s, appended to tree faces. */
+static uint32_t child_faces(builder *b, const gs_part_node *nd, uint8_t s)
+{
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < nd->nf; ++i) {
+        const uint32_t *c = b->mesh->tri + 3 * (size_t)nd->faces[i];
+        int has = 0;
+        for (int k = 0; k < 3; ++k) {
+            uint32_t l = nd->vloc[c[k]];
+            has |= l < nd->no && nd->side[l] == s;
+        }
+        if (has) b->t->faces[b->t->n_face_refs + n++] = nd->faces[i];
+    }
+    b->t->n_face_refs += n;
+    return n;
+}
+
+/* Reorder the node's vertex range (side 0 first) and add both children. */
+static int make_children(builder *b, uint32_t id, const gs_part_node *nd)
+{
+    gs_tree *t = b->t;
+    if (RESERVE(t->nodes, b->cap_nodes, (size_t)t->n_nodes + 2) ||
+        RESERVE(t->faces, b->cap_faces, t->n_face_refs + 2 * (size_t)nd->nf) ||
+        RESERVE(b->tmp, b->cap_tmp, nd->no))
+        return GS_ENOMEM;
+    gs_tree_node *n = &t->nodes[id];
+    uint32_t *range = t->verts + n->vert_start, n0 = 0;
+    for (uint8_t s = 0; s < 2; ++s)
+        for (uint32_t i = 0; i < nd->no; ++i)
+            if (nd->side[i] == s) b->tmp[n0++] = nd->lv[i];
+    memcpy(range, b->tmp, (size_t)nd->no * sizeof *range);
+    n0 = 0;
+    for (uint32_t i = 0; i < nd->no; ++i) n0 += nd->side[i] == 0;
+    for (uint8_t s = 0; s < 2; ++s) {
+        uint32_t c = t->n_nodes++;
+        size_t fs = t->n_face_refs;
+        uint32_t nf = child_faces(b, nd, s);
+        t->nodes[c] = (gs_tree_node){id, {GS_NONE, GS_NONE}, n->depth + 1, (uint32_t)fs, nf,
+                                     n->vert_start + (s ? n0 : 0), s ? nd->no - n0 : n0,
+                                     0, 0, n->curve_prefix + n->n_curves};
+        n->child[s] = c;
+    }
+    return GS_OK;
+}
+
+static int split_node(builder *b, uint32_t id, gs_error *err)
+{
+    gs_part_node nd;
+    b->t->nodes[id].curve_start = (uint32_t)b->out.n_curves;
+    if (b->t->nodes[id].n_verts <= b->opt->vmax) return GS_OK;
+    if (load_node(b, id, &nd)) return gs__fail(err, GS_ENOMEM, "out of memory building the tree");
+    int rc = gs__part_sides(&nd, b->opt->seed, err);
+    if (rc == GS_OK) rc = gs__part_level_set(&nd, b->opt->level_iters, err);
+    if (rc == GS_OK) rc = gs__part_curves(&nd, b->opt, b->mean_edge, &b->out, err);
+    if (rc == GS_OK) {
+        b->t->nodes[id].n_curves = (uint32_t)(b->out.n_curves - b->t->nodes[id].curve_start);
+        if (make_children(b, id, &nd)) rc = gs__fail(err, GS_ENOMEM, "out of memory building the tree");
+    }
+    unload_node(b, &nd);
+    return rc;
+}
+
+static void finish_stats(gs_tree *t)
+{
+    double sum = 0;
+    uint32_t n_sep = 0;
+    for (uint32_t i = 0; i < t->n_nodes; ++i) {
+        const gs_tree_node *n = &t->nodes[i];
+        n_sep += n->n_curves > 0;
+        if (n->child[0] != GS_NONE) continue;
+        t->n_leaves++;
+        sum += (double)n->depth * n->n_verts;
+        if (n->depth > t->max_depth) t->max_depth = n->depth;
+        for (uint32_t k = 0; k < n->n_verts; ++k) t->leaf_of_vertex[t->verts[n->vert_start + k]] = i;
+    }
+    t->avg_leaf_depth = t->n_verts ? sum / t->n_verts : 0;
+    t->avg_curves_per_separator = n_sep ? (double)t->n_curves / n_sep : 0;
+    t->avg_samples_per_curve = t->n_curves ? (double)t->n_samples / t->n_curves : 0;
+}
+
+/* Move the curve arrays into the tree and trim the growable ones. */
+static int take_output(builder *b)
+{
+    gs_tree *t = b->t;
+    if (b->out.n_samples > UINT32_MAX || b->out.n_cross > UINT32_MAX) return GS_ELIMIT;
+    t->curves = b->out.curves;
+    t->samples = b->out.samples;
+    t->cross = b->out.cross;
+    t->n_curves = (uint32_t)b->out.n_curves;
+    t->n_samples = (uint32_t)b->out.n_samples;
+    t->n_cross = (uint32_t)b->out.n_cross;
+    b->out.curves = NULL;
+    b->out.samples = NULL;
+    b->out.cross = NULL;
+    void *p = gs__realloc(t->faces, t->n_face_refs ? t->n_face_refs : 1, sizeof *t->faces);
+    if (p) t->faces = p;
+    p = gs__realloc(t->nodes, t->n_nodes, sizeof *t->nodes);
+    if (p) t->nodes = p;
+    return GS_OK;
+}
+
+int gs_tree_build(const gs_mesh *mesh, const gs_tree_options *opt, gs_tree **out,
+                  gs_error *err)
+{
+    if (!out) return gs__fail(err, GS_EARG, "gs_tree_build: out is NULL");
+    *out = NULL;
+    gs_tree_options def;
+    gs_tree_options_default(&def);
+    if (!opt) opt = &def;
+    if (!mesh) return gs__fail(err, GS_EARG, "gs_tree_build: mesh is NULL");
+    if (opt->vmax < 1) return gs__fail(err, GS_EARG, "gs_tree_build: vmax must be >= 1");
+    if (!(opt->sample_spacing > 0) || opt->sample_spacing > 1e6)
+        return gs__fail(err, GS_EARG, "gs_tree_build: sample_spacing %g out of range",
+                        opt->sample_spacing);
+    builder b = {.mesh = mesh, .opt = opt};
+    b.mean_edge = mesh->report.mean_edge > 0 ? mesh->report.mean_edge : 1.0;
+    b.t = gs__calloc(1, sizeof *b.t);
+    int rc = b.t ? init_root(&b) : GS_ENOMEM;
+    if (rc) rc = gs__fail(err, rc, "out of memory building the tree");
+    for (uint32_t i = 0; rc == GS_OK && i < b.t->n_nodes; ++i) rc = split_node(&b, i, err);
+    if (rc == GS_OK && (rc = take_output(&b)) != GS_OK)
+        rc = gs__fail(err, rc, "tree too large (%zu samples)", b.out.n_samples);
+    if (rc == GS_OK) finish_stats(b.t);
+    builder_free(&b);
+    if (rc) {
+        gs_tree_free(b.t);
+        return rc;
+    }
+    *out = b.t;
+    return GS_OK;
+}

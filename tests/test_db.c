@@ -1,0 +1,545 @@
+/* test_db.c - the database file (doc/database-format.md): a hand-made tree
+ * and functions packed, saved, re-opened bit-exact; every corruption
+ * (flips, truncation, absurd fields with valid checksums) rejected cleanly.
+ * The fixture (make_fixture) is shared with test_query.c, which includes
+ * this file with GS_TEST_DB_FIXTURE_ONLY defined. */
+#include "check.h"
+#include "db/db_internal.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <dirent.h>
+#include <unistd.h>
+
+/* ---- fixture ---------------------------------------------------------------
+ * Tree: node 0 (root; curve 0, a path) -> node 1 (leaf: vertices 0,1) and
+ * node 2 (curves 1 = loop, 2 = path) -> leaves 3 (vertices 2,3) and 4
+ * (vertices 4,5). Vertex 6 is used by no face. Every function is a
+ * quadratic a + b (t - t0)^2 in Chebyshev form (so its minimum is a), one is
+ * fitted to d^2, and vertex 5 cannot reach curves 0 and 2. */
+#define FX_NV 7
+#define FX_NF 64
+
+typedef struct fixture {
+    double xyz[3 * FX_NV];
+    gs_db_node nodes[5];
+    gs_db_curve curves[3];
+    uint32_t leaf[FX_NV];
+    uint64_t fun_start[FX_NV + 1];
+    gs_fun funs[FX_NF];
+    double coef[FX_NF][3];
+    double qa[FX_NF], qb[FX_NF], qt[FX_NF]; /* the quadratics, for references */
+    uint32_t leaf_vstart[6], leaf_verts[6];
+    uint64_t leaf_dstart[6];
+    double leaf_dist[12];
+    gs_db_content c;
+} fixture;
+
+static void fx_quadratic(fixture *f, uint64_t i, uint32_t x, uint32_t k, uint32_t closed)
+{
+    double a = 0.1 + 0.05 * x + 0.02 * k, b = 0.5 + 0.1 * ((x + k) % 3), t0 = -0.6 + 0.2 * ((x * 3 + k) % 7);
+    int sq = (x == 3 && k == 1);
+    double A = sq ? a * a : a; /* squared: the series holds d^2 = a^2 + b (t-t0)^2 */
+    f->qa[i] = a, f->qb[i] = b, f->qt[i] = t0;
+    f->coef[i][0] = A + b * (0.5 + t0 * t0);
+    f->coef[i][1] = -2 * b * t0;
+    f->coef[i][2] = b / 2;
+    gs_fun *g = &f->funs[i];
+    g->kind = GS_FUN_CHEBYSHEV;
+    g->degree = 2;
+    g->squared = (uint32_t)sq;
+    g->closed = closed;
+    g->shift = closed ? 0.25 * (x % 3) - 0.25 : 0.0;
+    g->minval = a;
+    g->coef = f->coef[i];
+    if (x == 5 && (k == 0 || k == 2)) { /* unreachable */
+        g->minval = INFINITY;
+        g->degree = 0;
+        g->coef = NULL;
+    }
+}
+
+static void fx_tree(fixture *f)
+{
+    gs_db_node nodes[5] = {{GS_NONE, 0, 0, 1, 0}, {0, 1, 1, 0, 1}, {0, 1, 1, 2, 1}, {2, 2, 3, 0, 3}, {2, 2, 3, 0, 3}};
+    gs_db_curve curves[3] = {{0, 0, 50, 2.0}, {2, 1, 40, 1.5}, {2, 0, 30, 1.0}};
+    uint32_t leaf[FX_NV] = {1, 1, 3, 3, 4, 4, GS_NONE};
+    memcpy(f->nodes, nodes, sizeof nodes);
+    memcpy(f->curves, curves, sizeof curves);
+    memcpy(f->leaf, leaf, sizeof leaf);
+    for (uint32_t x = 0; x < FX_NV; ++x) {
+        f->xyz[3 * x] = 0.3 * x;
+        f->xyz[3 * x + 1] = 0.1 * (x % 2);
+        f->xyz[3 * x + 2] = 0.05 * x * x;
+    }
+}
+
+static void fx_leaf_tables(fixture *f)
+{
+    uint32_t vs[6] = {0, 0, 2, 2, 4, 6};
+    uint64_t ds[6] = {0, 0, 4, 4, 8, 12};
+    memcpy(f->leaf_vstart, vs, sizeof vs);
+    memcpy(f->leaf_dstart, ds, sizeof ds);
+    for (uint32_t i = 0; i < 6; ++i) f->leaf_verts[i] = i;
+    for (uint32_t l = 0; l < 3; ++l) { /* 1.25 x Euclidean, distinguishable */
+        uint32_t x = 2 * l, y = x + 1;
+        double dx = f->xyz[3 * x] - f->xyz[3 * y], dy = f->xyz[3 * x + 1] - f->xyz[3 * y + 1],
+               dz = f->xyz[3 * x + 2] - f->xyz[3 * y + 2];
+        double e = 1.25 * sqrt(dx * dx + dy * dy + dz * dz);
+        double t[4] = {0, e, e, 0};
+        memcpy(f->leaf_dist + 4 * l, t, sizeof t);
+    }
+}
+
+static void make_fixture(fixture *f, int leaf_exact)
+{
+    memset(f, 0, sizeof *f);
+    fx_tree(f);
+    uint64_t i = 0;
+    for (uint32_t x = 0; x < FX_NV; ++x) {
+        f->fun_start[x] = i;
+        uint32_t nf = f->leaf[x] == GS_NONE ? 0 : f->nodes[f->leaf[x]].curve_prefix;
+        for (uint32_t k = 0; k < nf; ++k, ++i) fx_quadratic(f, i, x, k, k == 1);
+    }
+    f->fun_start[FX_NV] = i;
+    gs_db_content *c = &f->c;
+    c->nv = FX_NV;
+    c->xyz = f->xyz;
+    c->n_nodes = 5;
+    c->nodes = f->nodes;
+    c->n_curves = 3;
+    c->curves = f->curves;
+    c->leaf = f->leaf;
+    c->fun_start = f->fun_start;
+    c->funs = f->funs;
+    if (leaf_exact) {
+        fx_leaf_tables(f);
+        c->leaf_vstart = f->leaf_vstart;
+        c->leaf_verts = f->leaf_verts;
+        c->leaf_dstart = f->leaf_dstart;
+        c->leaf_dist = f->leaf_dist;
+    }
+    c->method = GS_METHOD_EXACT;
+    c->vmax = 2;
+    c->mmax = 12;
+    c->tol = 0.005;
+    c->vertex_sources = 1;
+    c->avg_depth = 10.0 / 6.0;
+    c->max_depth = 2;
+    c->n_leaves = 3;
+}
+
+static gs_db *fixture_db(fixture *f, int leaf_exact)
+{
+    make_fixture(f, leaf_exact);
+    gs_db *db = NULL;
+    gs_error err = {0};
+    int rc = gs_db_pack(&f->c, &db, &err);
+    CHECK_MSG(rc == GS_OK, "pack: %s", err.message);
+    return db;
+}
+
+#ifndef GS_TEST_DB_FIXTURE_ONLY
+
+static char tmpdir[1024];
+
+static const char *tmp_path(const char *name)
+{
+    static char buf[2048];
+    snprintf(buf, sizeof buf, "%s/%s", tmpdir, name);
+    return buf;
+}
+
+static int write_file(const char *path, const void *data, size_t n)
+{
+    FILE *fp = fopen(path, "wb");
+    if (!fp) return -1;
+    size_t w = n ? fwrite(data, 1, n, fp) : 0;
+    fclose(fp);
+    return w == n ? 0 : -1;
+}
+
+static unsigned char *read_file(const char *path, size_t *n)
+{
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return NULL;
+    fseek(fp, 0, SEEK_END);
+    long sz = ftell(fp);
+    fseek(fp, 0, SEEK_SET);
+    unsigned char *b = malloc(sz > 0 ? (size_t)sz : 1);
+    *n = fread(b, 1, (size_t)sz, fp);
+    fclose(fp);
+    return b;
+}
+
+/* Opening must fail with a message; returns the status. */
+static int open_bad(const unsigned char *b, size_t n, gs_error *err)
+{
+    gs_db *db = NULL;
+    memset(err, 0, sizeof *err);
+    int rc = gs_db_open_memory(b, n, &db, err);
+    CHECK(db == NULL || rc == GS_OK);
+    if (rc == GS_OK) gs_db_free(db);
+    else CHECK(err->message[0] != '\0');
+    return rc;
+}
+
+static void all_distances(const gs_db *db, double *out)
+{
+    for (uint32_t x = 0; x < FX_NV; ++x)
+        for (uint32_t y = 0; y < FX_NV; ++y) out[x * FX_NV + y] = gs_db_distance(db, x, y);
+}
+
+static void test_round_trip(int leaf_exact)
+{
+    fixture f;
+    gs_db *db = fixture_db(&f, leaf_exact);
+    if (!db) return;
+    gs_error err = {0};
+    const char *path = tmp_path("fixture.gsdb");
+    CHECK(gs_db_save(db, path, &err) == GS_OK);
+    size_t n = 0;
+    unsigned char *bytes = read_file(path, &n);
+    CHECK(bytes && n == db->size && memcmp(bytes, db->bytes, n) == 0);
+    gs_db *db2 = NULL, *db3 = NULL;
+    CHECK_MSG(gs_db_open(path, &db2, &err) == GS_OK, "%s", err.message);
+    CHECK(gs_db_open_memory(bytes, n, &db3, &err) == GS_OK);
+    if (db2 && db3) {
+        CHECK(db2->mapped && !db3->mapped);
+        double a[FX_NV * FX_NV], b[FX_NV * FX_NV], c[FX_NV * FX_NV];
+        all_distances(db, a);
+        all_distances(db2, b);
+        all_distances(db3, c);
+        CHECK(memcmp(a, b, sizeof a) == 0 && memcmp(a, c, sizeof a) == 0);
+        gs_db_info i1, i2;
+        CHECK(gs_db_get_info(db, &i1, NULL) == GS_OK && gs_db_get_info(db2, &i2, NULL) == GS_OK);
+        CHECK(memcmp(&i1, &i2, sizeof i1) == 0);
+        CHECK(i1.n_vertices == FX_NV && i1.n_nodes == 5 && i1.n_leaves == 3 && i1.n_curves == 3);
+        CHECK(i1.max_depth == 2 && i1.vmax == 2 && i1.mmax == 12 && i1.tol == 0.005 && i1.vertex_sources == 1);
+        CHECK(i1.leaf_exact == leaf_exact && i1.sampled == 0 && i1.file_bytes == n && i1.format_version == 1);
+        /* 14 functions: 12 reachable with 3 coefficients, 4 of them loops */
+        CHECK_NEAR(i1.cost, (12.0 * 3 + 4 /* loop shifts */) / FX_NV, 1e-12); /* Table 1: coefficients and shifts */
+        /* saving a loaded database writes the same bytes */
+        CHECK(gs_db_save(db2, tmp_path("again.gsdb"), &err) == GS_OK);
+        size_t n2 = 0;
+        unsigned char *b2 = read_file(tmp_path("again.gsdb"), &n2);
+        CHECK(b2 && n2 == n && memcmp(b2, bytes, n) == 0);
+        free(b2);
+    }
+    gs_db_free(db2);
+    gs_db_free(db3);
+    free(bytes);
+    gs_db_free(db);
+}
+
+/* Every single-byte change of the file is detected (checksums cover every
+ * byte); plus random flips of random bits. */
+static void test_flips(void)
+{
+    fixture f;
+    gs_db *db = fixture_db(&f, 1);
+    if (!db) return;
+    size_t n = (size_t)db->size;
+    unsigned char *b = malloc(n);
+    gs_error err;
+    int undetected = 0;
+    for (size_t pos = 0; pos < n; ++pos) {
+        memcpy(b, db->bytes, n);
+        b[pos] ^= 0x01;
+        if (open_bad(b, n, &err) == GS_OK) undetected++;
+    }
+    CHECK_MSG(undetected == 0, "%d of %zu single-bit flips undetected", undetected, n);
+    srand(12345);
+    int bad_status = 0;
+    for (int seed = 0; seed < 500; ++seed) {
+        memcpy(b, db->bytes, n);
+        size_t pos = (size_t)rand() % n;
+        b[pos] ^= (unsigned char)(1 + rand() % 255);
+        int rc = open_bad(b, n, &err);
+        if (rc != GS_EPARSE && rc != GS_EFORMAT) bad_status++;
+    }
+    CHECK(bad_status == 0);
+    free(b);
+    gs_db_free(db);
+}
+
+static void test_truncation(void)
+{
+    fixture f;
+    gs_db *db = fixture_db(&f, 1);
+    if (!db) return;
+    size_t n = (size_t)db->size;
+    gs_error err;
+    int accepted = 0;
+    for (size_t len = 0; len < n; ++len) /* every length, in memory */
+        if (open_bad(db->bytes, len, &err) != GS_EPARSE) accepted++;
+    CHECK(accepted == 0);
+    unsigned char *ext = calloc(n + 8, 1); /* an extended file too */
+    memcpy(ext, db->bytes, n);
+    CHECK(open_bad(ext, n + 8, &err) == GS_EPARSE && strstr(err.message, "file_bytes"));
+    free(ext);
+    /* files cut at every section boundary (and inside each section) */
+    const unsigned char *t = db->bytes + GS_DB_HEADER_BYTES;
+    for (uint32_t s = 0; s < GS_SEC_COUNT_FULL; ++s, t += GS_DB_ENTRY_BYTES) {
+        uint64_t off, size;
+        memcpy(&off, t + 8, 8);
+        memcpy(&size, t + 16, 8);
+        uint64_t cuts[2] = {off, off + size / 2};
+        for (int j = 0; j < 2; ++j) {
+            CHECK(write_file(tmp_path("cut.gsdb"), db->bytes, (size_t)cuts[j]) == 0);
+            gs_db *d = NULL;
+            CHECK(gs_db_open(tmp_path("cut.gsdb"), &d, &err) == GS_EPARSE && d == NULL);
+        }
+    }
+    CHECK(write_file(tmp_path("empty.gsdb"), "", 0) == 0);
+    gs_db *d = NULL;
+    CHECK(gs_db_open(tmp_path("empty.gsdb"), &d, &err) == GS_EPARSE && strstr(err.message, "0 bytes"));
+    gs_db_free(db);
+}
+
+/* Recompute every checksum, so that only structural validation can object. */
+static void reseal(unsigned char *b, size_t n)
+{
+    uint32_t n_sec;
+    memcpy(&n_sec, b + 64, 4);
+    if (n_sec > GS_SEC_COUNT_FULL) return; /* a mutated count: leave it */
+    for (uint32_t s = 0; s < n_sec; ++s) {
+        unsigned char *t = b + GS_DB_HEADER_BYTES + GS_DB_ENTRY_BYTES * s;
+        uint64_t off, size;
+        memcpy(&off, t + 8, 8);
+        memcpy(&size, t + 16, 8);
+        if (off > n || size > n - off) continue; /* a mutated table */
+        uint64_t h = gs__db_checksum(b + off, (size_t)size, NULL, 0);
+        memcpy(t + 24, &h, 8);
+    }
+    uint64_t h = gs__db_checksum(b, 120, b + GS_DB_HEADER_BYTES, GS_DB_ENTRY_BYTES * n_sec);
+    memcpy(b + 120, &h, 8);
+}
+
+static unsigned char *section(unsigned char *b, uint32_t id)
+{
+    uint64_t off;
+    memcpy(&off, b + GS_DB_HEADER_BYTES + GS_DB_ENTRY_BYTES * (id - 1) + 8, 8);
+    return b + off;
+}
+
+typedef void (*mutation)(unsigned char *b);
+
+static void m_parent_self(unsigned char *b) { uint32_t v = 2; memcpy(section(b, GS_SEC_NODES) + 20 * 2, &v, 4); }
+static void m_depth(unsigned char *b) { uint32_t v = 7; memcpy(section(b, GS_SEC_NODES) + 20 * 3 + 4, &v, 4); }
+static void m_prefix(unsigned char *b) { uint32_t v = 2; memcpy(section(b, GS_SEC_NODES) + 20 * 2 + 16, &v, 4); }
+static void m_curve_range(unsigned char *b) { uint32_t v = 1000; memcpy(section(b, GS_SEC_NODES) + 20 * 2 + 12, &v, 4); }
+static void m_curve_node(unsigned char *b) { uint32_t v = 0; memcpy(section(b, GS_SEC_CURVES) + 24 * 2, &v, 4); }
+static void m_curve_closed(unsigned char *b) { uint32_t v = 1; memcpy(section(b, GS_SEC_CURVES) + 24 * 2 + 4, &v, 4); }
+static void m_leaf_internal(unsigned char *b) { uint32_t v = 2; memcpy(section(b, GS_SEC_LEAVES) + 4 * 4, &v, 4); }
+static void m_leaf_range(unsigned char *b) { uint32_t v = 99; memcpy(section(b, GS_SEC_LEAVES) + 4 * 0, &v, 4); }
+static void m_leaf_count(unsigned char *b) { uint32_t v = 1; memcpy(section(b, GS_SEC_LEAVES) + 4 * 2, &v, 4); }
+/* the first function of vertex 2 is function 2 overall */
+static void m_degree(unsigned char *b)
+{
+    unsigned char *e = section(b, GS_SEC_FUNCTIONS) + 16 * 2 + 12;
+    uint32_t m;
+    memcpy(&m, e, 4);
+    m = (m & ~0xFFFFu) | 200u;
+    memcpy(e, &m, 4);
+}
+static void m_meta_bits(unsigned char *b) { uint32_t v = 2u | 1u << 25; memcpy(section(b, GS_SEC_FUNCTIONS) + 16 * 2 + 12, &v, 4); }
+static void m_minval_nan(unsigned char *b) { double v = NAN; memcpy(section(b, GS_SEC_FUNCTIONS) + 16 * 3, &v, 8); }
+static void m_word_offset(unsigned char *b) { uint32_t v = 1; memcpy(section(b, GS_SEC_FUNCTIONS) + 16 * 3 + 8, &v, 4); }
+static void m_coef_inf(unsigned char *b) { double v = INFINITY; memcpy(section(b, GS_SEC_WORDS) + 8 * 1, &v, 8); }
+static void m_shift(unsigned char *b) { double v = 5.0; memcpy(section(b, GS_SEC_WORDS) + 8 * 9, &v, 8); }
+static void m_vdir_past(unsigned char *b) { uint64_t v = 1u << 30; memcpy(section(b, GS_SEC_VERTEX_DIR) + 16 * 3 + 8, &v, 8); }
+static void m_vdir_count(unsigned char *b) { uint64_t v = 4; memcpy(section(b, GS_SEC_VERTEX_DIR) + 16 * 2, &v, 8); }
+static void m_nv(unsigned char *b) { uint32_t v = 0x7FFFFFFF; memcpy(b + 32, &v, 4); }
+static void m_nfun(unsigned char *b) { uint64_t v = (uint64_t)1 << 61; memcpy(b + 48, &v, 8); }
+static void m_offset(unsigned char *b) { uint64_t v = 1u << 20; memcpy(b + GS_DB_HEADER_BYTES + GS_DB_ENTRY_BYTES * 6 + 8, &v, 8); }
+static void m_size(unsigned char *b) { uint64_t v = 8; memcpy(b + GS_DB_HEADER_BYTES + GS_DB_ENTRY_BYTES * 0 + 16, &v, 8); }
+static void m_n_leaves(unsigned char *b) { uint32_t v = 4; memcpy(b + 44, &v, 4); }
+static void m_flags(unsigned char *b) { uint32_t v = 3; memcpy(b + 16, &v, 4); }
+static void m_avg_depth(unsigned char *b) { double v = NAN; memcpy(b + 72, &v, 8); }
+static void m_pos_nan(unsigned char *b) { double v = NAN; memcpy(section(b, GS_SEC_POSITIONS) + 8, &v, 8); }
+static void m_leaf_local(unsigned char *b) { uint32_t v = 0; memcpy(section(b, GS_SEC_LEAF_LOCAL) + 4 * 1, &v, 4); }
+static void m_leaf_dist(unsigned char *b) { double v = -1; memcpy(section(b, GS_SEC_LEAF_DIST) + 8 * 1, &v, 8); }
+static void m_leaf_dstart(unsigned char *b) { uint64_t v = 3; memcpy(section(b, GS_SEC_LEAF_DSTART) + 8 * 2, &v, 8); }
+static void m_padding(unsigned char *b) { section(b, GS_SEC_LEAVES)[4 * FX_NV] = 1; }
+static void m_reserved(unsigned char *b) { uint32_t v = 1; memcpy(section(b, GS_SEC_CURVES) + 12, &v, 4); }
+
+static void test_structure(void)
+{
+    static const struct {
+        mutation fn;
+        const char *expect;
+    } cases[] = {
+        {m_parent_self, "node 2 has parent 2 (must be < its own index)"},
+        {m_depth, "node 3 has depth 7"},
+        {m_prefix, "node 2 has curve_prefix 2"},
+        {m_curve_range, "past n_curves"},
+        {m_curve_node, "curve 2 is in node 2's range but names node 0"},
+        {m_curve_closed, "record 2 of vertex 2 has closed 0, its curve 1"},
+        {m_leaf_internal, "vertex 4 has leaf 2, which is not a leaf node"},
+        {m_leaf_range, "vertex 0 has leaf 99"},
+        {m_leaf_count, "vertex 2 has 3 functions, its leaf 1 needs 1"},
+        {m_degree, "section 'functions': record 0 of vertex 2 has degree 200 (max 24)"},
+        {m_meta_bits, "unknown kind or bits"},
+        {m_minval_nan, "record 1 of vertex 2 has minval nan"},
+        {m_word_offset, "record 1 of vertex 2 has word_offset 1 (expected 3)"},
+        {m_coef_inf, "non-finite coefficient 1"},
+        {m_shift, "shift 5"},
+        {m_vdir_past, "section 'vertex_dir': entry 3"},
+        {m_vdir_count, "vertex 1 has 3 functions, its leaf 1 needs 1"},
+        {m_nv, "section 'positions': size"},
+        {m_nfun, "absurdly large"},
+        {m_offset, "section 'words': offset"},
+        {m_size, "section 'positions': size 8"},
+        {m_n_leaves, "n_leaves 4 but the tree has 3"},
+        {m_flags, "flags 0x3 has unknown bits"},
+        {m_avg_depth, "avg_depth"},
+        {m_pos_nan, "vertex 0 has a non-finite coordinate"},
+        {m_leaf_local, "vertex 1 has number 0 in leaf 1"},
+        {m_leaf_dist, "section 'leaf_dist': entry 1 is -1"},
+        {m_leaf_dstart, "section 'leaf_dstart'"},
+        {m_padding, "padding byte"},
+        {m_reserved, "reserved 1"},
+    };
+    fixture f;
+    gs_db *db = fixture_db(&f, 1);
+    if (!db) return;
+    size_t n = (size_t)db->size;
+    unsigned char *b = malloc(n);
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; ++i) {
+        memcpy(b, db->bytes, n);
+        cases[i].fn(b);
+        reseal(b, n);
+        gs_error err;
+        int rc = open_bad(b, n, &err);
+        CHECK_MSG(rc == GS_EPARSE && strstr(err.message, cases[i].expect), "case %zu: rc %d, message '%s', expected '%s'",
+                  i, rc, err.message, cases[i].expect);
+    }
+    /* magic and version */
+    gs_error err;
+    memcpy(b, db->bytes, n);
+    b[0] = 'X';
+    CHECK(open_bad(b, n, &err) == GS_EPARSE && strstr(err.message, "bad magic"));
+    memcpy(b, db->bytes, n);
+    b[8] = 2;
+    reseal(b, n);
+    CHECK(open_bad(b, n, &err) == GS_EFORMAT && strstr(err.message, "format_version 2"));
+    free(b);
+    gs_db_free(db);
+}
+
+/* Random bytes changed anywhere with the checksums recomputed: whatever the
+ * reader accepts must be safe to query (the sanitizers watch). */
+static void test_random_structural(void)
+{
+    fixture f;
+    gs_db *db = fixture_db(&f, 1);
+    if (!db) return;
+    size_t n = (size_t)db->size;
+    unsigned char *b = malloc(n);
+    double field[FX_NV];
+    int accepted = 0;
+    srand(777);
+    for (int seed = 0; seed < 3000; ++seed) {
+        memcpy(b, db->bytes, n);
+        for (int k = 1 + rand() % 4; k > 0; --k) b[(size_t)rand() % n] = (unsigned char)rand();
+        reseal(b, n);
+        gs_db *d = NULL;
+        gs_error err;
+        if (gs_db_open_memory(b, n, &d, &err) != GS_OK) continue;
+        accepted++;
+        for (uint32_t x = 0; x <= FX_NV; ++x) {
+            for (uint32_t y = 0; y <= FX_NV; ++y) {
+                double v = gs_db_distance(d, x, y);
+                CHECK((x < FX_NV && y < FX_NV) ? !isnan(v) && v >= 0 : isnan(v));
+            }
+            CHECK(gs_db_field(d, x, field, NULL) == (x < FX_NV ? GS_OK : GS_EARG));
+        }
+        gs_db_free(d);
+    }
+    printf("random structural mutations: %d of 3000 accepted (harmless values) and queried\n", accepted);
+    free(b);
+    gs_db_free(db);
+}
+
+static void test_files(void)
+{
+    gs_db *db = NULL;
+    gs_error err;
+    CHECK(gs_db_open(tmpdir, &db, &err) == GS_EIO && db == NULL && strstr(err.message, "not a regular file"));
+    CHECK(gs_db_open(tmp_path("missing.gsdb"), &db, &err) == GS_EIO && strstr(err.message, "cannot open"));
+    CHECK(gs_db_open(NULL, &db, &err) == GS_EARG);
+    CHECK(gs_db_open_memory(NULL, 0, &db, &err) == GS_EARG);
+    fixture f;
+    gs_db *good = fixture_db(&f, 0);
+    if (!good) return;
+    /* a failed save leaves nothing: a missing folder, a path that is a folder */
+    CHECK(gs_db_save(good, tmp_path("no/such/dir/x.gsdb"), &err) == GS_EIO);
+    const char *sub = tmp_path("sub");
+    char subdir[2048];
+    snprintf(subdir, sizeof subdir, "%s", sub);
+    mkdir(subdir, 0755);
+    char target[2100];
+    snprintf(target, sizeof target, "%s/isdir", subdir);
+    mkdir(target, 0755);
+    CHECK(gs_db_save(good, target, &err) == GS_EIO);
+    if (geteuid() != 0) { /* root ignores permissions */
+        char ro[2100];
+        snprintf(ro, sizeof ro, "%s/ro", subdir);
+        mkdir(ro, 0555);
+        char p[2200];
+        snprintf(p, sizeof p, "%s/x.gsdb", ro);
+        CHECK(gs_db_save(good, p, &err) == GS_EIO);
+        CHECK(access(p, F_OK) != 0);
+        rmdir(ro);
+    }
+    int entries = 0;
+    DIR *d = opendir(subdir);
+    for (struct dirent *e; d && (e = readdir(d));)
+        if (e->d_name[0] != '.') entries++;
+    if (d) closedir(d);
+    CHECK_MSG(entries == 1, "%d entries left in %s (expected only 'isdir')", entries, subdir);
+    rmdir(target);
+    rmdir(subdir);
+    gs_db_free(good);
+}
+
+static void test_checksum_speed(void)
+{
+    size_t n = 100u << 20;
+    unsigned char *b = malloc(n);
+    if (!b) return;
+    for (size_t i = 0; i < n; ++i) b[i] = (unsigned char)(i * 131u);
+    double t = gs__now();
+    uint64_t h = gs__db_checksum(b, n, NULL, 0);
+    t = gs__now() - t;
+    printf("checksum of 100 MB: %.3f s (%016llx)\n", t, (unsigned long long)h);
+#if !defined(__SANITIZE_ADDRESS__)
+    CHECK(t < 0.5);
+#endif
+    /* split input hashes like one piece */
+    CHECK(gs__db_checksum(b, 1000, b + 1000, 3333) == gs__db_checksum(b, 4333, NULL, 0));
+    CHECK(gs__db_checksum(b, 1003, b + 1003, 3330) == gs__db_checksum(b, 4333, NULL, 0));
+    free(b);
+}
+
+int main(void)
+{
+    snprintf(tmpdir, sizeof tmpdir, "%s/test_db_tmp", GEOSEP_BINARY_DIR);
+    mkdir(tmpdir, 0755);
+    test_round_trip(0);
+    test_round_trip(1);
+    test_flips();
+    test_truncation();
+    test_structure();
+    test_random_structural();
+    test_files();
+    test_checksum_speed();
+    return gs_test_finish("test_db");
+}
+
+#endif /* GS_TEST_DB_FIXTURE_ONLY */

@@ -1,0 +1,157 @@
+/* test_query.c - point-to-point queries (paper sec. 3.2) on the hand-made
+ * database of test_db.c: same-leaf, cross-leaf against brute force and a
+ * no-reject reference, symmetry, unreachable, batch and field; and the
+ * section 5 error measures on hand-made fields. */
+#define GS_TEST_DB_FIXTURE_ONLY
+#include "test_db.c"
+
+/* Reference without quick reject: all common curves, via gs_fun_pair_min. */
+static double ref_no_reject(const fixture *f, uint32_t x, uint32_t y)
+{
+    uint32_t a = f->leaf[x], b = f->leaf[y];
+    while (a != b) { /* the fixture's leaves: climb the deeper one */
+        if (f->nodes[a].depth >= f->nodes[b].depth) a = f->nodes[a].parent;
+        else b = f->nodes[b].parent;
+    }
+    double best = INFINITY;
+    for (; a != GS_NONE; a = f->nodes[a].parent)
+        for (uint32_t j = 0; j < f->nodes[a].n_curves; ++j) {
+            uint32_t k = f->nodes[a].curve_prefix + j;
+            const gs_fun *fx = &f->funs[f->fun_start[x] + k], *fy = &f->funs[f->fun_start[y] + k];
+            if (fx->minval == INFINITY || fy->minval == INFINITY) continue;
+            double d = gs_fun_pair_min(fx, fy, NULL);
+            if (d < best) best = d;
+        }
+    return best;
+}
+
+/* Brute force, independent of gs_fun_pair_min: dense scan of the values. */
+static double ref_dense(const fixture *f, uint32_t x, uint32_t y)
+{
+    uint32_t a = f->leaf[x], b = f->leaf[y];
+    while (a != b) {
+        if (f->nodes[a].depth >= f->nodes[b].depth) a = f->nodes[a].parent;
+        else b = f->nodes[b].parent;
+    }
+    double best = INFINITY;
+    for (; a != GS_NONE; a = f->nodes[a].parent)
+        for (uint32_t j = 0; j < f->nodes[a].n_curves; ++j) {
+            uint32_t k = f->nodes[a].curve_prefix + j;
+            const gs_fun *fx = &f->funs[f->fun_start[x] + k], *fy = &f->funs[f->fun_start[y] + k];
+            if (fx->minval == INFINITY || fy->minval == INFINITY) continue;
+            for (int i = 0; i <= 200000; ++i) {
+                double u = -1 + i / 100000.0, s = gs_fun_value(fx, u) + gs_fun_value(fy, u);
+                if (s < best) best = s;
+            }
+        }
+    return best;
+}
+
+static double euclid(const fixture *f, uint32_t x, uint32_t y)
+{
+    double s = 0;
+    for (int i = 0; i < 3; ++i) s += (f->xyz[3 * x + i] - f->xyz[3 * y + i]) * (f->xyz[3 * x + i] - f->xyz[3 * y + i]);
+    return sqrt(s);
+}
+
+static void test_pairs(int leaf_exact)
+{
+    fixture f;
+    gs_db *db = fixture_db(&f, leaf_exact);
+    if (!db) return;
+    uint32_t n_clamped = 0;
+    for (uint32_t x = 0; x < FX_NV; ++x)
+        for (uint32_t y = 0; y < FX_NV; ++y) {
+            double d = gs_db_distance(db, x, y);
+            CHECK(d == gs_db_distance(db, y, x)); /* symmetry, bit-exact */
+            if (x == y) {
+                CHECK(d == 0);
+            } else if (x == 6 || y == 6) {
+                CHECK(d == INFINITY);
+            } else if (f.leaf[x] == f.leaf[y]) {
+                CHECK_NEAR(d, (leaf_exact ? 1.25 : 1.0) * euclid(&f, x, y), 1e-15);
+            } else {
+                /* the query never answers below the straight-line distance */
+                double e = euclid(&f, x, y), r = fmax(ref_no_reject(&f, x, y), e);
+                n_clamped += r == e;
+                CHECK_MSG(fabs(d - r) <= 1e-12 * (1 + r) || (d == INFINITY && r == INFINITY), "%u %u: %.17g vs %.17g",
+                          x, y, d, r);
+                double b = fmax(ref_dense(&f, x, y), e);
+                CHECK_MSG(fabs(d - b) <= 1e-7 * (1 + b) || (d == INFINITY && b == INFINITY), "%u %u: %.17g vs dense %.17g",
+                          x, y, d, b);
+            }
+        }
+    CHECK_MSG(n_clamped > 0, "the fixture should exercise the Euclidean lower bound");
+    /* analytic: leaves 1 and 3 share only the root's path curve, where both
+     * functions are a + b (u - t0)^2 with interior minimiser */
+    for (uint32_t x = 0; x < 2; ++x)
+        for (uint32_t y = 2; y < 4; ++y) {
+            uint64_t i = f.fun_start[x], j = f.fun_start[y];
+            double b1 = f.qb[i], b2 = f.qb[j], t1 = f.qt[i], t2 = f.qt[j];
+            double want = f.qa[i] + f.qa[j] + b1 * b2 / (b1 + b2) * (t1 - t2) * (t1 - t2);
+            CHECK_NEAR(gs_db_distance(db, x, y), fmax(want, euclid(&f, x, y)), 1e-9);
+        }
+    /* vertex 5 reaches the root's curve from nowhere: no common finite curve */
+    CHECK(gs_db_distance(db, 0, 5) == INFINITY && gs_db_distance(db, 5, 1) == INFINITY);
+    CHECK(isfinite(gs_db_distance(db, 2, 5))); /* via the loop only */
+    CHECK(isnan(gs_db_distance(db, 0, FX_NV)) && isnan(gs_db_distance(db, GS_NONE, 0)));
+    CHECK(isnan(gs_db_distance(NULL, 0, 1)));
+    gs_db_free(db);
+}
+
+static void test_batch_field(void)
+{
+    fixture f;
+    gs_db *db = fixture_db(&f, 0);
+    if (!db) return;
+    uint32_t pairs[2 * FX_NV * FX_NV];
+    double out[FX_NV * FX_NV], field[FX_NV];
+    for (uint32_t x = 0; x < FX_NV; ++x)
+        for (uint32_t y = 0; y < FX_NV; ++y) pairs[2 * (x * FX_NV + y)] = x, pairs[2 * (x * FX_NV + y) + 1] = y;
+    gs_error err = {0};
+    CHECK(gs_db_distances(db, pairs, FX_NV * FX_NV, out, &err) == GS_OK);
+    for (uint32_t x = 0; x < FX_NV; ++x) {
+        CHECK(gs_db_field(db, x, field, &err) == GS_OK);
+        for (uint32_t y = 0; y < FX_NV; ++y) {
+            double d = gs_db_distance(db, x, y);
+            CHECK(memcmp(&d, &out[x * FX_NV + y], 8) == 0);
+            CHECK(memcmp(&d, &field[y], 8) == 0);
+        }
+    }
+    pairs[5] = 99;
+    CHECK(gs_db_distances(db, pairs, 4, out, &err) == GS_EARG && strstr(err.message, "pair 2") && isnan(out[2]));
+    CHECK(gs_db_field(db, FX_NV, field, &err) == GS_EARG);
+    CHECK(gs_db_field(db, 0, NULL, &err) == GS_EARG);
+    CHECK(gs_db_distances(db, pairs, 0, NULL, &err) == GS_OK);
+    gs_db_free(db);
+}
+
+static void test_errors(void)
+{
+    double exact[7] = {0, 1, 2, 0, INFINITY, 4, 5};
+    double approx[7] = {0, 1.1, 2.6, 0.3, 2, -1, NAN};
+    gs_field_errors e;
+    gs_error err;
+    CHECK(gs_field_errors_compute(exact, approx, 7, 0, &e, &err) == GS_OK);
+    CHECK_NEAR(e.me, 0.2, 1e-15);
+    CHECK_NEAR(e.rmse, sqrt(0.05), 1e-15);
+    CHECK_NEAR(e.max, 0.3, 1e-15);
+    CHECK(e.n_used == 2 && e.n_skipped == 2 && e.n_invalid == 2);
+    /* the source is left out whatever it holds; exact 0 at y != source skipped */
+    approx[0] = 123;
+    CHECK(gs_field_errors_compute(exact, approx, 7, 0, &e, &err) == GS_OK && e.n_used == 2);
+    CHECK(gs_field_errors_compute(exact, approx, 7, 3, &e, &err) == GS_OK);
+    CHECK(e.n_skipped == 2 && e.n_used == 2 && e.n_invalid == 2); /* y=0 (d=0), y=4 (inf) */
+    CHECK(gs_field_errors_compute(exact, approx, 1, 0, &e, &err) == GS_OK && e.n_used == 0 && isnan(e.me));
+    CHECK(gs_field_errors_compute(exact, approx, 7, 7, &e, &err) == GS_EARG);
+    CHECK(gs_field_errors_compute(NULL, approx, 7, 0, &e, &err) == GS_EARG);
+}
+
+int main(void)
+{
+    test_pairs(0);
+    test_pairs(1);
+    test_batch_field();
+    test_errors();
+    return gs_test_finish("test_query");
+}
