@@ -14,7 +14,7 @@ const char usage_build[] =
     "  Build a query database: nested bisection tree (leaves of at most --vmax\n"
     "  vertices, default 30), distance fields from every separator sample inside\n"
     "  its patch (--method, default exact), and per-vertex polynomial separator\n"
-    "  distance functions of degree <= --mmax (12) fitted to mean relative error\n"
+    "  distance functions of degree <= --mmax (20) fitted to mean relative error\n"
     "  --tol (0.005). --vertex-sources: fields from the corners of the sample\n"
     "  triangles + barycentric interpolation (the paper's way). --sampled: store\n"
     "  the sampled values (SEPsam) instead of polynomials. --spacing: separator\n"

@@ -252,7 +252,7 @@ typedef void (*gs_progress_fn)(void *user, const char *stage, double fraction);
 typedef struct gs_build_options {
     gs_method method;        /* distance fields to compress [GS_METHOD_EXACT]  */
     uint32_t vmax;           /* leaf patch size [30]                           */
-    uint32_t mmax;           /* maximum polynomial degree [12]                 */
+    uint32_t mmax;           /* maximum polynomial degree [20]                 */
     double tol;              /* fit mean relative error target [0.005]         */
     uint32_t threads;        /* 0: all cores [0]                               */
     int vertex_sources;      /* 1: fields from the corners of the triangles    */

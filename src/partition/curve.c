@@ -424,8 +424,147 @@ static void sample_bary(const gs_part_node *nd, const curve_work *w, uint32_t i,
             if (c[k] == v[j]) out->bary[k] += wt[j];
 }
 
+/* ---- filtering the samples and projecting them onto the surface -------- */
+
+/* Closest point of triangle (a, b, c) to p: barycentric coordinates in l,
+ * squared distance returned (regions of the triangle's Voronoi diagram). */
+static double closest_on_triangle(const double *p, const double *a, const double *b, const double *c,
+                                  double l[3])
+{
+    double ab[3], ac[3], ap[3];
+    for (int i = 0; i < 3; ++i) ab[i] = b[i] - a[i], ac[i] = c[i] - a[i], ap[i] = p[i] - a[i];
+    double d1 = ab[0] * ap[0] + ab[1] * ap[1] + ab[2] * ap[2], d2 = ac[0] * ap[0] + ac[1] * ap[1] + ac[2] * ap[2];
+    double aa = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2], cc = ac[0] * ac[0] + ac[1] * ac[1] + ac[2] * ac[2];
+    double bc = ab[0] * ac[0] + ab[1] * ac[1] + ab[2] * ac[2];
+    double det = aa * cc - bc * bc;
+    double v = det > 0 ? (cc * d1 - bc * d2) / det : 0, w = det > 0 ? (aa * d2 - bc * d1) / det : 0;
+    if (v < 0 || w < 0 || v + w > 1) { /* outside: closest point on an edge */
+        const double *e0[3] = {a, b, c}, *e1[3] = {b, c, a};
+        double best = INFINITY;
+        for (int k = 0; k < 3; ++k) {
+            double e[3], q[3], t = 0, ee = 0;
+            for (int i = 0; i < 3; ++i) e[i] = e1[k][i] - e0[k][i], ee += e[i] * e[i];
+            for (int i = 0; i < 3; ++i) t += (p[i] - e0[k][i]) * e[i];
+            t = ee > 0 ? fmin(1, fmax(0, t / ee)) : 0;
+            double d = 0;
+            for (int i = 0; i < 3; ++i) q[i] = e0[k][i] + t * e[i] - p[i], d += q[i] * q[i];
+            if (d < best) {
+                best = d;
+                double lk[3] = {0, 0, 0};
+                lk[k] = 1 - t, lk[(k + 1) % 3] = t;
+                memcpy(l, lk, sizeof lk);
+            }
+        }
+        return best;
+    }
+    l[0] = 1 - v - w, l[1] = v, l[2] = w;
+    double d = 0;
+    for (int i = 0; i < 3; ++i) {
+        double q = l[0] * a[i] + l[1] * b[i] + l[2] * c[i] - p[i];
+        d += q * q;
+    }
+    return d;
+}
+
+static void sample_point(const gs_part_node *nd, const gs_sep_sample *sm, double q[3])
+{
+    const uint32_t *c = nd->mesh->tri + 3 * (size_t)sm->face;
+    for (int i = 0; i < 3; ++i)
+        q[i] = sm->bary[0] * vpos(nd, c[0])[i] + sm->bary[1] * vpos(nd, c[1])[i] + sm->bary[2] * vpos(nd, c[2])[i];
+}
+
+/* Move sample sm to the point of P(N) closest to p, searching the faces
+ * around the corners of its current face. */
+static void project_sample(const gs_part_node *nd, const double *p, gs_sep_sample *sm)
+{
+    const gs_topo *t = &nd->mesh->topo;
+    const uint32_t *c0 = nd->mesh->tri + 3 * (size_t)sm->face;
+    uint32_t corners[3] = {c0[0], c0[1], c0[2]};
+    double best = INFINITY;
+    for (int j = 0; j < 3; ++j)
+        for (uint32_t k = t->vc_start[corners[j]]; k < t->vc_start[corners[j] + 1]; ++k) {
+            uint32_t f = t->vc[k] / 3;
+            if (nd->floc[f] == GS_NONE) continue;
+            const uint32_t *c = nd->mesh->tri + 3 * (size_t)f;
+            double l[3], d = closest_on_triangle(p, vpos(nd, c[0]), vpos(nd, c[1]), vpos(nd, c[2]), l);
+            if (d < best) {
+                best = d;
+                sm->face = f;
+                memcpy(sm->bary, l, sizeof l);
+            }
+        }
+}
+
+/* Arc lengths of the samples' polyline (pts must hold their positions);
+ * returns the total, with the closing segment for a loop. */
+static double sample_lengths(gs_sep_sample *sm, const double *pts, uint32_t n, int closed)
+{
+    double s = 0;
+    for (uint32_t k = 0; k < n; ++k) {
+        if (k) s += dist3(pts + 3 * (k - 1), pts + 3 * k);
+        sm[k].s = s;
+    }
+    return closed && n ? s + dist3(pts + 3 * (n - 1), pts) : s;
+}
+
+/* Put the n samples back at regular arc length along their own polyline,
+ * each projected onto the surface near the sample it comes from. old/pts
+ * are scratch for n samples / 3n doubles. */
+static void resample_regular(const gs_part_node *nd, gs_sep_sample *sm, uint32_t n, int closed,
+                             gs_sep_sample *old, double *pts)
+{
+    memcpy(old, sm, n * sizeof *old);
+    for (uint32_t k = 0; k < n; ++k) sample_point(nd, &old[k], pts + 3 * k);
+    double len = sample_lengths(old, pts, n, closed), step = len / (closed ? n : n - 1);
+    uint32_t i = 0;
+    for (uint32_t k = 1; k + (closed ? 0 : 1) < n; ++k) {
+        double target = k * step;
+        while (i + 1 < n && old[i + 1].s <= target) ++i;
+        uint32_t j = (i + 1) % n;
+        double seg = (i + 1 < n ? old[i + 1].s : len) - old[i].s;
+        double f = seg > 0 ? (target - old[i].s) / seg : 0, q[3];
+        for (int d = 0; d < 3; ++d) q[d] = pts[3 * i + d] + f * (pts[3 * j + d] - pts[3 * i + d]);
+        sm[k] = old[f < 0.5 ? i : j];
+        project_sample(nd, q, &sm[k]);
+    }
+}
+
+/* The paper's "filter and project": a few rounds of a [1 2 1]/4 filter over
+ * the samples (a path's ends stay on the boundary), each filtered point
+ * projected back onto the surface; then the samples are put back at
+ * regular arc length and their arc lengths recomputed. */
+static int filter_samples(const gs_part_node *nd, gs_sep_sample *sm, uint32_t n, int closed,
+                          uint32_t iters, double *len)
+{
+    if (n < 3) return GS_OK;
+    double *pts = gs__malloc(3 * (size_t)n, sizeof *pts);
+    gs_sep_sample *old = gs__malloc(n, sizeof *old);
+    if (!pts || !old) {
+        free(pts);
+        free(old);
+        return GS_ENOMEM;
+    }
+    for (uint32_t it = 0; it < iters; ++it) {
+        for (uint32_t k = 0; k < n; ++k) sample_point(nd, &sm[k], pts + 3 * k);
+        for (uint32_t k = 0; k < n; ++k) {
+            if (!closed && (k == 0 || k == n - 1)) continue;
+            const double *a = pts + 3 * ((k + n - 1) % n), *b = pts + 3 * k, *c = pts + 3 * ((k + 1) % n);
+            double q[3];
+            for (int i = 0; i < 3; ++i) q[i] = 0.25 * (a[i] + 2 * b[i] + c[i]);
+            project_sample(nd, q, &sm[k]);
+        }
+    }
+    resample_regular(nd, sm, n, closed, old, pts);
+    for (uint32_t k = 0; k < n; ++k) sample_point(nd, &sm[k], pts + 3 * k);
+    *len = sample_lengths(sm, pts, n, closed);
+    free(pts);
+    free(old);
+    return GS_OK;
+}
+
 /* Regular samples along the final curve, its crossings and its record. */
-static int emit(const gs_part_node *nd, curve_work *w, double spacing, gs_part_out *out)
+static int emit(const gs_part_node *nd, curve_work *w, double spacing, uint32_t filter_iters,
+                gs_part_out *out)
 {
     double len = arc_lengths(nd, w);
     double r = spacing > 0 ? len / spacing : 0;
@@ -449,6 +588,9 @@ static int emit(const gs_part_node *nd, curve_work *w, double spacing, gs_part_o
         sample_bary(nd, w, i, lambda, sm);
         sm->s = s;
     }
+    if (filter_iters && filter_samples(nd, out->samples + cv->sample_start, n, w->closed, filter_iters,
+                                       &cv->length))
+        return GS_ENOMEM;
     for (uint32_t i = 0; i < w->np; ++i)
         out->cross[out->n_cross++] =
             (gs_sep_cross){w->p[i].face, {w->p[i].va, w->p[i].vb}, w->t[i]};
@@ -473,7 +615,7 @@ static int finish_curve(const gs_part_node *nd, const gs_tree_options *opt, doub
     else
         straighten(nd, w);
     smooth(nd, w, opt->smooth_iters, FILTER_WIDTH * mean_edge);
-    return emit(nd, w, opt->sample_spacing * mean_edge, out);
+    return emit(nd, w, opt->sample_spacing * mean_edge, opt->filter_iters, out);
 }
 
 /* Paths first (from a crossed face with a cut edge on the boundary), then

@@ -16,6 +16,7 @@ void gs_tree_options_default(gs_tree_options *o)
                           * points back onto the cut edges re-kinks them */
     o->seed = 1;
     o->level_iters = 16;
+    o->filter_iters = 20;
 }
 
 void gs_tree_free(gs_tree *t)

@@ -75,7 +75,10 @@ typedef struct gs_tree {
 typedef struct gs_tree_options {
     uint32_t vmax;          /* stop splitting at <= vmax vertices (30)       */
     double sample_spacing;  /* target sample spacing / mean edge length (1) */
-    uint32_t smooth_iters;  /* filter-and-project iterations (paper: few)   */
+    uint32_t smooth_iters;  /* strip curves: filter-and-project-onto-cut-   */
+                            /*   edge iterations (level_iters = 0 only)     */
+    uint32_t filter_iters;  /* filter the samples and project them onto the */
+                            /*   surface (paper 4.1), after resampling      */
     uint32_t seed;          /* METIS seed (deterministic builds)            */
     uint32_t level_iters;   /* diffusion rounds of the level-set separator  */
                             /*   (0: curves pulled taut in the METIS strip) */
