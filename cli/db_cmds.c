@@ -15,7 +15,7 @@ const char usage_build[] =
     "  vertices, default 30), distance fields from every separator sample inside\n"
     "  its patch (--method, default exact), and per-vertex polynomial separator\n"
     "  distance functions of degree <= --mmax (20) fitted to mean relative error\n"
-    "  --tol (0.005). --vertex-sources: fields from the corners of the sample\n"
+    "  --tol (0.006). --vertex-sources: fields from the corners of the sample\n"
     "  triangles + barycentric interpolation (the paper's way). --sampled: store\n"
     "  the sampled values (SEPsam) instead of polynomials. --spacing: separator\n"
     "  sample spacing in mean edge lengths (0.5). --threads 0 = all cores.\n"

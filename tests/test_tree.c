@@ -248,7 +248,7 @@ static void check_samples(ctx *c, const gs_sep_curve *cv, double scale)
         const gs_sep_sample *s = &sm[j];
         CHECK(s->face < m->nf && c->fstamp[s->face] == cv->node + 1);
         double bs = s->bary[0] + s->bary[1] + s->bary[2];
-        CHECK(s->bary[0] >= 0 && s->bary[1] >= 0 && s->bary[2] >= 0 && fabs(bs - 1) < 1e-12);
+        CHECK_MSG(s->bary[0] >= 0 && s->bary[1] >= 0 && s->bary[2] >= 0 && fabs(bs - 1) < 1e-12, "bary %.17g %.17g %.17g", s->bary[0], s->bary[1], s->bary[2]);
         sample_pos(m, s, p);
         if (j > 0) {
             sample_pos(m, &sm[j - 1], q);

@@ -8,7 +8,7 @@
 # Usage: tools/table1.sh [--quick] [--threads N] [extra build options...]
 set -euo pipefail
 top=$(cd "$(dirname "$0")/.." && pwd)
-g="$top/build/geosep"
+g="${GEOSEP_BIN:-$top/build/geosep}"
 out="$top/out/table1"
 shared="${GEOSEP_SHARED:-$top/../shared}"
 mkdir -p "$out"

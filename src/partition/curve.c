@@ -457,7 +457,9 @@ static double closest_on_triangle(const double *p, const double *a, const double
         }
         return best;
     }
-    l[0] = 1 - v - w, l[1] = v, l[2] = w;
+    l[0] = fmax(0.0, 1 - v - w), l[1] = v, l[2] = w; /* rounding: keep l >= 0, sum 1 */
+    double sum = l[0] + l[1] + l[2];
+    l[0] /= sum, l[1] /= sum, l[2] /= sum;
     double d = 0;
     for (int i = 0; i < 3; ++i) {
         double q = l[0] * a[i] + l[1] * b[i] + l[2] * c[i] - p[i];
@@ -473,8 +475,18 @@ static void sample_point(const gs_part_node *nd, const gs_sep_sample *sm, double
         q[i] = sm->bary[0] * vpos(nd, c[0])[i] + sm->bary[1] * vpos(nd, c[1])[i] + sm->bary[2] * vpos(nd, c[2])[i];
 }
 
-/* Move sample sm to the point of P(N) closest to p, searching the faces
- * around the corners of its current face. */
+/* Whether local face f of P(N) is crossed by the cut (corners on both sides). */
+static int crossed(const gs_part_node *nd, uint32_t f)
+{
+    const uint32_t *c = nd->mesh->tri + 3 * (size_t)f;
+    uint8_t a = nd->side[nd->vloc[c[0]]], b = nd->side[nd->vloc[c[1]]], d = nd->side[nd->vloc[c[2]]];
+    return a != b || a != d;
+}
+
+/* Move sample sm to the closest point to p on the faces crossed by the cut
+ * around the corners of its current face: filtered samples smooth the curve
+ * inside the strip of crossed faces and never drift past it (a pair of
+ * neighbours on either side must not see the separator move away). */
 static void project_sample(const gs_part_node *nd, const double *p, gs_sep_sample *sm)
 {
     const gs_topo *t = &nd->mesh->topo;
@@ -484,7 +496,7 @@ static void project_sample(const gs_part_node *nd, const double *p, gs_sep_sampl
     for (int j = 0; j < 3; ++j)
         for (uint32_t k = t->vc_start[corners[j]]; k < t->vc_start[corners[j] + 1]; ++k) {
             uint32_t f = t->vc[k] / 3;
-            if (nd->floc[f] == GS_NONE) continue;
+            if (nd->floc[f] == GS_NONE || !crossed(nd, f)) continue;
             const uint32_t *c = nd->mesh->tri + 3 * (size_t)f;
             double l[3], d = closest_on_triangle(p, vpos(nd, c[0]), vpos(nd, c[1]), vpos(nd, c[2]), l);
             if (d < best) {
