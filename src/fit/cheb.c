@@ -47,7 +47,7 @@ void gs_cheb_eval3(const double *c, uint32_t m, double t, double *p, double *p1,
 
 uint32_t gs_cheb_grid_size(uint32_t m)
 {
-    uint32_t g = 2 * m + 6;
+    uint32_t g = 3 * m + 6;
     if (g < 10)
         g = 10;
     return g > GS_CHEB_GRID_MAX ? GS_CHEB_GRID_MAX : g;
@@ -56,7 +56,12 @@ uint32_t gs_cheb_grid_size(uint32_t m)
 /* One table per degree m (rows m+1); storage sized for the worst case. */
 #define TAB_DOUBLES ((GS_FUN_MAX_DEGREE + 1) * (GS_CHEB_GRID_MAX + 1) * (GS_FUN_MAX_DEGREE + 2))
 
+#define PAD_PTS(g) (((g) + GS_CHEB_PAD) / GS_CHEB_PAD * GS_CHEB_PAD)
+#define PAD_DOUBLES ((GS_FUN_MAX_DEGREE + 1) * PAD_PTS(GS_CHEB_GRID_MAX) * (GS_FUN_MAX_DEGREE + 2))
+
 static double g_tab[TAB_DOUBLES];
+static double g_tp[PAD_DOUBLES] __attribute__((aligned(64)));
+static double g_dp[PAD_DOUBLES] __attribute__((aligned(64)));
 static double g_x[(GS_FUN_MAX_DEGREE + 1) * (GS_CHEB_GRID_MAX + 1)];
 static gs_cheb_grid g_grids[GS_FUN_MAX_DEGREE + 1];
 static double g_fine[GS_CHEB_FINE + 1];
@@ -64,7 +69,7 @@ static pthread_once_t g_once = PTHREAD_ONCE_INIT;
 
 static void build_tables(void)
 {
-    size_t tpos = 0;
+    size_t tpos = 0, ppos = 0;
     for (uint32_t m = 0; m <= GS_FUN_MAX_DEGREE; m++) {
         uint32_t g = gs_cheb_grid_size(m);
         double *x = g_x + (size_t)m * (GS_CHEB_GRID_MAX + 1), *tk = g_tab + tpos;
@@ -76,8 +81,25 @@ static void build_tables(void)
         for (uint32_t k = 0; k <= m; k++)
             for (uint32_t j = 0; j <= g; j++)
                 tk[(size_t)k * (g + 1) + j] = cos(k * (M_PI - M_PI * j / g));
-        g_grids[m] = (gs_cheb_grid){g, m + 1, x, tk};
+        uint32_t np = PAD_PTS(g);
+        double *tp = g_tp + ppos, *dp = g_dp + ppos;
+        for (uint32_t k = 0; k <= m; k++)
+            for (uint32_t j = 0; j < np; j++) {
+                /* T_k(cos th) = cos(k th), T_k' = k sin(k th) / sin th; ends: +-k^2 */
+                uint32_t jj = j > g ? g : j;
+                double th = M_PI - M_PI * jj / g, d;
+                if (jj == 0)
+                    d = (k % 2 ? 1.0 : -1.0) * k * k;
+                else if (jj == g)
+                    d = (double)k * k;
+                else
+                    d = k * sin(k * th) / sin(th);
+                tp[(size_t)k * np + j] = tk[(size_t)k * (g + 1) + jj];
+                dp[(size_t)k * np + j] = d;
+            }
+        g_grids[m] = (gs_cheb_grid){g, m + 1, x, tk, np, tp, dp};
         tpos += (size_t)(m + 1) * (g + 1);
+        ppos += (size_t)(m + 1) * np;
     }
     for (uint32_t j = 0; j <= GS_CHEB_FINE; j++)
         g_fine[j] = -cos(M_PI * j / GS_CHEB_FINE);

@@ -9,7 +9,7 @@
 #include "fun.h"
 
 /* Largest coarse grid used by the pair minimiser (intervals, not points). */
-#define GS_CHEB_GRID_MAX (2 * GS_FUN_MAX_DEGREE + 8)
+#define GS_CHEB_GRID_MAX (3 * GS_FUN_MAX_DEGREE + 8)
 
 /* p(t) = sum_{k<=m} c_k T_k(t) by Clenshaw's recurrence. */
 double gs_cheb_eval(const double *c, uint32_t m, double t);
@@ -23,7 +23,15 @@ typedef struct gs_cheb_grid {
     uint32_t g, rows;
     const double *x;
     const double *tk;
+    /* The same nodes padded to np points (a multiple of GS_CHEB_PAD; the
+     * padding repeats x_g = 1), 64-byte aligned tables of stride np:
+     * tp[k * np + j] = T_k(x_j), dp[k * np + j] = T_k'(x_j). */
+    uint32_t np;
+    const double *tp;
+    const double *dp;
 } gs_cheb_grid;
+
+#define GS_CHEB_PAD 8
 
 /* The coarse grid used for series of degree <= m (thread-safe, immutable). */
 const gs_cheb_grid *gs_cheb_grid_for(uint32_t m);

@@ -11,7 +11,7 @@
 
 #define NPTS_MAX (GS_CHEB_FINE + 3)
 #define NUDGE 1e-13       /* keep a loop minimiser off the seams          */
-#define STOP_REL 1e-15    /* Newton stops when the predicted gain is tiny */
+#define STOP_REL 1e-11    /* Newton stops when the predicted gain is tiny */
 #define ZERO_NUDGE 1e-12  /* step inside a fit's zero set from its edge   */
 #define SHARP 0.1         /* minval below SHARP * typical value: sharp     */
 
@@ -30,6 +30,7 @@ typedef struct pctx {
     double frame;  /* u = x + frame (wrapped for loops)    */
     int loop;      /* segment ends are seams               */
     int sharp[2];  /* a / b has a narrow dip (near 0)      */
+    int eval_only; /* sharp candidates: evaluate, no refine */
 } pctx;
 
 typedef struct best {
@@ -79,8 +80,16 @@ static double term_at3(const term *f, double t, double *v1, double *v2)
     return s;
 }
 
+#ifdef GS_FUN_STATS
+long gs_fun_stat[8];
+#define STAT(i) (gs_fun_stat[i]++)
+#else
+#define STAT(i) ((void)0)
+#endif
+
 static double seg_eval3(const pctx *c, int seg, double x, double *s1, double *s2)
 {
+    STAT(0);
     double v = term_at3(&c->a, x, s1, s2);
     if (c->b.c) {
         double b1, b2;
@@ -122,17 +131,21 @@ static inline void best_update(best *b, double x, double v, int seg)
 
 /* Local minimum inside the bracket a <= m <= b (s(m) <= s(a), s(b); m may
  * equal an end when s'(m) points inside): Newton trial points from m, or a
- * step into the descending half; the bracket invariant is kept throughout. */
-static void refine(const pctx *c, int seg, double a, double b, double m, best *bs)
+ * step into the descending half; the bracket invariant is kept throughout.
+ * A Newton step whose predicted gain is negligible is taken without a new
+ * evaluation (the caller evaluates the final minimiser). */
+static void refine_from(const pctx *c, int seg, double a, double b, double m, double sm,
+                        double s1, double s2, best *bs)
 {
-    double s1, s2, sm = seg_eval3(c, seg, m, &s1, &s2);
     best_update(bs, m, sm, seg);
     for (int it = 0; it < 64 && sm > 0.0 && s1 != 0.0 && b - a > 4e-16; it++) {
         double t = s2 > 0.0 ? m - s1 / s2 : NAN;
-        if (!(t > a && t < b) || (t - m) * s1 > 0.0)
+        if (!(t > a && t < b) || (t - m) * s1 > 0.0) {
             t = s1 < 0.0 ? m + 0.5 * (b - m) : m - 0.5 * (m - a);
-        else if (fabs(t - m) * fabs(s1) <= STOP_REL * sm)
+        } else if (fabs(t - m) * fabs(s1) <= STOP_REL * sm) {
+            best_update(bs, t, sm - 0.5 * fabs(s1 * (t - m)), seg);
             return;
+        }
         if (t == m)
             return;
         double t1, t2, st = seg_eval3(c, seg, t, &t1, &t2);
@@ -144,6 +157,31 @@ static void refine(const pctx *c, int seg, double a, double b, double m, best *b
             (t > m ? (b = t) : (a = t));
         }
     }
+}
+
+static void refine(const pctx *c, int seg, double a, double b, double m, best *bs)
+{
+    double s1, s2, sm = seg_eval3(c, seg, m, &s1, &s2);
+    refine_from(c, seg, a, b, m, sm, s1, s2, bs);
+}
+
+/* Interior discrete minimum i: start at the vertex of the parabola through
+ * the three samples when it improves on sample i. */
+static void refine_interior(const pctx *c, int seg, const double *x, const double *v, uint32_t i,
+                            best *bs)
+{
+    double a = x[i - 1], m = x[i], b = x[i + 1];
+    double p = (m - a) * (v[i] - v[i + 1]), q = (m - b) * (v[i] - v[i - 1]);
+    double den = 2.0 * (p - q), xv = den != 0.0 ? m - ((m - a) * p - (m - b) * q) / den : m;
+    if (xv > a && xv < b && xv != m) {
+        double s1, s2, sv = seg_eval3(c, seg, xv, &s1, &s2);
+        if (sv <= v[i]) {
+            refine_from(c, seg, xv < m ? a : m, xv < m ? m : b, xv, sv, s1, s2, bs);
+            return;
+        }
+        (xv < m ? (a = xv) : (b = xv));
+    }
+    refine(c, seg, a, b, m, bs);
 }
 
 /* Refine every discrete local minimum of the n samples (xs, vs) of one
@@ -162,7 +200,7 @@ static void scan_segment(const pctx *c, int seg, const double *xs, const double 
         if (i == 0 || i + 1 == n) /* segment end: a minimum there, or inside */
             refine(c, seg, i ? xs[i - 1] : xs[0], i ? xs[i] : xs[1], xs[i], b);
         else
-            refine(c, seg, xs[i - 1], xs[i + 1], xs[i], b);
+            refine_interior(c, seg, xs, vs, i, b);
     }
 }
 
@@ -170,6 +208,7 @@ static void scan_segment(const pctx *c, int seg, const double *xs, const double 
 static double poly_min(const term *f, double lo, double hi, double t, double *p0)
 {
     for (int it = 0; it < 40; it++) {
+        STAT(7);
         double p1, p2;
         gs_cheb_eval3(f->c, f->m, t, p0, &p1, &p2);
         if (p1 > 0.0)
@@ -210,20 +249,31 @@ static void add_candidate(const pctx *c, int is_b, double t, double h, best *bs)
         x = is_b ? t - c->off[1] : x, seg = 1;
     double lo = seg ? c->split : -1.0, hi = c->split < 1.0 && !seg ? c->split : 1.0;
     x = x < lo ? lo : (x > hi ? hi : x);
+    if (c->eval_only) { /* the pair minimiser's cells refine the rest */
+        double s1, s2;
+        best_update(bs, x, seg_eval3(c, seg, x, &s1, &s2), seg);
+        return;
+    }
     refine(c, seg, x - h > lo ? x - h : lo, x + h < hi ? x + h : hi, x, bs);
 }
 
 /* A sharp term (a vertex near the curve) has a dip narrower than the coarse
  * grid: refine the sum from its own minimum t0 and, where the fit dips
  * below 0 (value clamped), from the edges of that zero set. */
-static void sharp_candidates(const pctx *c, int is_b, best *bs)
+static void sharp_candidates(const pctx *c, int is_b, const gs_cheb_grid *gp, const double *pg,
+                             best *bs)
 {
     const term *f = is_b ? &c->b : &c->a;
-    const gs_cheb_grid *g = gs_cheb_grid_for(f->m);
+    STAT(3);
+    const gs_cheb_grid *g = pg ? gp : gs_cheb_grid_for(f->m);
     uint32_t n = g->g + 1, j = 0;
-    double p[NPTS_MAX], h = 2.0 / g->g, p0, p1, p2;
-    term raw = {f->c, f->m, 0};
-    term_points(&raw, g->tk, g->x, n, p, 0);
+    double pbuf[NPTS_MAX], h = 2.0 / g->g, p0, p1, p2;
+    const double *p = pg;
+    if (!p) {
+        term raw = {f->c, f->m, 0};
+        term_points(&raw, g->tk, g->x, n, pbuf, 0);
+        p = pbuf;
+    }
     for (uint32_t i = 1; i < n; i++)
         j = p[i] < p[j] ? i : j;
     double t0 = poly_min(f, g->x[j ? j - 1 : 0], g->x[j + 1 < n ? j + 1 : j], g->x[j], &p0);
@@ -255,7 +305,7 @@ static best minimise(const pctx *c, const double *x, const double *tk, uint32_t 
     }
     for (int i = 0; i < 2; i++)
         if (c->sharp[i] && (i == 0 || c->b.c))
-            sharp_candidates(c, i, &b);
+            sharp_candidates(c, i, NULL, NULL, &b);
     if (!(c->split < 1.0)) {
         scan_segment(c, 0, x, s, n, &b);
         return b;
@@ -386,6 +436,7 @@ static void pair_setup(const gs_fun *a, const gs_fun *b, pctx *c, double *comb)
     c->split = 2.0;
     c->off[0] = c->off[1] = 0.0;
     c->sharp[0] = is_sharp(a), c->sharp[1] = is_sharp(b);
+    c->eval_only = 0; /* 1 (cheaper) misses minima beside zero-set edges */
     if (d0 != 0.0) {
         c->split = d0 > 0.0 ? 1.0 - d0 : -1.0 - d0;
         c->off[0] = d0 > 0.0 ? d0 : d0 + 2.0;
@@ -401,7 +452,309 @@ static void pair_setup(const gs_fun *a, const gs_fun *b, pctx *c, double *comb)
     c->b.c = NULL;
 }
 
-double gs_fun_pair_min(const gs_fun *a, const gs_fun *b, double *u_at)
+/* ---- the pair minimiser (the query hot path) -------------------------
+ *
+ * 1. Values and derivatives of both terms at the Chebyshev-Lobatto nodes of
+ *    a's variable x: table dot products (same frame) or a vectorised
+ *    Clenshaw for b's shifted abscissae (loops), then s = a + b, s' = a' + b'.
+ *    A loop's seam of b (x = split) is a node on both sides.
+ * 2. Candidates: a segment end where s' points outwards (the minimum there is
+ *    the end value), a cell where s' changes sign from - to +, and a cell
+ *    whose Hermite cubic (values and slopes at its ends) dips inside. Each
+ *    gets an estimate e (the cubic's minimum) and a pessimistic lower guess
+ *    L = e - DIP_SAFETY * (dip depth) - tiny.
+ * 3. Cells are refined cheapest-first (lowest e), skipping every cell whose
+ *    L is not below the best value found: safeguarded Newton on s' inside
+ *    its sign bracket (secant / bisection fallback).
+ * Sharp terms (a narrow dip near 0) add their own minimum as a candidate. */
+
+#ifndef PAIR_SHARP
+#define PAIR_SHARP 1
+#endif
+#define DIP_SAFETY 4.0 /* the true dip may be this many times the cubic's */
+#define L_REL 1e-9     /* and this much lower, relative                   */
+
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
+typedef double v2 __attribute__((vector_size(16)));
+typedef long long v2i __attribute__((vector_size(16)));
+
+#define GRID_PTS (((GS_CHEB_GRID_MAX + GS_CHEB_PAD) / GS_CHEB_PAD) * GS_CHEB_PAD)
+
+static inline v2 ld2(const double *p)
+{
+    v2 v;
+    __builtin_memcpy(&v, p, sizeof v);
+    return v;
+}
+
+static inline void st2(double *p, v2 v)
+{
+    __builtin_memcpy(p, &v, sizeof v);
+}
+
+static inline v2 sqrt2(v2 x)
+{
+#ifdef __SSE2__
+    return (v2)_mm_sqrt_pd((__m128d)x);
+#else
+    return (v2){sqrt(x[0]), sqrt(x[1])};
+#endif
+}
+
+/* p and p' of c (degree m <= rows-1) at the np padded grid nodes. */
+static void tab_eval(const double *c, uint32_t m, const gs_cheb_grid *g, double *p, double *d)
+{
+    const uint32_t np = g->np;
+    for (uint32_t j = 0; j < np; j += 8) {
+        v2 p0 = {c[0], c[0]}, p1 = p0, p2 = p0, p3 = p0;
+        v2 d0 = {0.0, 0.0}, d1 = d0, d2 = d0, d3 = d0;
+        for (uint32_t k = 1; k <= m; k++) {
+            const double *t = g->tp + (size_t)k * np + j, *u = g->dp + (size_t)k * np + j;
+            v2 ck = {c[k], c[k]};
+            p0 += ck * ld2(t), p1 += ck * ld2(t + 2), p2 += ck * ld2(t + 4), p3 += ck * ld2(t + 6);
+            d0 += ck * ld2(u), d1 += ck * ld2(u + 2), d2 += ck * ld2(u + 4), d3 += ck * ld2(u + 6);
+        }
+        st2(p + j, p0), st2(p + j + 2, p1), st2(p + j + 4, p2), st2(p + j + 6, p3);
+        st2(d + j, d0), st2(d + j + 2, d1), st2(d + j + 4, d2), st2(d + j + 6, d3);
+    }
+}
+
+/* p and p' at n points t (n a multiple of 4): Clenshaw and its derivative. */
+static void pts_eval(const double *c, uint32_t m, const double *t, uint32_t n, double *p, double *d)
+{
+    for (uint32_t j = 0; j < n; j += 4) {
+        v2 x0 = ld2(t + j), x1 = ld2(t + j + 2), y0 = x0 + x0, y1 = x1 + x1;
+        v2 z = {0.0, 0.0}, b10 = z, b20 = z, e10 = z, e20 = z, b11 = z, b21 = z, e11 = z, e21 = z;
+        for (uint32_t k = m; k >= 1; k--) {
+            v2 ck = {c[k], c[k]};
+            v2 n0 = ck + y0 * b10 - b20, n1 = ck + y1 * b11 - b21;
+            v2 f0 = (b10 + b10) + y0 * e10 - e20, f1 = (b11 + b11) + y1 * e11 - e21;
+            b20 = b10, b10 = n0, b21 = b11, b11 = n1;
+            e20 = e10, e10 = f0, e21 = e11, e11 = f1;
+        }
+        v2 c0 = {c[0], c[0]};
+        st2(p + j, c0 + x0 * b10 - b20), st2(p + j + 2, c0 + x1 * b11 - b21);
+        st2(d + j, b10 + x0 * e10 - e20), st2(d + j + 2, b11 + x1 * e11 - e21);
+    }
+}
+
+/* (p, p') -> (v, v') of a term in place (0 where p <= 0), n even; with
+ * accumulate, added to (s, s') instead. */
+static void to_values(uint32_t sq, const double *p, const double *d, uint32_t n, double *s,
+                      double *ds, int accumulate)
+{
+    const v2 zero = {0.0, 0.0}, one = {1.0, 1.0}, half = {0.5, 0.5};
+    for (uint32_t j = 0; j < n; j += 2) {
+        v2 pj = ld2(p + j), dj = ld2(d + j), v, dv;
+        v2i pos = pj > zero;
+        if (sq) {
+            v2 r = sqrt2((v2)(((v2i)pj & pos) | ((v2i)one & ~pos)));
+            v = (v2)((v2i)r & pos);
+            dv = (v2)((v2i)(half * dj / r) & pos);
+        } else {
+            v = (v2)((v2i)pj & pos);
+            dv = (v2)((v2i)dj & pos);
+        }
+        if (accumulate)
+            v += ld2(s + j), dv += ld2(ds + j);
+        st2(s + j, v), st2(ds + j, dv);
+    }
+}
+
+/* Safeguarded Newton on s' in the bracket lo < x < hi with s'(lo) < 0 <
+ * s'(hi) (slopes dlo, dhi); x is the start. */
+static void refine_bracket(const pctx *c, int seg, double lo, double hi, double dlo, double dhi,
+                           double x, best *bs)
+{
+    int side = 0, again = 0; /* the end that moved last; moved twice in a row */
+    for (int it = 0; it < 100; it++) {
+        STAT(6);
+        double s1, s2, v = seg_eval3(c, seg, x, &s1, &s2);
+        best_update(bs, x, v, seg);
+        if (s1 == 0.0 || !(v > 0.0))
+            return;
+        int sd = s1 < 0.0 ? -1 : 1;
+        again = sd == side, side = sd;
+        if (s1 < 0.0)
+            lo = x, dlo = s1;
+        else
+            hi = x, dhi = s1;
+        double w = hi - lo;
+        /* s' increasing in the bracket: nothing there is below the ends'
+         * values by more than w * max|s'| */
+        if (w <= 4e-16 * (1.0 + fabs(x)) || w * (dhi > -dlo ? dhi : -dlo) <= STOP_REL * bs->v)
+            return;
+        double t = s2 > 0.0 ? x - s1 / s2 : NAN;
+        if (t > lo && t < hi && !(again && fabs(t - x) > 0.25 * w)) {
+            if (fabs(t - x) * fabs(s1) <= STOP_REL * v) {
+                best_update(bs, t, v - 0.5 * fabs(s1 * (t - x)), seg);
+                return;
+            }
+        } else if (!again) {
+            t = lo - dlo * w / (dhi - dlo); /* secant on s' */
+            if (!(t > lo && t < hi))
+                t = lo + 0.5 * w;
+        } else {
+            t = lo + 0.5 * w;
+        }
+        x = t;
+    }
+}
+
+/* One candidate cell or end. */
+typedef struct cand {
+    double lower, est, x;
+    int seg, kind; /* 0: end value; 1: sign bracket; 2: cubic dip */
+    double lo, hi, dlo, dhi;
+} cand;
+
+#define MAXCAND 48
+
+/* Minimum of the Hermite cubic on [x0, x0 + h] with values s0, s1 and
+ * slopes d0, d1: returns 1 and (*tau in (0,1), *e) when it has an interior
+ * local minimum. */
+static int hermite_min(double s0, double s1, double d0, double d1, double h, double *tau,
+                       double *e)
+{
+    double C = h * d0, D = h * d1, A = 3.0 * (C + D) - 6.0 * (s1 - s0), B = D - C - A;
+    double t;
+    if (A == 0.0) {
+        if (!(B > 0.0))
+            return 0;
+        t = -C / B;
+    } else {
+        double disc = B * B - 4.0 * A * C;
+        if (!(disc >= 0.0))
+            return 0;
+        double r = sqrt(disc), q = -0.5 * (B + (B >= 0.0 ? r : -r));
+        double t1 = q / A, t2 = q != 0.0 ? C / q : NAN;
+        /* the minimum: H'' = 2 A t + B > 0 */
+        t = 2.0 * A * t1 + B > 0.0 ? t1 : t2;
+    }
+    if (!(t > 0.0 && t < 1.0))
+        return 0;
+    *tau = t;
+    *e = s0 + t * (C + t * (0.5 * B + t * (A / 3.0)));
+    return 1;
+}
+
+/* Candidates of one segment's nodes (xs, s, ds), n >= 2. */
+static uint32_t segment_cands(const double *xs, const double *s, const double *ds, uint32_t n,
+                              int seg, cand *cs, uint32_t nc, best *b)
+{
+    for (uint32_t i = 0; i < n; i++)
+        best_update(b, xs[i], s[i], seg);
+    for (uint32_t i = 0; i + 1 < n && nc < MAXCAND; i++) {
+        double h = xs[i + 1] - xs[i], tau, e;
+        if (!(h > 0.0))
+            continue;
+        int sign = ds[i] < 0.0 && ds[i + 1] > 0.0;
+        if (!hermite_min(s[i], s[i + 1], ds[i], ds[i + 1], h, &tau, &e)) {
+            if (!sign)
+                continue;
+            tau = 0.5, e = s[i] < s[i + 1] ? s[i] : s[i + 1];
+        }
+        double lo_end = s[i] < s[i + 1] ? s[i] : s[i + 1], dip = lo_end - e;
+        if (!sign && !(dip > 0.0))
+            continue;
+        dip = dip > 0.0 ? dip : 0.0;
+        cand *k = &cs[nc++];
+        k->est = e < lo_end ? e : lo_end;
+        k->lower = k->est - DIP_SAFETY * dip;
+        if (sign) { /* a convex cell (a kink too) lies above its end tangents */
+            double tan = s[i] + ds[i] * (s[i + 1] - s[i] - ds[i + 1] * h) / (ds[i] - ds[i + 1]);
+            k->lower = tan < k->lower ? tan : k->lower;
+        }
+        k->lower -= L_REL * fabs(lo_end);
+        k->x = xs[i] + tau * h, k->seg = seg, k->kind = sign ? 1 : 2;
+        k->lo = xs[i], k->hi = xs[i + 1], k->dlo = ds[i], k->dhi = ds[i + 1];
+    }
+    return nc;
+}
+
+/* Refine the candidates, cheapest first, while they may beat the best. */
+static void refine_cands(const pctx *c, cand *cs, uint32_t nc, double cut, best *b)
+{
+    for (uint32_t i = 1; i < nc; i++) { /* insertion sort by estimate */
+        cand t = cs[i];
+        uint32_t j = i;
+        for (; j > 0 && cs[j - 1].est > t.est; j--)
+            cs[j] = cs[j - 1];
+        cs[j] = t;
+    }
+    for (uint32_t i = 0; i < nc; i++)
+        STAT(5);
+    for (uint32_t i = 0; i < nc; i++) {
+        const cand *k = &cs[i];
+        double bound = b->v < cut ? b->v : cut;
+        if (!(k->lower < bound) || b->v <= 0.0)
+            continue;
+        STAT(k->kind);
+        if (k->kind == 1)
+            refine_bracket(c, k->seg, k->lo, k->hi, k->dlo, k->dhi, k->x, b);
+        else
+            refine(c, k->seg, k->lo, k->hi, k->x, b);
+    }
+}
+
+/* Values and slopes of the sum at the grid nodes and the seam. */
+static best pair_minimise(const pctx *c, const gs_cheb_grid *g, double cut)
+{
+    double pa[GRID_PTS], da[GRID_PTS], pb[GRID_PTS], db[GRID_PTS], s[GRID_PTS + 2],
+        ds[GRID_PTS + 2], tb[GRID_PTS], xs[GRID_PTS + 2], xs2[GRID_PTS + 2], s2[GRID_PTS + 2],
+        ds2[GRID_PTS + 2];
+    const uint32_t np = g->np, n = g->g + 1;
+    const double *x = g->x;
+    best b = {INFINITY, 0.0, 0};
+    cand cs[MAXCAND];
+    uint32_t nc = 0;
+    tab_eval(c->a.c, c->a.m, g, pa, da);
+    to_values(c->a.sq, pa, da, np, s, ds, 0);
+    if (c->b.c) {
+        if (c->split > 1.0 && c->off[0] == 0.0) {
+            tab_eval(c->b.c, c->b.m, g, pb, db);
+        } else {
+            for (uint32_t j = 0; j < np; j++) {
+                double xj = x[j < n ? j : n - 1];
+                tb[j] = clamp1(xj + c->off[xj < c->split ? 0 : 1]);
+            }
+            pts_eval(c->b.c, c->b.m, tb, np, pb, db);
+        }
+        to_values(c->b.sq, pb, db, np, s, ds, 1);
+    }
+    for (int i = 0; i < 2 && PAIR_SHARP; i++)
+        if (c->sharp[i] && (i == 0 || c->b.c))
+            sharp_candidates(c, i, g, i == 0 || (c->split > 1.0 && c->off[0] == 0.0) ? (i ? pb : pa) : NULL, &b);
+    if (!(c->split < 1.0)) {
+        nc = segment_cands(x, s, ds, n, 0, cs, nc, &b);
+        if (!c->loop) { /* path ends: the minimum may sit there */
+            if (ds[0] >= 0.0)
+                best_update(&b, x[0], s[0], 0);
+            if (ds[n - 1] <= 0.0)
+                best_update(&b, x[n - 1], s[n - 1], 0);
+        }
+    } else { /* b's seam: [-1, split] (b at t -> 1) and [split, 1] (t from -1) */
+        uint32_t j0 = 0, k = 1;
+        while (j0 < n && x[j0] < c->split)
+            j0++;
+        double a1, a2, b1, b2, va = term_at3(&c->a, c->split, &a1, &a2);
+        xs2[0] = c->split, s2[0] = va + term_at3(&c->b, -1.0, &b1, &b2), ds2[0] = a1 + b1;
+        for (uint32_t j = j0; j < n; j++)
+            if (!(j == j0 && x[j] == c->split))
+                xs2[k] = x[j], s2[k] = s[j], ds2[k++] = ds[j];
+        for (uint32_t j = 0; j < j0; j++)
+            xs[j] = x[j];
+        xs[j0] = c->split, s[j0] = va + term_at3(&c->b, 1.0, &b1, &b2), ds[j0] = a1 + b1;
+        nc = segment_cands(xs, s, ds, j0 + 1, 0, cs, nc, &b);
+        nc = segment_cands(xs2, s2, ds2, k, 1, cs, nc, &b);
+    }
+    refine_cands(c, cs, nc, cut, &b);
+    return b;
+}
+static double pair_min_cut(const gs_fun *a, const gs_fun *b, double cut, double *u_at)
 {
     if (u_at)
         *u_at = 0.0;
@@ -413,12 +766,23 @@ double gs_fun_pair_min(const gs_fun *a, const gs_fun *b, double *u_at)
     double comb[GS_FUN_MAX_DEGREE + 1];
     pair_setup(a, b, &c, comb);
     const gs_cheb_grid *g = gs_cheb_grid_for(a->degree > b->degree ? a->degree : b->degree);
-    best r = minimise(&c, g->x, g->tk, g->g + 1);
+    STAT(4);
+    best r = pair_minimise(&c, g, cut);
     double u = finish(&c, &r);
     if (u_at)
         *u_at = u;
     /* the value as evaluated (sqrt near 0 amplifies rounding differences) */
     return gs_fun_value(a, u) + gs_fun_value(b, u);
+}
+
+double gs_fun_pair_min(const gs_fun *a, const gs_fun *b, double *u_at)
+{
+    return pair_min_cut(a, b, INFINITY, u_at);
+}
+
+double gs_fun_pair_min_below(const gs_fun *a, const gs_fun *b, double best, double *u_at)
+{
+    return pair_min_cut(a, b, best, u_at);
 }
 
 /* v lowered by a bound on the rounding error of evaluating the series
@@ -450,7 +814,7 @@ double gs_fun_min(const gs_fun *f, double *u_at)
         return bv;
     }
     pctx c = {{f->coef, f->degree, f->squared}, {NULL, 0, 0}, 2.0, {0.0, 0.0},
-              f->closed ? f->shift : 0.0, (int)f->closed, {1, 0}};
+              f->closed ? f->shift : 0.0, (int)f->closed, {1, 0}, 0};
     best r = minimise(&c, gs_cheb_fine_grid(), NULL, GS_CHEB_FINE + 1);
     double u = finish(&c, &r);
     if (u_at)

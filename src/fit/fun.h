@@ -38,6 +38,14 @@ double gs_fun_value(const gs_fun *f, double u);
  * it), fast: a coarse scan then Newton on the analytic derivative. */
 double gs_fun_pair_min(const gs_fun *a, const gs_fun *b, double *u_at);
 
+/* As gs_fun_pair_min, but the caller only needs the minimum when it is
+ * below `best` (the query's running minimum): candidate basins that cannot
+ * beat min(best, the best value found) are skipped. Returns the same value
+ * and *u_at as gs_fun_pair_min whenever that is < best; otherwise some value
+ * >= best (as evaluated at the returned *u_at). best = +INFINITY: exactly
+ * gs_fun_pair_min. */
+double gs_fun_pair_min_below(const gs_fun *a, const gs_fun *b, double best, double *u_at);
+
 /* Number of doubles the function costs to store: its m+1 coefficients (or
  * samples), plus 1 for a Chebyshev loop's shift; 0 for an unreachable curve
  * (minval = +INFINITY, no coefficients). minval itself is not counted. */
