@@ -84,7 +84,19 @@ struct gs_db {
     const uint32_t *leaf_vstart, *leaf_local; /* NULL without leaf tables */
     const uint64_t *leaf_dstart;
     const double *leaf_dist;
+    /* Query cache (memory only, built at open, src/query/grid.c): every
+     * function's values on its curve's uniform grid of curve_grid[c]
+     * points in u, as floats; function f's values start at grid[grid_start[f]].
+     * NULL when not built. */
+    float *grid;
+    uint64_t *grid_start;     /* n_functions                               */
+    float *umin;              /* n_functions: each function's own minimiser */
+    uint32_t *curve_grid;     /* n_curves: points (0: sampled functions)   */
 };
+
+/* Build the query cache (called once the database is validated). */
+int gs__db_grid_build(gs_db *db, gs_error *err);
+void gs__db_grid_free(gs_db *db);
 
 /* Serialise c into the on-disk layout and open the result through the
  * file reader's validation. *out: new database (gs_db_free). */

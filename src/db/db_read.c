@@ -474,6 +474,11 @@ int gs__db_attach(void *storage, size_t size, int mapped, const char *name, gs_d
     db->mapped = mapped;
     db->bytes = storage;
     db->size = size;
+    rc = gs__db_grid_build(db, err);
+    if (rc) {
+        free(db);
+        return rc;
+    }
     *out = db;
     return GS_OK;
 }
@@ -520,6 +525,7 @@ int gs_db_open_memory(const void *data, size_t size, gs_db **out, gs_error *err)
 void gs_db_free(gs_db *db)
 {
     if (!db) return;
+    gs__db_grid_free(db);
     if (db->mapped) munmap(db->storage, db->storage_size);
     else free(db->storage);
     free(db);

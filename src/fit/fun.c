@@ -830,3 +830,89 @@ uint32_t gs_fun_cost(const gs_fun *f)
         return 0;
     return f->degree + 1 + (f->kind == GS_FUN_CHEBYSHEV && f->closed ? 1u : 0u);
 }
+
+/* ---- the cached-grid minimiser (queries) ------------------------------- */
+
+#define GS_NONE_U32 0xFFFFFFFFu
+
+static double grid_u(uint32_t j, uint32_t g, int closed)
+{
+    return closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1);
+}
+
+uint32_t gs_fun_grid_points(uint32_t m)
+{
+    uint32_t g = 2 * m + 9 < 25 ? 25 : 2 * m + 9;
+    return g > GS_FUN_GRID_MAX ? GS_FUN_GRID_MAX : g;
+}
+
+/* Value of f and its first two derivatives in u. */
+static double fun_at3(const gs_fun *f, double u, double *d1, double *d2)
+{
+    term t = {f->coef, f->degree, f->squared};
+    return term_at3(&t, f->closed ? gs_fun_wrap(u - f->shift) : u, d1, d2);
+}
+
+/* Newton on the slope of the sum from u (steps kept within +-h, a cell),
+ * NEWTON_STEPS times; updates (*best, *bu) with every point it evaluates. */
+#define NEWTON_STEPS 3
+static void newton_candidate(const gs_fun *a, const gs_fun *b, double u, double h, int closed,
+                             double *best, double *bu)
+{
+    for (int it = 0; it <= NEWTON_STEPS; ++it) {
+        double a1, a2, b1, b2;
+        double v = fun_at3(a, u, &a1, &a2) + fun_at3(b, u, &b1, &b2);
+        if (v < *best) *best = v, *bu = u;
+        double s1 = a1 + b1, s2 = a2 + b2;
+        if (it == NEWTON_STEPS || !(s2 > 0.0)) return;
+        double step = -s1 / s2;
+        step = step < -h ? -h : (step > h ? h : step);
+        double w = closed ? gs_fun_wrap(u + step) : clamp1(u + step);
+        if (fabs(w - u) <= 1e-12) return;
+        u = w;
+    }
+}
+
+double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, const float *gb,
+                            uint32_t g, double ua, double ub, double *u_at)
+{
+    /* loops: each function's seam may jump (the fit is not periodic), and
+     * the robust minimiser handles seams exactly */
+    if (unreachable(a) || unreachable(b) || g < 3 || a->kind == GS_FUN_SAMPLED ||
+        b->kind == GS_FUN_SAMPLED || a->closed || b->closed)
+        return gs_fun_pair_min(a, b, u_at);
+    float s[GS_FUN_GRID_MAX];
+    for (uint32_t j = 0; j < g; ++j) s[j] = ga[j] + gb[j];
+    int closed = a->closed || b->closed;
+    /* the two lowest discrete local minima of the grid */
+    uint32_t j1 = GS_NONE_U32, j2 = GS_NONE_U32;
+    for (uint32_t j = 0; j < g; ++j) {
+        float l = (j > 0 || closed) ? s[j ? j - 1 : g - 1] : INFINITY;
+        float r = (j + 1 < g || closed) ? s[j + 1 < g ? j + 1 : 0] : INFINITY;
+        if (!(s[j] <= l && s[j] <= r)) continue;
+        if (j1 == GS_NONE_U32 || s[j] < s[j1]) j2 = j1, j1 = j;
+        else if (j2 == GS_NONE_U32 || s[j] < s[j2]) j2 = j;
+    }
+    double h = closed ? 2.0 / g : 2.0 / (g - 1), best = INFINITY, bu = 0.0;
+    for (int c = 0; c < 2; ++c) {
+        uint32_t jb = c ? j2 : j1;
+        if (jb == GS_NONE_U32) continue;
+        double u0 = grid_u(jb, g, closed);
+        if (closed || (jb > 0 && jb + 1 < g)) { /* parabola through the neighbours */
+            double sl = s[jb ? jb - 1 : g - 1], sc = s[jb], sr = s[jb + 1 < g ? jb + 1 : 0];
+            double den = sl - 2.0 * sc + sr;
+            if (den > 0.0) {
+                double t = 0.5 * (sl - sr) / den;
+                u0 += (t < -1.0 ? -1.0 : (t > 1.0 ? 1.0 : t)) * h;
+                u0 = closed ? gs_fun_wrap(u0) : clamp1(u0);
+            }
+        }
+        newton_candidate(a, b, u0, h, closed, &best, &bu);
+    }
+    /* a vertex close to the curve gives its function a sharp dip, which the
+     * grid may step over: the dip's own minimiser is a candidate too */
+    if (ua == ua && is_sharp(a)) newton_candidate(a, b, ua, h, closed, &best, &bu);
+    if (ub == ub && is_sharp(b)) newton_candidate(a, b, ub, h, closed, &best, &bu);
+    if (u_at) *u_at = bu;
+    return gs_fun_value(a, bu) + gs_fun_value(b, bu); /* the value as evaluated */
+}

@@ -48,6 +48,7 @@ static uint32_t lowest_common_ancestor(const gs_db_node *nodes, uint32_t a, uint
 typedef struct candidate {
     double bound;
     uint64_t k;
+    uint32_t curve;
 } candidate;
 
 #define MAX_CANDIDATES 64
@@ -69,11 +70,29 @@ static uint32_t gather(const gs_db *db, const gs_db_fentry *ex, const gs_db_fent
             double b = ex[k].minval + ey[k].minval;
             uint32_t i = n++;
             for (; i > 0 && c[i - 1].bound > b; --i) c[i] = c[i - 1];
-            c[i].bound = b, c[i].k = k;
+            c[i].bound = b, c[i].k = k, c[i].curve = db->nodes[a].curve_start + (uint32_t)(k - k0);
         }
     }
     *rest = a;
     return n;
+}
+
+/* min over the curve of f_x + f_y, from the query cache when it is there.
+ * The two functions go in vertex-id order, so that d(x,y) == d(y,x). */
+static double pair_min(const gs_db *db, uint32_t x, uint32_t y, uint64_t k, uint32_t curve,
+                       const gs_fun *fx, const gs_fun *fy)
+{
+    uint32_t g = db->grid ? db->curve_grid[curve] : 0;
+    if (x > y) {
+        const gs_fun *t = fx;
+        fx = fy, fy = t;
+        uint32_t u = x;
+        x = y, y = u;
+    }
+    if (!g) return gs_fun_pair_min(fx, fy, NULL);
+    uint64_t ix = db->vdir[x].first_function + k, iy = db->vdir[y].first_function + k;
+    return gs_fun_pair_min_grid(fx, fy, db->grid + db->grid_start[ix], db->grid + db->grid_start[iy], g,
+                                db->umin[ix], db->umin[iy], NULL);
 }
 
 /* eq. 4-5 with the quick reject. fx: x's decoded functions, or NULL. The
@@ -92,18 +111,18 @@ static double cross_leaf(const gs_db *db, const gs_fun *fx, uint32_t x, uint32_t
         if (!fx) gs__db_fun(db, x, c[i].k, &gx);
         gs__db_fun(db, y, c[i].k, &gy);
         const gs_fun *a = fx ? &fx[c[i].k] : &gx;
-        double d = x < y ? gs_fun_pair_min(a, &gy, NULL) : gs_fun_pair_min(&gy, a, NULL);
+        double d = pair_min(db, x, y, c[i].k, c[i].curve, a, &gy);
         if (d < best) best = d;
     }
-    for (uint32_t a = rest; a != GS_NONE; a = db->nodes[a].parent) { /* > 64 curves: rare */
-        uint64_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
+    for (uint32_t a_node = rest; a_node != GS_NONE; a_node = db->nodes[a_node].parent) { /* > 64 curves: rare */
+        uint64_t k0 = db->nodes[a_node].curve_prefix, k1 = k0 + db->nodes[a_node].n_curves;
         for (uint64_t k = k0; k < k1; ++k) {
             if (ex[k].minval + ey[k].minval >= best) continue;
             gs_fun gx, gy;
             if (!fx) gs__db_fun(db, x, k, &gx);
             gs__db_fun(db, y, k, &gy);
             const gs_fun *a = fx ? &fx[k] : &gx;
-            double d = x < y ? gs_fun_pair_min(a, &gy, NULL) : gs_fun_pair_min(&gy, a, NULL);
+            double d = pair_min(db, x, y, k, db->nodes[a_node].curve_start + (uint32_t)(k - k0), a, &gy);
             if (d < best) best = d;
         }
     }
