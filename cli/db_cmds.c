@@ -10,7 +10,7 @@
 const char usage_build[] =
     "usage: geosep build MESH -o DB [--method exact|graph] [--vmax N] [--mmax N] [--tol F]\n"
     "                    [--threads N] [--vertex-sources] [--sampled] [--seed N] [--spacing F]\n"
-    "                    [--quiet]\n"
+    "                    [--leaf-exact] [--quiet]\n"
     "  Build a query database: nested bisection tree (leaves of at most --vmax\n"
     "  vertices, default 30), distance fields from every separator sample inside\n"
     "  its patch (--method, default exact), and per-vertex polynomial separator\n"
@@ -18,7 +18,10 @@ const char usage_build[] =
     "  --tol (0.006). --vertex-sources: fields from the corners of the sample\n"
     "  triangles + barycentric interpolation (the paper's way). --sampled: store\n"
     "  the sampled values (SEPsam) instead of polynomials. --spacing: separator\n"
-    "  sample spacing in mean edge lengths (0.5). --threads 0 = all cores.\n"
+    "  sample spacing in mean edge lengths (0.5). --leaf-exact: also store the\n"
+    "  exact distances between the vertices of each leaf (paper sec. 3.1, matrix\n"
+    "  D; at most vmax numbers per vertex) instead of answering same-leaf queries\n"
+    "  with the Euclidean distance. --threads 0 = all cores.\n"
     "  Shows progress on a terminal; prints the stage times and the size.\n";
 const char usage_query[] =
     "usage: geosep query DB X Y\n"
@@ -72,6 +75,7 @@ static int build_option(gs_build_options *o, const char **out, int *quiet, int a
     const char *a = argv[*i], *v;
     if (!strcmp(a, "--vertex-sources")) return o->vertex_sources = 1, 0;
     if (!strcmp(a, "--sampled")) return o->sampled = 1, 0;
+    if (!strcmp(a, "--leaf-exact")) return o->leaf_exact = 1, 0;
     if (!strcmp(a, "--quiet")) return *quiet = 1, 0;
     if ((v = opt_value(argc, argv, i, "-o")) || (v = opt_value(argc, argv, i, "--output"))) return *out = v, 0;
     if ((v = opt_value(argc, argv, i, "--method"))) {

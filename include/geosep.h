@@ -245,7 +245,7 @@ int gs_distance_field(const gs_patch *patch, gs_method method,
  * of threads at once. */
 typedef struct gs_db gs_db;
 
-/* Progress callback: stage name ("tree", "fields", "fits", "write") and the
+/* Progress callback: stage name ("tree", "fields", "leaves", "write") and the
  * fraction done in [0,1]. Called from the building thread only. */
 typedef void (*gs_progress_fn)(void *user, const char *stage, double fraction);
 
