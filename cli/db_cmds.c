@@ -127,7 +127,8 @@ int cmd_build(int argc, char **argv)
     if (b.tty) fputc('\n', stderr);
     if (rc) {
         gs_mesh_free(m);
-        return lib_fail("build", rc, &err);
+        /* a bad option value is a usage error, whoever detects it */
+        return rc == GS_EARG ? fail(EXIT_USAGE, "build: %s", err.message) : lib_fail("build", rc, &err);
     }
     double tw = now();
     rc = gs_db_save(db, out, &err);

@@ -169,5 +169,53 @@ expect_fail 2 "not --source" "gt: with --source" solve "$G" --format gt --source
 expect_fail 2 "needs --format gt" "--sources-from without gt" solve "$G" --sources-from "$T/src.gt" --source 0
 { [ -z "$(find "$T" -name '*.tmp.*')" ]; }; verdict "gt: no temporary files left behind"
 
+# ---- the database: build, query, field, eval, land ---------------------------
+D="$T/grid.obj"
+run generate grid:20,20 -o "$D"
+run solve "$D" --format gt --random 8 --seed 3 -o "$T/grid.gt"
+{ [ "$rc" -eq 0 ] && [ "$(stat -c %s "$T/grid.gt")" -eq $((16 + 8 * (4 + 8 * 400))) ]; }; verdict "solve --random writes 8 fields"
+run build "$D" -o "$T/grid.gsdb" --quiet
+{ [ "$rc" -eq 0 ] && [ -s "$T/grid.gsdb" ] && [ ! -s "$T/out" ]; }; verdict "build --quiet writes a database"
+run build "$D" -o "$T/grid2.gsdb" --threads 1 --vmax 20 --mmax 12 --tol 0.005 --spacing 0.4
+{ [ "$rc" -eq 0 ] && grep -q "nodes" "$T/out" && grep -q "time: tree" "$T/out" && grep -q "cost" "$T/out"; }; verdict "build prints tree, times and size"
+run build "$D" -o "$T/grid3.gsdb" --leaf-exact --quiet
+{ [ "$rc" -eq 0 ] && [ "$(stat -c %s "$T/grid3.gsdb")" -gt "$(stat -c %s "$T/grid.gsdb")" ]; }; verdict "build --leaf-exact stores the leaf tables"
+# a flat grid: the database distance is close to the Euclidean one
+run query "$T/grid.gsdb" 0 399
+{ [ "$rc" -eq 0 ] && awk -v d="$(cat "$T/out")" 'BEGIN { e = sqrt(2); r = (d - e) / e; if (r < 0) r = -r; exit !(r < 0.01) }'; }; verdict "query 0 399 on the unit grid is sqrt(2) within 1%"
+run query "$T/grid.gsdb" 17 17
+{ [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = "0" ]; }; verdict "query x x is 0"
+printf '0 399\n17 17\n\n5 6\n' >"$T/pairs.txt"
+run query "$T/grid.gsdb" --pairs "$T/pairs.txt"
+{ [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/out")" -eq 3 ]; }; verdict "query --pairs answers every pair"
+"$BIN" query "$T/grid.gsdb" --pairs - <"$T/pairs.txt" >"$T/out2" 2>"$T/err"
+{ cmp -s "$T/out" "$T/out2"; }; verdict "query --pairs - reads stdin"
+printf '0 399\n3 x\n' >"$T/badpairs.txt"
+expect_fail 1 "badpairs.txt:2" "query --pairs: bad line names the line" query "$T/grid.gsdb" --pairs "$T/badpairs.txt"
+expect_fail 2 "out of range" "query: vertex out of range" query "$T/grid.gsdb" 0 400
+expect_fail 2 "not a vertex id" "query: not a number" query "$T/grid.gsdb" 0 abc
+expect_fail 1 "cannot open|No such" "query: missing database" query "$T/none.gsdb" 0 1
+head -c 300 "$T/grid.gsdb" >"$T/cut.gsdb"
+expect_fail 1 "cut.gsdb" "query: truncated database names the file" query "$T/cut.gsdb" 0 1
+cp "$T/grid.gsdb" "$T/flip.gsdb"
+printf '\x55' | dd of="$T/flip.gsdb" bs=1 seek=2000 conv=notrunc 2>/dev/null
+expect_fail 1 "checksum|section" "query: corrupted database is refused" query "$T/flip.gsdb" 0 1
+run field "$T/grid.gsdb" --source 0 -o "$T/f0.txt"
+{ [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/f0.txt")" -eq 400 ] && [ "$(head -1 "$T/f0.txt")" = "0" ]; }; verdict "field writes one distance per vertex"
+{ [ "$(sed -n 400p "$T/f0.txt")" = "$("$BIN" query "$T/grid.gsdb" 0 399)" ]; }; verdict "field agrees with query"
+run field "$T/grid.gsdb" --format gt --sources-from "$T/grid.gt" -o "$T/dbf.gt"
+{ [ "$rc" -eq 0 ] && [ "$(stat -c %s "$T/dbf.gt")" -eq "$(stat -c %s "$T/grid.gt")" ]; }; verdict "field --format gt writes every source"
+run eval "$T/grid.gsdb" --groundtruth "$T/grid.gt"
+{ [ "$rc" -eq 0 ] && awk '/^ME / { me = $2 + 0; ok = (me < 0.5) } END { exit !ok }' "$T/out" && grep -q "^cost" "$T/out"; }; verdict "eval: ME below 0.5% on the grid, cost printed"
+run land "$D" --landmarks 8 --groundtruth "$T/grid.gt"
+{ [ "$rc" -eq 0 ] && grep -q "^LAND m=8" "$T/out" && grep -q "^ME " "$T/out"; }; verdict "land evaluates the baseline"
+expect_fail 1 "made for" "eval: ground truth of another mesh" eval "$T/grid.gsdb" --groundtruth "$T/out.gt"
+expect_fail 2 "vmax" "build: vmax too small" build "$D" -o "$T/x.gsdb" --vmax 1
+{ [ ! -e "$T/x.gsdb" ]; }; verdict "build: failure leaves no database"
+expect_fail 2 "not a count" "build: bad --mmax" build "$D" -o "$T/x.gsdb" --mmax many
+expect_fail 2 "need MESH and -o" "build: no -o" build "$D"
+expect_fail 2 "landmarks" "land: zero landmarks" land "$D" --landmarks 0 --groundtruth "$T/grid.gt"
+{ [ -z "$(find "$T" -name '*.tmp.*')" ]; }; verdict "database commands leave no temporary files"
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]
