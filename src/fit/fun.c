@@ -855,7 +855,7 @@ static double fun_at3(const gs_fun *f, double u, double *d1, double *d2)
 
 /* Newton on the slope of the sum from u (steps kept within +-h, a cell),
  * NEWTON_STEPS times; updates (*best, *bu) with every point it evaluates. */
-#define NEWTON_STEPS 3
+#define NEWTON_STEPS 2
 static void newton_candidate(const gs_fun *a, const gs_fun *b, double u, double h, int closed,
                              double *best, double *bu)
 {
@@ -896,7 +896,8 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
     double h = closed ? 2.0 / g : 2.0 / (g - 1), best = INFINITY, bu = 0.0;
     for (int c = 0; c < 2; ++c) {
         uint32_t jb = c ? j2 : j1;
-        if (jb == GS_NONE_U32) continue;
+        /* a second local minimum only when the grid cannot tell them apart */
+        if (jb == GS_NONE_U32 || (c && s[j2] > s[j1] * 1.02f)) continue;
         double u0 = grid_u(jb, g, closed);
         if (closed || (jb > 0 && jb + 1 < g)) { /* parabola through the neighbours */
             double sl = s[jb ? jb - 1 : g - 1], sc = s[jb], sr = s[jb + 1 < g ? jb + 1 : 0];
