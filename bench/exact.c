@@ -26,14 +26,6 @@ static const bench_mesh MESHES[] = {
     {"homer-60k", 0.9, 0.9},
 };
 
-static uint64_t splitmix64(uint64_t *s)
-{
-    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -105,16 +97,14 @@ int main(int argc, char **argv)
             gs_mesh_free(mesh);
             continue;
         }
-        uint32_t nv = gs_mesh_num_vertices(mesh), nf = gs_mesh_num_faces(mesh);
-        /* random referenced vertices (splitmix64, seed 12345) */
-        uint8_t *used = calloc(nv ? nv : 1, 1);
-        const uint32_t *tri = gs_mesh_faces(mesh);
-        for (size_t k = 0; k < 3 * (size_t)nf; ++k) used[tri[k]] = 1;
+        uint32_t nv = gs_mesh_num_vertices(mesh);
         uint32_t *src = malloc((size_t)n * sizeof *src);
-        uint64_t state = 12345;
-        for (int i = 0; i < n;) {
-            uint32_t v = (uint32_t)(splitmix64(&state) % nv);
-            if (used[v]) src[i++] = v;
+        if (gs_mesh_random_vertices(mesh, (uint32_t)n, 12345, src, &err)) { /* referenced only */
+            printf("%-15s skipped: %s\n", MESHES[m].name, err.message);
+            free(src);
+            gs_patch_free(patch);
+            gs_mesh_free(mesh);
+            continue;
         }
         double *dist = malloc((size_t)nv * sizeof *dist);
         double te = 0, we = 0, tg = 0, wg = 0;
@@ -133,7 +123,6 @@ int main(int argc, char **argv)
         }
         free(dist);
         free(src);
-        free(used);
         gs_patch_free(patch);
         gs_mesh_free(mesh);
     }
