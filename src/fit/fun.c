@@ -842,7 +842,7 @@ static double grid_u(uint32_t j, uint32_t g, int closed)
 
 uint32_t gs_fun_grid_points(uint32_t m)
 {
-    uint32_t g = 2 * m + 9 < 25 ? 25 : 2 * m + 9;
+    uint32_t g = 4 * m + 9 < 33 ? 33 : 4 * m + 9;
     return g > GS_FUN_GRID_MAX ? GS_FUN_GRID_MAX : g;
 }
 
@@ -855,16 +855,22 @@ static double fun_at3(const gs_fun *f, double u, double *d1, double *d2)
 
 /* Newton on the slope of the sum from u (steps kept within +-h, a cell),
  * NEWTON_STEPS times; updates (*best, *bu) with every point it evaluates. */
-#define NEWTON_STEPS 2
+#define NEWTON_STEPS 2 /* from a sharp function's own minimiser          */
+#define GRID_STEPS 0   /* from the grid's parabola (fine grid: accurate)  */
 static void newton_candidate(const gs_fun *a, const gs_fun *b, double u, double h, int closed,
-                             double *best, double *bu)
+                             int steps, double *best, double *bu)
 {
-    for (int it = 0; it <= NEWTON_STEPS; ++it) {
+    if (steps == 0) { /* the value alone: two Clenshaw sums */
+        double v = gs_fun_value(a, u) + gs_fun_value(b, u);
+        if (v < *best) *best = v, *bu = u;
+        return;
+    }
+    for (int it = 0; it <= steps; ++it) {
         double a1, a2, b1, b2;
         double v = fun_at3(a, u, &a1, &a2) + fun_at3(b, u, &b1, &b2);
         if (v < *best) *best = v, *bu = u;
         double s1 = a1 + b1, s2 = a2 + b2;
-        if (it == NEWTON_STEPS || !(s2 > 0.0)) return;
+        if (it == steps || !(s2 > 0.0)) return;
         double step = -s1 / s2;
         step = step < -h ? -h : (step > h ? h : step);
         double w = closed ? gs_fun_wrap(u + step) : clamp1(u + step);
@@ -908,12 +914,12 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
                 u0 = closed ? gs_fun_wrap(u0) : clamp1(u0);
             }
         }
-        newton_candidate(a, b, u0, h, closed, &best, &bu);
+        newton_candidate(a, b, u0, h, closed, GRID_STEPS, &best, &bu);
     }
     /* a vertex close to the curve gives its function a sharp dip, which the
      * grid may step over: the dip's own minimiser is a candidate too */
-    if (ua == ua && is_sharp(a)) newton_candidate(a, b, ua, h, closed, &best, &bu);
-    if (ub == ub && is_sharp(b)) newton_candidate(a, b, ub, h, closed, &best, &bu);
+    if (ua == ua && is_sharp(a)) newton_candidate(a, b, ua, h, closed, NEWTON_STEPS, &best, &bu);
+    if (ub == ub && is_sharp(b)) newton_candidate(a, b, ub, h, closed, NEWTON_STEPS, &best, &bu);
     if (u_at) *u_at = bu;
     return gs_fun_value(a, bu) + gs_fun_value(b, bu); /* the value as evaluated */
 }

@@ -60,10 +60,10 @@ double gs_fun_min(const gs_fun *f, double *u_at);
 double gs_fun_wrap(double u);
 
 /* Largest grid of gs_fun_pair_min_grid. */
-#define GS_FUN_GRID_MAX 64
+#define GS_FUN_GRID_MAX 96
 
-/* Grid points for the functions of a curve whose largest degree is m: two
- * per degree and some, at least 25, at most GS_FUN_GRID_MAX. */
+/* Grid points for the functions of a curve whose largest degree is m: four
+ * per degree and some, at least 33, at most GS_FUN_GRID_MAX. */
 uint32_t gs_fun_grid_points(uint32_t m);
 
 /* The query hot path: min over u of a(u) + b(u) given both functions'
@@ -71,7 +71,7 @@ uint32_t gs_fun_grid_points(uint32_t m);
  * 2j/(g-1); loops: u_j = -1 + 2j/g), as floats, and each function's own
  * minimiser ua, ub (NaN if unknown). The grid cell of the minimum is found
  * from the tables and refined by a parabola through the three values around
- * it and a few Newton steps on the exact sum; when a function has a sharp dip
+ * it, where the exact sum is evaluated; when a function has a sharp dip
  * (a vertex close to the curve) its own minimiser is refined the same way.
  * The result is a value the functions reach (tests compare it with
  * gs_fun_pair_min). Loops (whose seams may jump), sampled and unreachable
