@@ -417,6 +417,13 @@ static double sampled_pair_min(const gs_fun *a, const gs_fun *b, double *u_at)
 }
 
 /* A narrow dip: the minimum is small against the typical value. */
+static int is_sharp(const gs_fun *f);
+
+int gs_fun_is_sharp(const gs_fun *f)
+{
+    return f->coef && f->kind == GS_FUN_CHEBYSHEV && is_sharp(f);
+}
+
 static int is_sharp(const gs_fun *f)
 {
     double typ = f->squared ? sqrt(fabs(f->coef[0])) : fabs(f->coef[0]);

@@ -66,6 +66,11 @@ double gs_fun_wrap(double u);
  * per degree and some, at least 33, at most GS_FUN_GRID_MAX. */
 uint32_t gs_fun_grid_points(uint32_t m);
 
+/* Whether f has a sharp dip (its minimum is below a tenth of its typical
+ * value: a vertex close to the curve), the case where
+ * gs_fun_pair_min_grid needs f's own minimiser. */
+int gs_fun_is_sharp(const gs_fun *f);
+
 /* The query hot path: min over u of a(u) + b(u) given both functions'
  * values on the same uniform grid of g points in u (paths: u_j = -1 +
  * 2j/(g-1); loops: u_j = -1 + 2j/g), as floats, and each function's own

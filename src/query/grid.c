@@ -6,6 +6,7 @@
  * file stays as compact as the paper's. */
 #include "../db/db_internal.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -52,8 +53,8 @@ static void tabulate(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     gs__db_fun(db, x, k, &f);
     uint64_t fid = db->vdir[x].first_function + k;
     float *v = db->grid + db->grid_start[fid];
-    double um = 0;
-    gs_fun_min(&f, &um);
+    double um = NAN; /* only a sharp function's own minimiser is ever used */
+    if (gs_fun_is_sharp(&f)) gs_fun_min(&f, &um);
     db->umin[fid] = (float)um;
     int closed = db->curves[c].closed != 0;
     for (uint32_t j = 0; j < g; ++j) {
