@@ -142,6 +142,13 @@ int gs_mesh_get_report(const gs_mesh *mesh, gs_mesh_report *report,
  * *out receives a new mesh (caller frees). */
 int gs_mesh_generate(const char *spec, gs_mesh **out, gs_error *err);
 
+/* 1-to-4 midpoint subdivision: every face is split into four by its edge
+ * midpoints (flat: the surface, and so its geodesic distances, are
+ * unchanged). Vertex ids 0..n_vertices-1 are kept; each edge's midpoint is
+ * appended in order of first appearance. *out receives a new mesh (caller
+ * frees). GS_ELIMIT if the result would exceed 2^31 vertices or faces. */
+int gs_mesh_subdivide(const gs_mesh *mesh, gs_mesh **out, gs_error *err);
+
 /* Choose k distinct vertices used by faces, deterministically: candidates
  * are the referenced vertices in increasing id order (m of them); a
  * splitmix64 generator with state = seed draws v = candidates[next() % m],
