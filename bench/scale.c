@@ -1,0 +1,171 @@
+/* scale.c - the scaling benchmark (paper Figure 9, issue 4): one shape at
+ * several resolutions (bunny-5k, -10k, -20k, stanford-bunny from ../shared)
+ * and homer-60k, subdivided 1-to-4 once and twice by the benchmark itself.
+ * For each mesh, in a child process (so that its peak memory is its own):
+ * n, build time per stage, peak memory, bytes per vertex, median query
+ * time; then the fitted exponent of build time against n (the paper
+ * expects 1.5). Usage:
+ *   bench_scale [--method exact|graph|fmm|heat] [--threads N] [--max-n N] [MESH|SPEC ...] */
+#define _DEFAULT_SOURCE /* wait4: the peak memory of each child build */
+#include "geosep.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/time.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : (x > y);
+}
+
+/* "name" = a shared mesh, "name*4" / "name*16" = subdivided once / twice,
+ * "spec:..." = a generated mesh. */
+static int load(const char *what, gs_mesh **m, gs_error *err)
+{
+    char name[256], path[4096];
+    int subdiv = 0;
+    snprintf(name, sizeof name, "%s", what);
+    char *star = strchr(name, '*');
+    if (star) {
+        subdiv = strcmp(star + 1, "16") == 0 ? 2 : 1;
+        *star = 0;
+    }
+    int rc;
+    if (strchr(name, ':'))
+        rc = gs_mesh_generate(name, m, err);
+    else {
+        snprintf(path, sizeof path, "%s/meshes/%s.obj", GEOSEP_SHARED_DIR, name);
+        rc = gs_mesh_load(path, GS_FORMAT_AUTO, m, err);
+    }
+    for (int i = 0; rc == GS_OK && i < subdiv; ++i) {
+        gs_mesh *s = NULL;
+        rc = gs_mesh_subdivide(*m, &s, err);
+        gs_mesh_free(*m);
+        *m = s;
+    }
+    return rc;
+}
+
+static double median_query_ns(const gs_db *db, uint32_t n)
+{
+    enum { BATCH = 1000, NB = 300 };
+    double t[NB], sink = 0;
+    uint64_t s = 7;
+    for (int b = 0; b < NB; ++b) {
+        uint32_t p[2 * BATCH];
+        for (int i = 0; i < 2 * BATCH; ++i) {
+            s = s * 6364136223846793005ull + 1442695040888963407ull;
+            p[i] = (uint32_t)((s >> 33) % n);
+        }
+        double t0 = now();
+        for (int i = 0; i < BATCH; ++i) sink += gs_db_distance(db, p[2 * i], p[2 * i + 1]);
+        t[b] = (now() - t0) / BATCH;
+    }
+    qsort(t, NB, sizeof *t, cmp_double);
+    if (sink == 42.4242) puts(""); /* keep the loop */
+    return 1e9 * t[NB / 2];
+}
+
+/* The child: build, measure, print one line "n tree fields fits total bpv q". */
+static int run_one(const char *what, const gs_build_options *opt, int fd)
+{
+    gs_mesh *m = NULL;
+    gs_error err;
+    if (load(what, &m, &err)) {
+        fprintf(stderr, "bench_scale: %s: %s\n", what, err.message);
+        return 1;
+    }
+    gs_db *db = NULL;
+    gs_build_stats st;
+    if (gs_db_build(m, opt, &db, &st, &err)) {
+        fprintf(stderr, "bench_scale: %s: %s\n", what, err.message);
+        return 1;
+    }
+    gs_db_info info;
+    gs_db_get_info(db, &info, &err);
+    double q = median_query_ns(db, info.n_vertices);
+    dprintf(fd, "%u %.3f %.3f %.3f %.3f %.1f %.1f %.2f\n", info.n_vertices, st.seconds_tree, st.seconds_fields,
+            st.seconds_fits, st.seconds_total, info.bytes_per_vertex, q, info.cost);
+    gs_db_free(db);
+    gs_mesh_free(m);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    gs_build_options opt;
+    gs_build_options_default(&opt);
+    const char *list[32];
+    int nl = 0;
+    double max_n = INFINITY;
+    for (int i = 1; i < argc; ++i) {
+        if (!strcmp(argv[i], "--method") && i + 1 < argc) {
+            gs_error e;
+            if (gs_method_from_name(argv[++i], &opt.method, &e)) {
+                fprintf(stderr, "bench_scale: %s\n", e.message);
+                return 2;
+            }
+        } else if (!strcmp(argv[i], "--threads") && i + 1 < argc)
+            opt.threads = (uint32_t)atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--max-n") && i + 1 < argc)
+            max_n = atof(argv[++i]);
+        else if (nl < 32)
+            list[nl++] = argv[i];
+    }
+    static const char *defaults[] = {"bunny-5k", "bunny-10k", "bunny-20k", "stanford-bunny",
+                                     "homer-60k", "homer-60k*4", "homer-60k*16"};
+    if (nl == 0)
+        for (size_t i = 0; i < sizeof defaults / sizeof *defaults; ++i) list[nl++] = defaults[i];
+    printf("method %s, threads %u\n", gs_method_name(opt.method), opt.threads);
+    printf("%-16s %9s %8s %9s %8s %9s %9s %8s %10s %6s\n", "mesh", "n", "tree s", "fields s", "fits s",
+           "total s", "peak MiB", "B/vert", "query ns", "cost");
+    double lx[32], ly[32];
+    int nfit = 0;
+    for (int i = 0; i < nl; ++i) {
+        int pfd[2];
+        if (pipe(pfd)) return 1;
+        pid_t pid = fork();
+        if (pid == 0) {
+            close(pfd[0]);
+            _exit(run_one(list[i], &opt, pfd[1]));
+        }
+        close(pfd[1]);
+        char line[512] = "";
+        ssize_t k = read(pfd[0], line, sizeof line - 1);
+        close(pfd[0]);
+        int status = 0;
+        struct rusage ru;
+        wait4(pid, &status, 0, &ru);
+        unsigned n = 0;
+        double tt, tf, tfi, tot, bpv, q, cost;
+        if (k <= 0 || sscanf(line, "%u %lf %lf %lf %lf %lf %lf %lf", &n, &tt, &tf, &tfi, &tot, &bpv, &q, &cost) != 8) {
+            printf("%-16s skipped (see the message above)\n", list[i]);
+            continue;
+        }
+        printf("%-16s %9u %8.2f %9.2f %8.2f %9.2f %9.1f %8.1f %10.0f %6.1f\n", list[i], n, tt, tf, tfi, tot,
+               ru.ru_maxrss / 1024.0, bpv, q, cost);
+        fflush(stdout);
+        if (n <= max_n && nfit < 32) lx[nfit] = log((double)n), ly[nfit++] = log(tot);
+    }
+    if (nfit >= 2) { /* least-squares slope of log(time) against log(n) */
+        double mx = 0, my = 0, sxx = 0, sxy = 0;
+        for (int i = 0; i < nfit; ++i) mx += lx[i] / nfit, my += ly[i] / nfit;
+        for (int i = 0; i < nfit; ++i) sxx += (lx[i] - mx) * (lx[i] - mx), sxy += (lx[i] - mx) * (ly[i] - my);
+        printf("fitted exponent of build time against n: %.2f (paper, Figure 9: 1.5)\n", sxx > 0 ? sxy / sxx : 0);
+    }
+    return 0;
+}
