@@ -8,7 +8,7 @@
 #include <unistd.h>
 
 const char usage_build[] =
-    "usage: geosep build MESH -o DB [--method exact|graph] [--vmax N] [--mmax N] [--tol F]\n"
+    "usage: geosep build MESH -o DB [--method exact|graph|fmm|heat] [--vmax N] [--mmax N] [--tol F]\n"
     "                    [--threads N] [--vertex-sources] [--sampled] [--seed N] [--spacing F]\n"
     "                    [--leaf-exact] [--quiet]\n"
     "  Build a query database: nested bisection tree (leaves of at most --vmax\n"
@@ -40,7 +40,7 @@ const char usage_eval[] =
     "  sources), maximum relative error, cost (numbers stored per vertex, as\n"
     "  Table 1 counts them), bytes per vertex, tree depth, query speed.\n";
 const char usage_land[] =
-    "usage: geosep land MESH --landmarks M --groundtruth FILE.gt [--method exact|graph]\n"
+    "usage: geosep land MESH --landmarks M --groundtruth FILE.gt [--method exact|graph|fmm|heat]\n"
     "  The LAND baseline (Burghard & Klein 2015) with M landmarks, evaluated\n"
     "  against FILE.gt like geosep eval.\n";
 

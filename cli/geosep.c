@@ -33,9 +33,9 @@ static const char usage_generate[] =
 
 static const char usage_solve[] =
     "usage: geosep solve MESH --source V [--source V ...] [--source-point F:b0,b1,b2 ...]\n"
-    "                    [--method exact|graph] [--max-distance D] [-o OUT] [--verbose]\n"
+    "                    [--method exact|graph|fmm|heat] [--max-distance D] [-o OUT] [--verbose]\n"
     "       geosep solve MESH --format gt (--sources-from FILE.gt | --random K [--seed S]) -o OUT.gt\n"
-    "                    [--method exact|graph] [--verbose]\n"
+    "                    [--method exact|graph|fmm|heat] [--verbose]\n"
     "  Geodesic distances from the sources to every vertex. Text output: one\n"
     "  distance per line in vertex order (\"%.17g\", \"inf\" if unreachable), the\n"
     "  minimum over all sources, to OUT or stdout. --source V is a vertex id\n"
@@ -206,7 +206,7 @@ static int solve_option(solve_opts *o, int argc, char **argv, int *i)
         case 2: {
             gs_error err = {0};
             if (gs_method_from_name(v, &o->method, &err))
-                return fail(EXIT_USAGE, "solve: --method '%s': expected exact or graph", v);
+                return fail(EXIT_USAGE, "solve: --method '%s': expected exact, graph, fmm or heat", v);
             return 0;
         }
         case 3:

@@ -194,10 +194,12 @@ uint32_t gs_patch_vertex_from_mesh(const gs_patch *patch, uint32_t mesh_vertex);
 
 typedef enum gs_method {
     GS_METHOD_EXACT = 0, /* exact polyhedral distances, window propagation   */
-    GS_METHOD_GRAPH = 1  /* Dijkstra on the edge graph (upper bound, baseline) */
+    GS_METHOD_GRAPH = 1, /* Dijkstra on the edge graph (upper bound, baseline) */
+    GS_METHOD_FMM = 2,   /* fast marching (Kimmel & Sethian 1998)            */
+    GS_METHOD_HEAT = 3   /* the heat method (Crane et al. 2013), CHOLMOD      */
 } gs_method;
 
-/* Text name ("exact", "graph") of a method, or NULL if unknown. */
+/* Text name ("exact", "graph", "fmm", "heat") of a method, or NULL. */
 const char *gs_method_name(gs_method method);
 /* Method from its name; GS_EARG if unknown. */
 int gs_method_from_name(const char *name, gs_method *method, gs_error *err);

@@ -27,6 +27,8 @@ typedef struct gs_method_ops {
 
 extern const gs_method_ops gs_exact_ops; /* exact.c  */
 extern const gs_method_ops gs_graph_ops; /* graph.c  */
+extern const gs_method_ops gs_fmm_ops;   /* fmm.c    */
+extern const gs_method_ops gs_heat_ops;  /* heat.c   */
 
 /* Position of a source point: p = sum_i bary[i] * corner_i. */
 void gs_source_position(const gs_topo *t, const gs_source *s, double p[3]);

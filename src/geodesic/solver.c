@@ -21,6 +21,8 @@ static const gs_method_ops *ops_of(gs_method m)
     switch (m) {
     case GS_METHOD_EXACT: return &gs_exact_ops;
     case GS_METHOD_GRAPH: return &gs_graph_ops;
+    case GS_METHOD_FMM: return &gs_fmm_ops;
+    case GS_METHOD_HEAT: return &gs_heat_ops;
     default: return NULL;
     }
 }
@@ -33,13 +35,13 @@ const char *gs_method_name(gs_method m)
 
 int gs_method_from_name(const char *name, gs_method *m, gs_error *err)
 {
-    static const gs_method all[] = {GS_METHOD_EXACT, GS_METHOD_GRAPH};
+    static const gs_method all[] = {GS_METHOD_EXACT, GS_METHOD_GRAPH, GS_METHOD_FMM, GS_METHOD_HEAT};
     for (size_t i = 0; name && i < sizeof all / sizeof all[0]; ++i)
         if (strcmp(name, ops_of(all[i])->name) == 0) {
             *m = all[i];
             return GS_OK;
         }
-    return gs__fail(err, GS_EARG, "unknown method '%s' (expected exact or graph)",
+    return gs__fail(err, GS_EARG, "unknown method '%s' (expected exact, graph, fmm or heat)",
                     name ? name : "(null)");
 }
 

@@ -1,0 +1,493 @@
+/* heat.c - the heat method (Crane, Weischedel & Wardetzky 2013, "Geodesics
+ * in heat"): heat flow u = (M + tL)^-1 delta for a short time t, the unit
+ * field X = -grad u / |grad u| per face, and the Poisson problem
+ * L phi = -div X, whose solution is the distance up to a constant.
+ *
+ * Discretisation (choices, in order):
+ *  - Intrinsic Delaunay triangulation (Bobenko & Springborn 2007; Sharp,
+ *    Soliman & Crane 2019): edges are flipped on edge lengths alone until
+ *    every interior edge satisfies cot a + cot b >= 0, so the cotan weights
+ *    are non-negative and slivers (bunny-5k has 0.4 degree corners) give
+ *    well-conditioned matrices. Before flipping, lengths are mollified
+ *    (Sharp & Crane 2020): if some triangle violates the triangle
+ *    inequality by less than a margin eps = 1e-5 * mean edge length, every
+ *    length is increased by the same delta so that all triangles satisfy it
+ *    with that margin (a no-op on ordinary meshes; it keeps areas > 0).
+ *  - L: the cotan Laplacian (positive semi-definite sign), M: lumped
+ *    barycentric mass (area / 3 per corner), on the intrinsic mesh.
+ *  - t = h^2 with h the mean edge length of the input mesh (field t_step).
+ *  - Boundaries: the paper's recommendation, the average of the Neumann
+ *    heat flow (the plain system) and the Dirichlet one (u = 0 on boundary
+ *    vertices: a second factorisation over interior vertices). Closed
+ *    patches use the Neumann factor only.
+ *  - Poisson: L is singular (constants per connected component); one vertex
+ *    per component is pinned to 0 (its row and column replaced by the
+ *    identity's), which makes the matrix positive definite without
+ *    perturbing the solution (the right-hand side sums to zero per
+ *    component exactly). Dirichlet vertices and unreferenced ones are fixed
+ *    the same way, so all (up to) three matrices share one sparsity pattern
+ *    and one fill-reducing analysis; each is factored once in create.
+ *  - Each component is shifted so that its smallest value over the sources
+ *    it holds is 0; vertex sources get 0, tiny negatives are clamped to 0.
+ *    Components (and unreferenced vertices) without a source get +INFINITY.
+ *    max_distance is ignored: the whole field is computed anyway.
+ * Sources: vertex v adds 1 to delta_v; a point of face f adds bary_i to the
+ * corners of f; several sources sum their deltas. */
+#include "../linalg/sparse.h"
+#include "geodesic_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct heat_state {
+    const gs_topo *t;
+    uint32_t nv, nf;
+    double t_step;      /* heat time step t (h^2 by default)                */
+    double h_mean;      /* mean edge length of the input mesh               */
+    /* intrinsic Delaunay triangulation: same faces count, flipped corners */
+    uint32_t *itri;     /* 3*nf vertices                                    */
+    uint32_t *iopp;     /* 3*nf twins (or GS_NONE)                          */
+    double *ilen;       /* 3*nf lengths                                     */
+    double *cot;        /* 3*nf cotangent of the angle at corner h          */
+    double *area;       /* nf                                               */
+    double *mass;       /* nv lumped mass                                   */
+    uint32_t *comp;     /* nv component id, GS_NONE if unreferenced         */
+    uint32_t n_comp;
+    /* free vertices of each system (GS_NONE: fixed to 0, identity row) */
+    uint32_t *map_n;    /* heat, Neumann: every referenced vertex           */
+    uint32_t *map_d;    /* heat, Dirichlet: referenced interior vertices    */
+    uint32_t *map_p;    /* Poisson: referenced, minus one pin per component */
+    gs_sparse_factor *heat_n, *heat_d, *poisson;
+    /* work arrays (nv each) */
+    double *b, *x, *u, *div, *phi, *cmin;
+    uint64_t n_flips;
+} heat_state;
+
+/* ---- intrinsic geometry ------------------------------------------------- */
+
+/* Area of a triangle from its lengths (Kahan's stable Heron formula). */
+static double tri_area(double a, double b, double c)
+{
+    double s; /* sort a >= b >= c */
+    if (a < b) { s = a; a = b; b = s; }
+    if (b < c) { s = b; b = c; c = s; }
+    if (a < b) { s = a; a = b; b = s; }
+    double q = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
+    return q > 0 ? 0.25 * sqrt(q) : 0.0;
+}
+
+/* cot of the angle opposite length a in the triangle (a, b, c). */
+static double cot_opposite(double a, double b, double c)
+{
+    double A = tri_area(a, b, c);
+    if (!(A > 0)) return 0.0;
+    return (b * b + c * c - a * a) / (4.0 * A);
+}
+
+/* Sum of the cotangents opposite interior edge h (in both faces). */
+static double edge_cot_sum(const heat_state *s, uint32_t h)
+{
+    uint32_t g = s->iopp[h];
+    double a = cot_opposite(s->ilen[h], s->ilen[gs_next(h)], s->ilen[gs_prev(h)]);
+    double b = cot_opposite(s->ilen[g], s->ilen[gs_next(g)], s->ilen[gs_prev(g)]);
+    return a + b;
+}
+
+static void set_slot(heat_state *s, uint32_t slot, uint32_t twin, double len)
+{
+    s->iopp[slot] = twin;
+    s->ilen[slot] = len;
+    if (twin != GS_NONE) s->iopp[twin] = slot;
+}
+
+/* Flip interior edge h (from a to b; c opposite in its face, d opposite in
+ * the twin's face). Returns 0 if the configuration is degenerate. */
+static int flip_edge(heat_state *s, uint32_t h)
+{
+    uint32_t g = s->iopp[h];
+    uint32_t f1 = h / 3, f2 = g / 3;
+    if (f1 == f2) return 0;
+    uint32_t nh = gs_next(h), ph = gs_prev(h), ng = gs_next(g), pg = gs_prev(g);
+    uint32_t a = s->itri[h], b = s->itri[nh], c = s->itri[ph], d = s->itri[pg];
+    if (c == d) return 0;
+    uint32_t o_nh = s->iopp[nh], o_ph = s->iopp[ph], o_ng = s->iopp[ng], o_pg = s->iopp[pg];
+    uint32_t outer[4] = {o_nh, o_ph, o_ng, o_pg};
+    for (int k = 0; k < 4; ++k)
+        if (outer[k] != GS_NONE && (outer[k] / 3 == f1 || outer[k] / 3 == f2)) return 0;
+    double l_ab = s->ilen[h], l_bc = s->ilen[nh], l_ca = s->ilen[ph];
+    double l_ad = s->ilen[ng], l_db = s->ilen[pg];
+    /* lay out a = (0,0), b = (l_ab, 0), c above, d below */
+    double cx = (l_ab * l_ab + l_ca * l_ca - l_bc * l_bc) / (2 * l_ab);
+    double cy = sqrt(fmax(l_ca * l_ca - cx * cx, 0.0));
+    double dx = (l_ab * l_ab + l_ad * l_ad - l_db * l_db) / (2 * l_ab);
+    double dy = -sqrt(fmax(l_ad * l_ad - dx * dx, 0.0));
+    double l_cd = hypot(cx - dx, cy - dy);
+    if (!(l_cd > 0) || !isfinite(l_cd)) return 0;
+    /* new faces: f1 = (d, c, a), f2 = (c, d, b); h and g are the diagonal */
+    s->itri[h] = d; s->itri[nh] = c; s->itri[ph] = a;
+    s->itri[g] = c; s->itri[ng] = d; s->itri[pg] = b;
+    s->iopp[h] = g; s->iopp[g] = h;
+    s->ilen[h] = s->ilen[g] = l_cd;
+    set_slot(s, nh, o_ph, l_ca); /* c -> a */
+    set_slot(s, ph, o_ng, l_ad); /* a -> d */
+    set_slot(s, ng, o_pg, l_db); /* d -> b */
+    set_slot(s, pg, o_nh, l_bc); /* b -> c */
+    return 1;
+}
+
+static int make_intrinsic_delaunay(heat_state *s, gs_error *err)
+{
+    const gs_topo *t = s->t;
+    size_t nh = 3 * (size_t)s->nf;
+    memcpy(s->itri, t->tri, nh * sizeof *s->itri);
+    memcpy(s->iopp, t->opp, nh * sizeof *s->iopp);
+    memcpy(s->ilen, t->len, nh * sizeof *s->ilen);
+    /* mollification (Sharp & Crane 2020) */
+    double eps = 1e-5 * s->h_mean, delta = 0;
+    for (uint32_t f = 0; f < s->nf; ++f)
+        for (int i = 0; i < 3; ++i) {
+            double a = s->ilen[3 * f + i], b = s->ilen[3 * f + (i + 1) % 3],
+                   c = s->ilen[3 * f + (i + 2) % 3];
+            delta = fmax(delta, eps - (b + c - a));
+        }
+    if (delta > 0)
+        for (size_t h = 0; h < nh; ++h) s->ilen[h] += delta;
+    /* flip non-Delaunay edges: a stack of half-edge slots */
+    uint32_t *stack = gs__malloc(nh ? nh : 1, sizeof *stack);
+    uint8_t *queued = gs__calloc(nh ? nh : 1, 1);
+    if (!stack || !queued) {
+        free(stack);
+        free(queued);
+        return gs__fail(err, GS_ENOMEM, "out of memory building the intrinsic triangulation");
+    }
+    size_t top = 0;
+    for (size_t h = 0; h < nh; ++h)
+        if (s->iopp[h] != GS_NONE && h < s->iopp[h]) {
+            stack[top++] = (uint32_t)h;
+            queued[h] = 1;
+        }
+    uint64_t max_flips = 50 * (uint64_t)nh + 1000;
+    while (top && s->n_flips < max_flips) {
+        uint32_t h = stack[--top];
+        queued[h] = 0;
+        if (s->iopp[h] == GS_NONE) continue;
+        if (edge_cot_sum(s, h) >= -1e-10) continue;
+        if (!flip_edge(s, h)) continue;
+        s->n_flips++;
+        uint32_t g = s->iopp[h];
+        uint32_t around[4] = {gs_next(h), gs_prev(h), gs_next(g), gs_prev(g)};
+        for (int k = 0; k < 4; ++k) {
+            uint32_t e = around[k];
+            if (s->iopp[e] == GS_NONE) continue;
+            if (!queued[e] && top < nh) {
+                stack[top++] = e;
+                queued[e] = 1;
+            }
+        }
+    }
+    free(stack);
+    free(queued);
+    return GS_OK;
+}
+
+/* ---- matrices ----------------------------------------------------------- */
+
+static uint32_t comp_find(uint32_t *p, uint32_t x)
+{
+    while (p[x] != x) {
+        p[x] = p[p[x]];
+        x = p[x];
+    }
+    return x;
+}
+
+static void build_geometry(heat_state *s)
+{
+    memset(s->mass, 0, s->nv * sizeof *s->mass);
+    for (uint32_t f = 0; f < s->nf; ++f) {
+        const double *l = s->ilen + 3 * (size_t)f;
+        double A = tri_area(l[0], l[1], l[2]);
+        s->area[f] = A;
+        for (int i = 0; i < 3; ++i) {
+            /* corner i is opposite half-edge (i + 1) % 3 */
+            double opp = l[(i + 1) % 3], b = l[i], c = l[(i + 2) % 3];
+            s->cot[3 * (size_t)f + i] = A > 0 ? (b * b + c * c - opp * opp) / (4.0 * A) : 0.0;
+            s->mass[s->itri[3 * (size_t)f + i]] += A / 3.0;
+        }
+    }
+}
+
+/* Assemble and factor the nv x nv matrix a*M + c*L on the free vertices
+ * (map[v] != GS_NONE); a fixed vertex v gets the row and column of the
+ * identity (x_v = b_v = 0), its couplings kept as explicit zeros. So every
+ * system of a patch has the same sparsity pattern, and the fill-reducing
+ * analysis of the first one (like == NULL) is reused by the others. */
+static gs_sparse_factor *factor_system(const heat_state *s, const uint32_t *map, double a,
+                                       double c, const gs_sparse_factor *like, gs_error *err)
+{
+    size_t cap = (size_t)s->nv + 3 * (size_t)s->nf * 3;
+    uint32_t *ti = gs__malloc(cap, sizeof *ti), *tj = gs__malloc(cap, sizeof *tj);
+    double *tx = gs__malloc(cap, sizeof *tx);
+    if (!ti || !tj || !tx) {
+        free(ti), free(tj), free(tx);
+        gs__fail(err, GS_ENOMEM, "out of memory assembling the heat method's matrices");
+        return NULL;
+    }
+    size_t k = 0;
+    for (uint32_t v = 0; v < s->nv; ++v) {
+        ti[k] = tj[k] = v;
+        tx[k++] = map[v] != GS_NONE ? a * s->mass[v] : 1.0;
+    }
+    /* every half-edge h: weight cot(angle opposite h) / 2 */
+    for (size_t h = 0; h < 3 * (size_t)s->nf; ++h) {
+        double w = 0.5 * s->cot[3 * (h / 3) + (h % 3 + 2) % 3] * c;
+        uint32_t i = s->itri[h], j = s->itri[gs_next((uint32_t)h)];
+        int fi = map[i] != GS_NONE, fj = map[j] != GS_NONE;
+        if (i == j) continue;
+        if (fi) ti[k] = tj[k] = i, tx[k++] = w;
+        if (fj) ti[k] = tj[k] = j, tx[k++] = w;
+        ti[k] = i > j ? i : j;
+        tj[k] = i > j ? j : i;
+        tx[k++] = fi && fj ? -w : 0.0;
+    }
+    gs_sparse_factor *F = gs_sparse_factor_create(s->nv, k, ti, tj, tx, like, err);
+    free(ti), free(tj), free(tx);
+    return F;
+}
+
+static void heat_destroy(void *state)
+{
+    heat_state *s = state;
+    if (!s) return;
+    gs_sparse_factor_free(s->heat_n);
+    gs_sparse_factor_free(s->heat_d);
+    gs_sparse_factor_free(s->poisson);
+    free(s->itri), free(s->iopp), free(s->ilen), free(s->cot), free(s->area);
+    free(s->mass), free(s->comp), free(s->map_n), free(s->map_d), free(s->map_p);
+    free(s->b), free(s->x), free(s->u), free(s->div), free(s->phi), free(s->cmin);
+    free(s);
+}
+
+static int heat_create(const gs_topo *t, void **state, gs_error *err)
+{
+    heat_state *s = calloc(1, sizeof *s);
+    if (!s) return gs__fail(err, GS_ENOMEM, "out of memory creating a heat solver");
+    s->t = t;
+    s->nv = t->nv;
+    s->nf = t->nf;
+    size_t nh = 3 * (size_t)t->nf, nv = t->nv ? t->nv : 1;
+    s->itri = gs__malloc(nh + 1, sizeof *s->itri);
+    s->iopp = gs__malloc(nh + 1, sizeof *s->iopp);
+    s->ilen = gs__malloc(nh + 1, sizeof *s->ilen);
+    s->cot = gs__malloc(nh + 1, sizeof *s->cot);
+    s->area = gs__malloc(t->nf + 1, sizeof *s->area);
+    s->mass = gs__malloc(nv, sizeof *s->mass);
+    s->comp = gs__malloc(nv, sizeof *s->comp);
+    s->map_n = gs__malloc(nv, sizeof *s->map_n);
+    s->map_d = gs__malloc(nv, sizeof *s->map_d);
+    s->map_p = gs__malloc(nv, sizeof *s->map_p);
+    s->b = gs__malloc(nv, sizeof(double));
+    s->x = gs__malloc(nv, sizeof(double));
+    s->u = gs__malloc(nv, sizeof(double));
+    s->div = gs__malloc(nv, sizeof(double));
+    s->phi = gs__malloc(nv, sizeof(double));
+    s->cmin = gs__malloc(nv, sizeof(double));
+    if (!s->itri || !s->iopp || !s->ilen || !s->cot || !s->area || !s->mass || !s->comp ||
+        !s->map_n || !s->map_d || !s->map_p || !s->b || !s->x || !s->u || !s->div ||
+        !s->phi || !s->cmin) {
+        heat_destroy(s);
+        return gs__fail(err, GS_ENOMEM, "out of memory creating a heat solver");
+    }
+    /* mean edge length (each interior edge once) and t = h^2 */
+    double sum = 0;
+    uint64_t ne = 0;
+    for (size_t h = 0; h < nh; ++h)
+        if (t->opp[h] == GS_NONE || h < t->opp[h]) sum += t->len[h], ne++;
+    s->h_mean = ne ? sum / (double)ne : 1.0;
+    s->t_step = s->h_mean * s->h_mean;
+
+    int rc = make_intrinsic_delaunay(s, err);
+    if (rc) {
+        heat_destroy(s);
+        return rc;
+    }
+    build_geometry(s);
+
+    /* connected components (vertices sharing a face), union-find in comp */
+    for (uint32_t v = 0; v < s->nv; ++v) s->comp[v] = v;
+    for (uint32_t f = 0; f < s->nf; ++f) {
+        uint32_t r0 = comp_find(s->comp, t->tri[3 * (size_t)f]);
+        for (int i = 1; i < 3; ++i) {
+            uint32_t r = comp_find(s->comp, t->tri[3 * (size_t)f + i]);
+            if (r == r0) continue;
+            uint32_t lo = r < r0 ? r : r0, hi = r < r0 ? r0 : r;
+            s->comp[hi] = lo;
+            r0 = lo;
+        }
+    }
+    uint8_t *boundary = (uint8_t *)s->b; /* scratch: b holds 8*nv bytes */
+    memset(boundary, 0, s->nv);
+    for (size_t h = 0; h < nh; ++h)
+        if (s->iopp[h] == GS_NONE) {
+            boundary[s->itri[h]] = 1;
+            boundary[s->itri[gs_next((uint32_t)h)]] = 1;
+        }
+    uint8_t *used = boundary + s->nv;
+    memset(used, 0, s->nv);
+    for (size_t h = 0; h < nh; ++h) used[t->tri[h]] = 1;
+    uint32_t nn = 0, nd = 0, np = 0, nb = 0;
+    /* unknowns: every referenced vertex (Neumann heat), the interior ones
+     * (Dirichlet heat) */
+    for (uint32_t v = 0; v < s->nv; ++v) {
+        s->map_n[v] = s->map_d[v] = s->map_p[v] = GS_NONE;
+        if (!used[v]) continue;
+        s->map_n[v] = nn++;
+        if (!boundary[v]) s->map_d[v] = nd++;
+        else nb++;
+    }
+    /* compact component ids: roots are the smallest vertex of each set */
+    uint32_t *cid = s->map_p; /* temporarily: root -> component id */
+    for (uint32_t v = 0; v < s->nv; ++v) cid[v] = GS_NONE;
+    s->n_comp = 0;
+    for (uint32_t v = 0; v < s->nv; ++v) {
+        if (!used[v]) continue;
+        uint32_t r = comp_find(s->comp, v);
+        if (cid[r] == GS_NONE) cid[r] = s->n_comp++;
+    }
+    for (uint32_t v = 0; v < s->nv; ++v) s->comp[v] = comp_find(s->comp, v);
+    for (uint32_t v = 0; v < s->nv; ++v) s->comp[v] = used[v] ? cid[s->comp[v]] : GS_NONE;
+    /* the Poisson pin of a component: its first vertex */
+    uint8_t *pinned_comp = (uint8_t *)s->cmin; /* n_comp <= nv bytes */
+    memset(pinned_comp, 0, s->nv);
+    for (uint32_t v = 0; v < s->nv; ++v) {
+        s->map_p[v] = GS_NONE;
+        if (!used[v]) continue;
+        if (!pinned_comp[s->comp[v]]) {
+            pinned_comp[s->comp[v]] = 1;
+            continue;
+        }
+        s->map_p[v] = np++;
+    }
+
+    gs_error e2 = {0, ""}, *e = err ? err : &e2;
+    (void)nn, (void)nd, (void)np;
+    s->heat_n = factor_system(s, s->map_n, 1.0, s->t_step, NULL, e);
+    if (s->heat_n && nb > 0)
+        s->heat_d = factor_system(s, s->map_d, 1.0, s->t_step, s->heat_n, e);
+    if (s->heat_n && (nb == 0 || s->heat_d))
+        s->poisson = factor_system(s, s->map_p, 0.0, 1.0, s->heat_n, e);
+    if (!s->poisson) {
+        heat_destroy(s);
+        return e->status ? e->status : GS_EINTERNAL;
+    }
+    *state = s;
+    return GS_OK;
+}
+
+/* ---- solve -------------------------------------------------------------- */
+
+/* Solve a system of factor_system: b on the free vertices of map, 0 on the
+ * fixed ones; u (nv) receives the solution, 0 on the fixed vertices. */
+static int heat_flow(heat_state *s, gs_sparse_factor *F, const uint32_t *map, const double *rhs,
+                     double *u, gs_error *err)
+{
+    for (uint32_t v = 0; v < s->nv; ++v) s->x[v] = map[v] != GS_NONE ? rhs[v] : 0.0;
+    int rc = gs_sparse_factor_solve(F, s->x, s->x, err);
+    if (rc) return rc;
+    for (uint32_t v = 0; v < s->nv; ++v) u[v] = map[v] != GS_NONE ? s->x[v] : 0.0;
+    return GS_OK;
+}
+
+/* Integrated divergence of X = -grad u / |grad u| at every vertex, using a
+ * 2D layout of each intrinsic face. */
+static void divergence(heat_state *s)
+{
+    memset(s->div, 0, s->nv * sizeof *s->div);
+    for (uint32_t f = 0; f < s->nf; ++f) {
+        if (!(s->area[f] > 0)) continue;
+        const uint32_t *vi = s->itri + 3 * (size_t)f;
+        const double *l = s->ilen + 3 * (size_t)f; /* l[0]=|p0p1| l[1]=|p1p2| l[2]=|p2p0| */
+        double p[3][2];
+        p[0][0] = 0, p[0][1] = 0;
+        p[1][0] = l[0], p[1][1] = 0;
+        p[2][0] = (l[0] * l[0] + l[2] * l[2] - l[1] * l[1]) / (2 * l[0]);
+        p[2][1] = 2 * s->area[f] / l[0];
+        double g[2] = {0, 0};
+        for (int i = 0; i < 3; ++i) {
+            /* edge opposite corner i, counter-clockwise, rotated by +90 deg */
+            const double *a = p[(i + 1) % 3], *b = p[(i + 2) % 3];
+            double ex = b[0] - a[0], ey = b[1] - a[1];
+            double ui = s->u[vi[i]];
+            g[0] += ui * -ey;
+            g[1] += ui * ex;
+        }
+        double n = hypot(g[0], g[1]);
+        if (!(n > 0) || !isfinite(n)) continue;
+        double X[2] = {-g[0] / n, -g[1] / n};
+        const double *ct = s->cot + 3 * (size_t)f;
+        for (int i = 0; i < 3; ++i) {
+            int j = (i + 1) % 3, k = (i + 2) % 3;
+            double e1 = (p[j][0] - p[i][0]) * X[0] + (p[j][1] - p[i][1]) * X[1];
+            double e2 = (p[k][0] - p[i][0]) * X[0] + (p[k][1] - p[i][1]) * X[1];
+            s->div[vi[i]] += 0.5 * (ct[k] * e1 + ct[j] * e2);
+        }
+    }
+}
+
+static int heat_solve(void *state, const gs_source *src, uint32_t n_src, double max_d,
+                      double *dist, gs_solve_stats *stats, gs_error *err)
+{
+    (void)max_d;
+    heat_state *s = state;
+    const gs_topo *t = s->t;
+    uint32_t nv = s->nv;
+    /* delta: the sum of every source's unit impulse */
+    memset(s->b, 0, nv * sizeof *s->b);
+    for (uint32_t i = 0; i < n_src; ++i) {
+        if (src[i].face == GS_NONE) {
+            s->b[src[i].vertex] += 1.0;
+            continue;
+        }
+        for (int k = 0; k < 3; ++k) s->b[t->tri[3 * (size_t)src[i].face + k]] += src[i].bary[k];
+    }
+    int rc = heat_flow(s, s->heat_n, s->map_n, s->b, s->u, err);
+    if (!rc && s->heat_d) {
+        rc = heat_flow(s, s->heat_d, s->map_d, s->b, s->phi, err);
+        for (uint32_t v = 0; v < nv && !rc; ++v) s->u[v] = 0.5 * (s->u[v] + s->phi[v]);
+    }
+    if (rc) return rc;
+    divergence(s);
+    /* L phi = -div on the free vertices of map_p (pins stay 0) */
+    rc = heat_flow(s, s->poisson, s->map_p, s->div, s->phi, err);
+    if (rc) return rc;
+    for (uint32_t v = 0; v < nv; ++v) s->phi[v] = -s->phi[v];
+    /* shift each component: min over its sources is 0 */
+    for (uint32_t c = 0; c < s->n_comp; ++c) s->cmin[c] = INFINITY;
+    for (uint32_t i = 0; i < n_src; ++i) {
+        double val;
+        uint32_t c;
+        if (src[i].face == GS_NONE) {
+            val = s->phi[src[i].vertex];
+            c = s->comp[src[i].vertex];
+        } else {
+            const uint32_t *fv = t->tri + 3 * (size_t)src[i].face;
+            val = 0;
+            for (int k = 0; k < 3; ++k) val += src[i].bary[k] * s->phi[fv[k]];
+            c = s->comp[fv[0]];
+        }
+        if (c != GS_NONE && val < s->cmin[c]) s->cmin[c] = val;
+    }
+    for (uint32_t v = 0; v < nv; ++v) {
+        uint32_t c = s->comp[v];
+        double d = (c == GS_NONE || !isfinite(s->cmin[c])) ? INFINITY : s->phi[v] - s->cmin[c];
+        if (!(d > 0)) d = isnan(d) ? INFINITY : 0.0;
+        dist[v] = d;
+    }
+    for (uint32_t i = 0; i < n_src; ++i)
+        if (src[i].face == GS_NONE) dist[src[i].vertex] = 0.0;
+    stats->windows_propagated += nv; /* vertices solved for (no windows here) */
+    return GS_OK;
+}
+
+const gs_method_ops gs_heat_ops = {"heat", heat_create, heat_destroy, heat_solve};

@@ -1,0 +1,36 @@
+/* sparse.h - a sparse symmetric positive definite factorisation (Cholesky,
+ * backed by SuiteSparse CHOLMOD in cholmod_solver.c, the only file that
+ * includes cholmod.h). Used by the heat method (src/geodesic/heat.c).
+ * A factor owns its workspace: one thread at a time per factor. */
+#ifndef GS_SPARSE_H
+#define GS_SPARSE_H
+
+#include "../core/internal.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct gs_sparse_factor gs_sparse_factor;
+
+/* Factor the n x n symmetric matrix given by nnz triplets (ti[k], tj[k],
+ * tx[k]) of its lower triangle (ti[k] >= tj[k] < n); duplicates are summed,
+ * explicit zeros are kept in the pattern. n may be 0 (solves then do
+ * nothing). like: NULL, or a factor of a matrix with the same n and the
+ * same set of triplet positions, whose fill-reducing ordering and symbolic
+ * analysis are reused (the expensive part for large meshes). Returns NULL
+ * on failure with err set: GS_ENOMEM, GS_EARG (bad triplet or like of
+ * another size), GS_EINTERNAL (not positive definite). */
+gs_sparse_factor *gs_sparse_factor_create(uint32_t n, size_t nnz, const uint32_t *ti,
+                                          const uint32_t *tj, const double *tx,
+                                          const gs_sparse_factor *like, gs_error *err);
+
+/* Solve A x = b (b and x: n doubles; they may alias). Allocation-free after
+ * the first call. */
+int gs_sparse_factor_solve(gs_sparse_factor *f, const double *b, double *x, gs_error *err);
+
+uint32_t gs_sparse_factor_size(const gs_sparse_factor *f);
+
+/* Free a factor; NULL is allowed. */
+void gs_sparse_factor_free(gs_sparse_factor *f);
+
+#endif

@@ -1,0 +1,323 @@
+/* test_heat.c - the heat method (src/geodesic/heat.c): Euclidean distances
+ * on flat grids (with refinement), errors against the exact solver on
+ * generated meshes (peaks, sphere, plate with holes, two components), point
+ * and multiple sources, state reuse, and bunny-5k against the shared ground
+ * truth (section-5 mean relative error) when ../shared is present. */
+#include "check.h"
+#include "geosep.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int all_valid(const double *d, uint32_t n)
+{
+    for (uint32_t v = 0; v < n; ++v)
+        if (isnan(d[v]) || d[v] < 0) return 0;
+    return 1;
+}
+
+/* Mean relative error vs Euclidean distance from the vertex nearest the
+ * centre of grid:N,N, over vertices farther than 3 grid spacings. */
+static double grid_error(uint32_t N)
+{
+    char spec[64];
+    snprintf(spec, sizeof spec, "grid:%u,%u", N, N);
+    gs_mesh *m = NULL;
+    gs_patch *p = NULL;
+    gs_error err;
+    CHECK(gs_mesh_generate(spec, &m, &err) == GS_OK);
+    CHECK(gs_patch_create(m, NULL, 0, &p, &err) == GS_OK);
+    uint32_t n = gs_mesh_num_vertices(m);
+    const double *x = gs_mesh_positions(m);
+    uint32_t s = 0;
+    double best = INFINITY;
+    for (uint32_t v = 0; v < n; ++v) {
+        double d = hypot(x[3 * v] - 0.5, x[3 * v + 1] - 0.5);
+        if (d < best) best = d, s = v;
+    }
+    double *d = malloc(sizeof(double) * n);
+    gs_source src = gs_source_vertex(s);
+    CHECK(gs_distance_field(p, GS_METHOD_HEAT, &src, 1, INFINITY, d, &err) == GS_OK);
+    CHECK(all_valid(d, n));
+    double h = 1.0 / (N - 1), sum = 0;
+    uint32_t cnt = 0;
+    for (uint32_t v = 0; v < n; ++v) {
+        double e = hypot(x[3 * v] - x[3 * s], x[3 * v + 1] - x[3 * s + 1]);
+        if (e <= 3 * h) continue;
+        sum += fabs(d[v] - e) / e;
+        cnt++;
+    }
+    CHECK_NEAR(d[s], 0.0, 0.0);
+    free(d);
+    gs_patch_free(p);
+    gs_mesh_free(m);
+    return sum / cnt;
+}
+
+static void test_grid(void)
+{
+    double e21 = grid_error(21), e41 = grid_error(41), e81 = grid_error(81);
+    printf("grid: mean relative error vs Euclidean: 21x21 %.4f%%, 41x41 %.4f%%, 81x81 %.4f%%\n",
+           100 * e21, 100 * e41, 100 * e81);
+    CHECK_MSG(e41 < 0.03, "grid 41: %g", e41);
+    CHECK_MSG(e81 < e21, "no improvement with refinement: %g vs %g", e81, e21);
+}
+
+/* Mean over sources of the section-5 ME of heat vs exact; checks +inf
+ * agreement and validity. */
+static double compare_exact(const gs_patch *p, const gs_source *src, uint32_t k, uint32_t n,
+                            const uint32_t *ids, const char *name)
+{
+    gs_error err;
+    gs_solver *sh = NULL, *se = NULL;
+    CHECK(gs_solver_create(p, GS_METHOD_HEAT, &sh, &err) == GS_OK);
+    CHECK(gs_solver_create(p, GS_METHOD_EXACT, &se, &err) == GS_OK);
+    double *dh = malloc(sizeof(double) * n), *de = malloc(sizeof(double) * n);
+    double me = 0, mx = 0;
+    for (uint32_t j = 0; j < k; ++j) {
+        CHECK(gs_solver_solve(sh, &src[j], 1, INFINITY, dh, &err) == GS_OK);
+        CHECK(gs_solver_solve(se, &src[j], 1, INFINITY, de, &err) == GS_OK);
+        CHECK_MSG(all_valid(dh, n), "%s: NaN or negative", name);
+        uint32_t inf_mismatch = 0;
+        for (uint32_t v = 0; v < n; ++v)
+            if (isinf(dh[v]) != isinf(de[v])) inf_mismatch++;
+        CHECK_MSG(inf_mismatch == 0, "%s: %u vertices disagree on +inf", name, inf_mismatch);
+        if (ids) {
+            gs_field_errors fe;
+            CHECK(gs_field_errors_compute(de, dh, n, ids[j], &fe, &err) == GS_OK);
+            CHECK_MSG(fe.n_invalid == 0, "%s: %llu invalid", name,
+                      (unsigned long long)fe.n_invalid);
+            me += fe.me / k;
+            mx = fmax(mx, fe.max);
+        } else { /* point sources: the same definition, no source vertex */
+            double sum = 0;
+            uint32_t cnt = 0;
+            for (uint32_t v = 0; v < n; ++v)
+                if (de[v] > 0 && isfinite(de[v])) {
+                    double e = fabs(dh[v] - de[v]) / de[v];
+                    sum += e, cnt++;
+                    mx = fmax(mx, e);
+                }
+            me += cnt ? sum / cnt / k : 0;
+        }
+    }
+    printf("%-10s heat vs exact: ME %.3f%%  max %.2f%%\n", name, 100 * me, 100 * mx);
+    free(dh);
+    free(de);
+    gs_solver_free(sh);
+    gs_solver_free(se);
+    return me;
+}
+
+static void test_generated(const char *spec)
+{
+    gs_mesh *m = NULL;
+    gs_patch *p = NULL;
+    gs_error err;
+    if (gs_mesh_generate(spec, &m, &err) != GS_OK) {
+        CHECK_MSG(0, "%s: %s", spec, err.message);
+        return;
+    }
+    CHECK(gs_patch_create(m, NULL, 0, &p, &err) == GS_OK);
+    uint32_t n = gs_mesh_num_vertices(m), ids[4];
+    CHECK(gs_mesh_random_vertices(m, 4, 1, ids, &err) == GS_OK);
+    gs_source src[4];
+    for (int j = 0; j < 4; ++j) src[j] = gs_source_vertex(ids[j]);
+    double me = compare_exact(p, src, 4, n, ids, spec);
+    CHECK_MSG(me < 0.10, "%s: ME %g", spec, me);
+    gs_patch_free(p);
+    gs_mesh_free(m);
+}
+
+/* Slivers: grid:31,31 with every third interior vertex slid 99.5% of the
+ * way to its right neighbour (corners of about 0.3 degrees, flattened
+ * triangles). The field must stay finite and close to the exact one. */
+static void test_slivers(void)
+{
+    gs_mesh *g = NULL, *m = NULL;
+    gs_patch *p = NULL;
+    gs_error err;
+    const uint32_t N = 31;
+    CHECK(gs_mesh_generate("grid:31,31", &g, &err) == GS_OK);
+    uint32_t n = gs_mesh_num_vertices(g), nf = gs_mesh_num_faces(g);
+    double *x = malloc(sizeof(double) * 3 * n), h = 1.0 / (N - 1);
+    memcpy(x, gs_mesh_positions(g), sizeof(double) * 3 * n);
+    uint32_t moved = 0;
+    for (uint32_t v = 0; v < n; ++v) {
+        long i = lround(x[3 * v] / h), j = lround(x[3 * v + 1] / h);
+        if (i % 3 == 1 && j % 3 == 1 && i < (long)N - 1 && j < (long)N - 1) {
+            x[3 * v] += 0.995 * h;
+            moved++;
+        }
+    }
+    CHECK(moved > 50);
+    CHECK(gs_mesh_create(x, n, gs_mesh_faces(g), nf, &m, &err) == GS_OK);
+    free(x);
+    if (!m) {
+        gs_mesh_free(g);
+        return;
+    }
+    CHECK(gs_patch_create(m, NULL, 0, &p, &err) == GS_OK);
+    uint32_t ids[4];
+    CHECK(gs_mesh_random_vertices(m, 4, 3, ids, &err) == GS_OK);
+    gs_source src[4];
+    for (int j = 0; j < 4; ++j) src[j] = gs_source_vertex(ids[j]);
+    double me = compare_exact(p, src, 4, n, ids, "slivers");
+    CHECK_MSG(me < 0.10, "slivers: ME %g", me);
+    gs_patch_free(p);
+    gs_mesh_free(m);
+    gs_mesh_free(g);
+}
+
+/* A nearly flat triangle (B lifted by eps off the segment AC): the
+ * mollified lengths keep the matrices positive definite, no NaN. The
+ * smallest eps the mesh validation accepts is used. */
+static void test_degenerate(void)
+{
+    /* A B C almost on a line, D above; faces ABD, BCD and the flat ACB */
+    double xyz[] = {0, 0, 0, 1, 0, 0, 2, 0, 0, 1, 1, 0};
+    const uint32_t tri[] = {0, 1, 3, 1, 2, 3, 0, 2, 1};
+    gs_mesh *m = NULL;
+    gs_patch *p = NULL;
+    gs_error err;
+    double eps = 1e-14;
+    for (; eps < 1e-3 && !m; eps *= 10) {
+        xyz[4] = eps;
+        if (gs_mesh_create(xyz, 4, tri, 3, &m, &err) != GS_OK) m = NULL;
+    }
+    CHECK(m != NULL);
+    if (!m) return;
+    CHECK(gs_patch_create(m, NULL, 0, &p, &err) == GS_OK);
+    double d[4];
+    for (uint32_t s0 = 0; s0 < 4; ++s0) {
+        gs_source s = gs_source_vertex(s0);
+        CHECK(gs_distance_field(p, GS_METHOD_HEAT, &s, 1, INFINITY, d, &err) == GS_OK);
+        for (int v = 0; v < 4; ++v)
+            CHECK_MSG(isfinite(d[v]) && d[v] >= 0, "vertex %d: %g", v, d[v]);
+        if (s0 == 0)
+            printf("degenerate (lift %.0e): heat from A: %.4f %.4f %.4f %.4f\n", eps / 10, d[0],
+                   d[1], d[2], d[3]);
+    }
+    gs_patch_free(p);
+    gs_mesh_free(m);
+}
+
+/* A point source inside a face, several sources at once, and A, B, A with
+ * one solver giving bit-identical fields. */
+static void test_points_multi_reuse(void)
+{
+    gs_mesh *m = NULL;
+    gs_patch *p = NULL;
+    gs_error err;
+    CHECK(gs_mesh_generate("peaks:40", &m, &err) == GS_OK);
+    CHECK(gs_patch_create(m, NULL, 0, &p, &err) == GS_OK);
+    uint32_t n = gs_mesh_num_vertices(m), nf = gs_mesh_num_faces(m);
+    gs_source pt[2] = {gs_source_point(nf / 3, 0.2, 0.5, 0.3),
+                       gs_source_point(2 * nf / 3 + 1, 0.6, 0.1, 0.3)};
+    double me = compare_exact(p, pt, 2, n, NULL, "points");
+    CHECK_MSG(me < 0.10, "point sources: ME %g", me);
+
+    uint32_t ids[3];
+    CHECK(gs_mesh_random_vertices(m, 3, 7, ids, &err) == GS_OK);
+    gs_source ms[3] = {gs_source_vertex(ids[0]), gs_source_vertex(ids[1]), gs_source_vertex(ids[2])};
+    gs_solver *sh = NULL;
+    CHECK(gs_solver_create(p, GS_METHOD_HEAT, &sh, &err) == GS_OK);
+    double *a = malloc(sizeof(double) * n), *b = malloc(sizeof(double) * n),
+           *a2 = malloc(sizeof(double) * n), *ex = malloc(sizeof(double) * n);
+    CHECK(gs_solver_solve(sh, ms, 3, INFINITY, a, &err) == GS_OK);
+    CHECK(gs_distance_field(p, GS_METHOD_EXACT, ms, 3, INFINITY, ex, &err) == GS_OK);
+    double sum = 0;
+    uint32_t cnt = 0;
+    for (uint32_t v = 0; v < n; ++v)
+        if (ex[v] > 0) sum += fabs(a[v] - ex[v]) / ex[v], cnt++;
+    printf("multi-source (3) heat vs exact: ME %.3f%%\n", 100 * sum / cnt);
+    CHECK_MSG(sum / cnt < 0.10, "multi-source ME %g", sum / cnt);
+    for (int j = 0; j < 3; ++j) CHECK(a[ids[j]] == 0.0);
+    CHECK(all_valid(a, n));
+
+    CHECK(gs_solver_solve(sh, &pt[0], 1, INFINITY, b, &err) == GS_OK);
+    CHECK(gs_solver_solve(sh, ms, 3, INFINITY, a2, &err) == GS_OK);
+    CHECK_MSG(memcmp(a, a2, sizeof(double) * n) == 0, "A, B, A: fields differ");
+    CHECK(memcmp(a, b, sizeof(double) * n) != 0);
+    free(a), free(b), free(a2), free(ex);
+    gs_solver_free(sh);
+    gs_patch_free(p);
+    gs_mesh_free(m);
+}
+
+static void test_bunny(void)
+{
+    const char *mp = gs_test_shared_path("meshes/bunny-5k.obj");
+    if (!mp) {
+        printf("bunny-5k: skipped (shared meshes/bunny-5k.obj not found)\n");
+        return;
+    }
+    gs_mesh *m = NULL;
+    gs_patch *p = NULL;
+    gs_gt *gt = NULL;
+    gs_error err;
+    CHECK(gs_mesh_load(mp, GS_FORMAT_AUTO, &m, &err) == GS_OK);
+    const char *gp = gs_test_shared_path("groundtruth/bunny-5k.gt");
+    if (!m || !gp || gs_gt_read(gp, &gt, &err) != GS_OK) {
+        printf("bunny-5k: skipped (ground truth groundtruth/bunny-5k.gt not readable)\n");
+        gs_mesh_free(m);
+        return;
+    }
+    CHECK(gs_patch_create(m, NULL, 0, &p, &err) == GS_OK);
+    uint32_t n = gs_mesh_num_vertices(m);
+    CHECK(gt->n_vertices == n);
+    gs_solver *sh = NULL;
+    double t0 = now();
+    CHECK(gs_solver_create(p, GS_METHOD_HEAT, &sh, &err) == GS_OK);
+    double t_create = now() - t0;
+    double *d = malloc(sizeof(double) * n);
+    double me = 0, rmse = 0, mx = 0, t_solve = 0;
+    for (uint32_t j = 0; j < gt->n_sources; ++j) {
+        gs_source s = gs_source_vertex(gt->sources[j]);
+        t0 = now();
+        CHECK(gs_solver_solve(sh, &s, 1, INFINITY, d, &err) == GS_OK);
+        t_solve += now() - t0;
+        gs_field_errors fe;
+        CHECK(gs_field_errors_compute(gt->dist + (size_t)j * n, d, n, gt->sources[j], &fe,
+                                      &err) == GS_OK);
+        CHECK(fe.n_invalid == 0);
+        me += fe.me / gt->n_sources;
+        rmse += fe.rmse / gt->n_sources;
+        mx = fmax(mx, fe.max);
+    }
+    printf("bunny-5k heat vs ground truth (%u sources): ME %.3f%%  RMSE %.3f%%  max %.2f%%\n",
+           gt->n_sources, 100 * me, 100 * rmse, 100 * mx);
+    printf("bunny-5k heat: create (intrinsic Delaunay + factorisations) %.1f ms, solve %.2f ms "
+           "per source\n", 1e3 * t_create, 1e3 * t_solve / gt->n_sources);
+    CHECK_MSG(me < 0.06, "bunny-5k ME %g", me);
+    free(d);
+    gs_solver_free(sh);
+    gs_gt_free(gt);
+    gs_patch_free(p);
+    gs_mesh_free(m);
+}
+
+int main(void)
+{
+    test_grid();
+    test_generated("peaks:40");
+    test_generated("sphere:3");
+    test_generated("plate:1400");
+    test_generated("two:10");
+    test_slivers();
+    test_degenerate();
+    test_points_multi_reuse();
+    test_bunny();
+    return gs_test_finish("test_heat");
+}
