@@ -9,14 +9,17 @@
 
 const char usage_build[] =
     "usage: geosep build MESH -o DB [--method exact|graph|fmm|heat] [--vmax N] [--mmax N] [--tol F]\n"
-    "                    [--threads N] [--vertex-sources] [--sampled] [--seed N] [--spacing F]\n"
+    "                    [--threads N] [--vertex-sources|--sample-sources] [--sampled] [--seed N]\n"
+    "                    [--spacing F]\n"
     "                    [--leaf-exact] [--quiet]\n"
     "  Build a query database: nested bisection tree (leaves of at most --vmax\n"
     "  vertices, default 30), distance fields from every separator sample inside\n"
     "  its patch (--method, default exact), and per-vertex polynomial separator\n"
     "  distance functions of degree <= --mmax (20) fitted to mean relative error\n"
     "  --tol (0.006). --vertex-sources: fields from the corners of the sample\n"
-    "  triangles + barycentric interpolation (the paper's way). --sampled: store\n"
+    "  triangles + barycentric interpolation (the paper's way; the default for\n"
+    "  fmm and heat); --sample-sources: from the samples (the default for\n"
+    "  exact fields). --sampled: store\n"
     "  the sampled values (SEPsam) instead of polynomials. --spacing: separator\n"
     "  sample spacing in mean edge lengths (0.5). --leaf-exact: also store the\n"
     "  exact distances between the vertices of each leaf (paper sec. 3.1, matrix\n"
@@ -74,6 +77,7 @@ static int build_option(gs_build_options *o, const char **out, int *quiet, int a
 {
     const char *a = argv[*i], *v;
     if (!strcmp(a, "--vertex-sources")) return o->vertex_sources = 1, 0;
+    if (!strcmp(a, "--sample-sources")) return o->vertex_sources = 0, 0;
     if (!strcmp(a, "--sampled")) return o->sampled = 1, 0;
     if (!strcmp(a, "--leaf-exact")) return o->leaf_exact = 1, 0;
     if (!strcmp(a, "--quiet")) return *quiet = 1, 0;

@@ -266,7 +266,9 @@ typedef struct gs_build_options {
     uint32_t threads;        /* 0: all cores [0]                               */
     int vertex_sources;      /* 1: fields from the corners of the triangles    */
                              /*   holding samples + barycentric interpolation  */
-                             /*   (the paper); 0: from the samples [0]         */
+                             /*   (the paper); 0: from the samples; -1: by the */
+                             /*   method: samples for exact fields, vertices   */
+                             /*   for approximate ones (measured best) [-1]    */
     int sampled;             /* 1: SEPsam (sampled values, piecewise linear)   */
     int leaf_exact;          /* 1: store exact distances inside leaves [0]     */
     uint32_t seed;           /* partitioning seed [1]                          */

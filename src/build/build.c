@@ -26,7 +26,7 @@ void gs_build_options_default(gs_build_options *o)
     o->tol = 0.006; /* with mmax 20, the paper's Bunny accuracy at its cost;
                      * the paper's 0.5% and 12 give ME 0.56% at cost 92 here */
     o->threads = 0;
-    o->vertex_sources = 0;
+    o->vertex_sources = -1; /* by the method (see geosep.h) */
     o->sampled = 0;
     o->leaf_exact = 0;
     o->seed = 1;
@@ -695,7 +695,12 @@ int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt_in, gs_db **out
     if (!mesh) return gs__fail(err, GS_EARG, "gs_db_build: mesh is NULL");
     gs_build_options defaults;
     gs_build_options_default(&defaults);
-    const gs_build_options *opt = opt_in ? opt_in : &defaults;
+    gs_build_options resolved = opt_in ? *opt_in : defaults;
+    /* exact fields: sample sources (bunny-5k ME 0.36% vs 0.38%); approximate
+     * fields reproduce themselves far better from vertex sources, the
+     * sources they are made for (FMM on bunny-5k: ME 0.69% vs 1.59%) */
+    if (resolved.vertex_sources < 0) resolved.vertex_sources = resolved.method != GS_METHOD_EXACT;
+    const gs_build_options *opt = &resolved;
     int rc = check_options(opt, err);
     if (rc) return rc;
     builder b;
