@@ -33,4 +33,9 @@ extern const gs_method_ops gs_heat_ops;  /* heat.c   */
 /* Position of a source point: p = sum_i bary[i] * corner_i. */
 void gs_source_position(const gs_topo *t, const gs_source *s, double p[3]);
 
+/* The vertices a front-propagating method starts from: the source vertex at
+ * distance 0, or the three corners of a source point's face at their
+ * straight-line distance to it. Returns the count (1 or 3). */
+uint32_t gs_source_seeds(const gs_topo *t, const gs_source *s, uint32_t v[3], double d[3]);
+
 #endif

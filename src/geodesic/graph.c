@@ -49,18 +49,10 @@ static int graph_solve(void *state, const gs_source *src, uint32_t n_src, double
     for (uint32_t v = 0; v < t->nv; ++v) dist[v] = INFINITY;
     gs_iheap_clear(&g->heap);
     for (uint32_t i = 0; i < n_src; ++i) {
-        if (src[i].face == GS_NONE) {
-            relax(g, dist, src[i].vertex, 0.0, max_d);
-            continue;
-        }
-        double p[3];
-        gs_source_position(t, &src[i], p);
-        for (int k = 0; k < 3; ++k) {
-            uint32_t v = t->tri[3 * (size_t)src[i].face + k];
-            const double *q = t->xyz + 3 * (size_t)v;
-            double dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
-            relax(g, dist, v, sqrt(dx * dx + dy * dy + dz * dz), max_d);
-        }
+        uint32_t sv[3];
+        double sd[3];
+        uint32_t ns = gs_source_seeds(t, &src[i], sv, sd);
+        for (uint32_t k = 0; k < ns; ++k) relax(g, dist, sv[k], sd[k], max_d);
     }
     while (g->heap.n) {
         double d;

@@ -69,6 +69,23 @@ void gs_source_position(const gs_topo *t, const gs_source *s, double p[3])
                s->bary[2] * t->xyz[3 * (size_t)c[2] + k];
 }
 
+uint32_t gs_source_seeds(const gs_topo *t, const gs_source *s, uint32_t v[3], double d[3])
+{
+    if (s->face == GS_NONE) {
+        v[0] = s->vertex, d[0] = 0.0;
+        return 1;
+    }
+    double p[3];
+    gs_source_position(t, s, p);
+    for (int k = 0; k < 3; ++k) {
+        v[k] = t->tri[3 * (size_t)s->face + k];
+        const double *q = t->xyz + 3 * (size_t)v[k];
+        double dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
+        d[k] = sqrt(dx * dx + dy * dy + dz * dz);
+    }
+    return 3;
+}
+
 int gs_solver_create(const gs_patch *patch, gs_method method, gs_solver **out, gs_error *err)
 {
     if (!out) return gs__fail(err, GS_EARG, "gs_solver_create: out is NULL");
