@@ -366,15 +366,8 @@ static void test_bowtie(void)
 
 static int test_shared_mesh(const char *name, int quick)
 {
-    char rel[256], obj[4096], gtp[4096];
-    snprintf(rel, sizeof rel, "meshes/%.200s.obj", name);
-    const char *path = gs_test_shared_path(rel);
-    if (!path) return 0;
-    snprintf(obj, sizeof obj, "%s", path);
-    snprintf(rel, sizeof rel, "groundtruth/%.200s.gt", name);
-    path = gs_test_shared_path(rel);
-    if (!path) return 0;
-    snprintf(gtp, sizeof gtp, "%s", path);
+    char obj[4096], gtp[4096];
+    if (!gs_test_shared_pair(name, obj, gtp, sizeof obj)) return 0;
     gs_error err;
     gs_mesh *m = NULL;
     gs_gt *gt = NULL;

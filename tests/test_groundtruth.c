@@ -34,15 +34,8 @@ static double rel_err(double got, double want)
 
 static int test_mesh(const char *name, int quick, int *n_tested)
 {
-    char rel[256], obj[4096], gtp[4096];
-    snprintf(rel, sizeof rel, "meshes/%.200s.obj", name);
-    const char *p = gs_test_shared_path(rel);
-    if (!p) return 0;
-    snprintf(obj, sizeof obj, "%s", p);
-    snprintf(rel, sizeof rel, "groundtruth/%.200s.gt", name);
-    p = gs_test_shared_path(rel);
-    if (!p) return 0;
-    snprintf(gtp, sizeof gtp, "%s", p);
+    char obj[4096], gtp[4096];
+    if (!gs_test_shared_pair(name, obj, gtp, sizeof obj)) return 0;
 
     gs_error err;
     gs_mesh *mesh = NULL;

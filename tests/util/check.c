@@ -33,3 +33,17 @@ const char *gs_test_shared_path(const char *relative)
     snprintf(buf, sizeof buf, "%s/%s", base, relative);
     return access(buf, R_OK) == 0 ? buf : NULL;
 }
+
+int gs_test_shared_pair(const char *name, char *obj, char *gt, size_t n)
+{
+    char rel[256];
+    snprintf(rel, sizeof rel, "meshes/%.200s.obj", name);
+    const char *p = gs_test_shared_path(rel);
+    if (!p) return 0;
+    snprintf(obj, n, "%s", p);
+    snprintf(rel, sizeof rel, "groundtruth/%.200s.gt", name);
+    p = gs_test_shared_path(rel);
+    if (!p) return 0;
+    snprintf(gt, n, "%s", p);
+    return 1;
+}

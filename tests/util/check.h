@@ -44,4 +44,9 @@ void gs_test_skip(const char *reason);
  * the CMake default). Returns NULL if the file does not exist. Static buffer. */
 const char *gs_test_shared_path(const char *relative);
 
+/* Paths of a shared mesh and its ground truth (meshes/NAME.obj and
+ * groundtruth/NAME.gt) into obj and gt (n bytes each); 0 if either is
+ * missing. */
+int gs_test_shared_pair(const char *name, char *obj, char *gt, size_t n);
+
 #endif
