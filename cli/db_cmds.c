@@ -10,7 +10,7 @@
 const char usage_build[] =
     "usage: geosep build MESH -o DB [--method exact|graph|fmm|heat] [--vmax N] [--mmax N] [--tol F]\n"
     "                    [--threads N] [--vertex-sources|--sample-sources] [--sampled] [--seed N]\n"
-    "                    [--spacing F]\n"
+    "                    [--spacing F] [--heat-time M] [--fmm-start R]\n"
     "                    [--leaf-exact] [--quiet]\n"
     "  Build a query database: nested bisection tree (leaves of at most --vmax\n"
     "  vertices, default 30), distance fields from every separator sample inside\n"
@@ -24,7 +24,8 @@ const char usage_build[] =
     "  sample spacing in mean edge lengths (0.5). --leaf-exact: also store the\n"
     "  exact distances between the vertices of each leaf (paper sec. 3.1, matrix\n"
     "  D; at most vmax numbers per vertex) instead of answering same-leaf queries\n"
-    "  with the Euclidean distance. --threads 0 = all cores.\n"
+    "  with the Euclidean distance. --threads 0 = all cores. --heat-time and\n"
+    "  --fmm-start: the field method's parameters (see geosep solve --help).\n"
     "  Shows progress on a terminal; prints the stage times and the size.\n";
 const char usage_query[] =
     "usage: geosep query DB X Y\n"
@@ -96,6 +97,10 @@ static int build_option(gs_build_options *o, const char **out, int *quiet, int a
         return parse_u32(v, &o->seed) ? fail(EXIT_USAGE, "build: --seed '%s' is not a count", v) : 0;
     if ((v = opt_value(argc, argv, i, "--spacing")))
         return parse_double(v, &o->sample_spacing) ? fail(EXIT_USAGE, "build: --spacing '%s' is not a number", v) : 0;
+    if ((v = opt_value(argc, argv, i, "--heat-time")))
+        return parse_double(v, &o->solver.heat_time) ? fail(EXIT_USAGE, "build: --heat-time '%s' is not a number", v) : 0;
+    if ((v = opt_value(argc, argv, i, "--fmm-start")))
+        return parse_double(v, &o->solver.fmm_exact_start) ? fail(EXIT_USAGE, "build: --fmm-start '%s' is not a number", v) : 0;
     if ((v = opt_value(argc, argv, i, "--tol")))
         return parse_double(v, &o->tol) ? fail(EXIT_USAGE, "build: --tol '%s' is not a number", v) : 0;
     return fail(EXIT_USAGE, "build: unknown or incomplete option '%s'", a);

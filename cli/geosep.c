@@ -36,6 +36,7 @@ static const char usage_solve[] =
     "                    [--method exact|graph|fmm|heat] [--max-distance D] [-o OUT] [--verbose]\n"
     "       geosep solve MESH --format gt (--sources-from FILE.gt | --random K [--seed S]) -o OUT.gt\n"
     "                    [--method exact|graph|fmm|heat] [--verbose]\n"
+    "       method parameters: [--heat-time M] [--fmm-start R]\n"
     "  Geodesic distances from the sources to every vertex. Text output: one\n"
     "  distance per line in vertex order (\"%.17g\", \"inf\" if unreachable), the\n"
     "  minimum over all sources, to OUT or stdout. --source V is a vertex id\n"
@@ -45,7 +46,10 @@ static const char usage_solve[] =
     "  --format gt: solve each source listed in FILE.gt (GEOGT1), or K sources\n"
     "  drawn as the shared ground truth draws them (splitmix64, --seed, default\n"
     "  0), separately, and write all fields to OUT.gt. Files are written\n"
-    "  atomically.\n";
+    "  atomically. --heat-time M: heat method time step t = M h^2 (h: mean edge\n"
+    "  length; default 1). --fmm-start R: fast marching starts from exact\n"
+    "  distances within R mean edge lengths of the sources (default 4; 0: the\n"
+    "  plain march from the source vertices).\n";
 
 static void print_usage(FILE *f)
 {
@@ -139,6 +143,7 @@ static int cmd_generate(int argc, char **argv)
 typedef struct solve_opts {
     const char *mesh, *out, *sources_from;
     gs_method method;
+    gs_solver_options sopt;
     double max_d;
     int gt, verbose;
     uint32_t random_k, seed; /* --random K --seed S (GEOGT1 output) */
@@ -186,7 +191,8 @@ static int solve_option(solve_opts *o, int argc, char **argv, int *i)
 {
     const char *a = argv[*i], *v;
     static const char *const with_value[] = {"--source", "--source-point", "--method", "--max-distance",
-                                             "--format", "--sources-from", "--random", "--seed", "-o"};
+                                             "--format", "--sources-from", "--random", "--seed", "-o",
+                                             "--heat-time", "--fmm-start"};
     for (size_t k = 0; k < sizeof with_value / sizeof *with_value; ++k) {
         if (!is_opt(a, with_value[k])) continue;
         if (!(v = opt_value(argc, argv, i, with_value[k])) || !*v)
@@ -225,6 +231,15 @@ static int solve_option(solve_opts *o, int argc, char **argv, int *i)
             return 0;
         case 7:
             if (parse_u32(v, &o->seed)) return fail(EXIT_USAGE, "solve: --seed '%s': expected an integer >= 0", v);
+            return 0;
+        case 9:
+            if (parse_double(v, &o->sopt.heat_time) || !(o->sopt.heat_time > 0) || !isfinite(o->sopt.heat_time))
+                return fail(EXIT_USAGE, "solve: --heat-time '%s': expected a number > 0", v);
+            return 0;
+        case 10:
+            if (parse_double(v, &o->sopt.fmm_exact_start) || !(o->sopt.fmm_exact_start >= 0) ||
+                !isfinite(o->sopt.fmm_exact_start))
+                return fail(EXIT_USAGE, "solve: --fmm-start '%s': expected a number >= 0", v);
             return 0;
         default: o->out = v; return 0;
         }
@@ -308,7 +323,7 @@ static int prepare(const solve_opts *o, run_ctx *c)
     c->t_load = now() - t0;
     gs_error err = {0};
     if ((rc = gs_patch_create(c->mesh, NULL, 0, &c->patch, &err)) ||
-        (rc = gs_solver_create(c->patch, o->method, &c->solver, &err)))
+        (rc = gs_solver_create_ex(c->patch, o->method, &o->sopt, &c->solver, &err)))
         return lib_fail("solve", rc, &err);
     return 0;
 }
@@ -382,6 +397,7 @@ static int cmd_solve(int argc, char **argv)
 {
     solve_opts o = {0};
     o.method = GS_METHOD_EXACT;
+    gs_solver_options_default(&o.sopt);
     run_ctx c = {0};
     int rc = parse_solve(&o, argc, argv);
     if (rc < 0) {

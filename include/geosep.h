@@ -225,6 +225,24 @@ typedef struct gs_solver gs_solver;
 
 int gs_solver_create(const gs_patch *patch, gs_method method, gs_solver **out,
                      gs_error *err);
+
+/* Parameters of the approximate methods (ignored by the others). */
+typedef struct gs_solver_options {
+    double heat_time;       /* heat: t = heat_time * h^2, h the patch's mean   */
+                            /*   edge length [1: Crane et al.'s t = h^2]        */
+    double fmm_exact_start; /* fmm: vertices within this many mean edge lengths */
+                            /*   of the sources get exact distances, and the   */
+                            /*   march starts from them; 0: the plain march    */
+                            /*   from the source vertices [4]                   */
+} gs_solver_options;
+
+void gs_solver_options_default(gs_solver_options *opt);
+
+/* gs_solver_create with options (NULL: defaults). GS_EARG if an option is
+ * out of range (heat_time must be finite and > 0, fmm_exact_start finite and
+ * >= 0). *out receives a new solver (caller frees); opt is copied. */
+int gs_solver_create_ex(const gs_patch *patch, gs_method method, const gs_solver_options *opt,
+                        gs_solver **out, gs_error *err);
 void gs_solver_free(gs_solver *solver);
 
 /* Distance field from a set of sources (the pointwise minimum of their
@@ -274,6 +292,7 @@ typedef struct gs_build_options {
     uint32_t seed;           /* partitioning seed [1]                          */
     double sample_spacing;   /* separator sample spacing / mean edge length    */
                              /*   [0.5]                                        */
+    gs_solver_options solver;/* parameters of fmm and heat [defaults]          */
     gs_progress_fn progress; /* may be NULL                                    */
     void *progress_user;
 } gs_build_options;

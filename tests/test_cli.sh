@@ -127,6 +127,14 @@ for m in fmm heat; do
     run solve "$G" --source 0 --method $m -o "$T/$m.txt"
     { [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/$m.txt")" -eq 66 ] && [ "$(head -1 "$T/$m.txt")" = "0" ]; }; verdict "solve --method $m"
 done
+run solve "$G" --source 0 --method fmm --fmm-start 0 -o "$T/fmm0.txt"
+{ [ "$rc" -eq 0 ] && ! cmp -s "$T/fmm0.txt" "$T/fmm.txt" && paste "$T/fmm0.txt" "$T/d0.txt" "$T/fmm.txt" |
+  awk '{ a += ($1 - $2) ^ 2; b += ($3 - $2) ^ 2 } END { exit !(b < a) }'; }; verdict "solve --fmm-start 0: the plain march, farther from exact than the default"
+run solve "$G" --source 0 --method heat --heat-time 0.5 -o "$T/heat05.txt"
+{ [ "$rc" -eq 0 ] && ! cmp -s "$T/heat05.txt" "$T/heat.txt"; }; verdict "solve --heat-time 0.5: another time step"
+expect_fail 2 "number > 0" "heat time 0" solve "$G" --source 0 --method heat --heat-time 0
+expect_fail 2 "number > 0" "heat time nan" solve "$G" --source 0 --method heat --heat-time nan
+expect_fail 2 "number >= 0" "negative fmm start" solve "$G" --source 0 --method fmm --fmm-start -1
 expect_fail 2 "number >= 0" "negative max distance" solve "$G" --source 0 --max-distance -1
 expect_fail 2 "number >= 0" "malformed max distance" solve "$G" --source 0 --max-distance 1x
 expect_fail 2 "no source" "no source" solve "$G"
@@ -217,6 +225,9 @@ expect_fail 1 "made for" "eval: ground truth of another mesh" eval "$T/grid.gsdb
 expect_fail 2 "vmax" "build: vmax too small" build "$D" -o "$T/x.gsdb" --vmax 1
 { [ ! -e "$T/x.gsdb" ]; }; verdict "build: failure leaves no database"
 expect_fail 2 "not a count" "build: bad --mmax" build "$D" -o "$T/x.gsdb" --mmax many
+expect_fail 2 "heat_time" "build: --heat-time 0" build "$D" -o "$T/x.gsdb" --method heat --heat-time 0
+expect_fail 2 "fmm_exact_start" "build: --fmm-start -2" build "$D" -o "$T/x.gsdb" --method fmm --fmm-start -2
+{ [ ! -e "$T/x.gsdb" ]; }; verdict "build: bad method parameters leave no database"
 expect_fail 2 "need MESH and -o" "build: no -o" build "$D"
 expect_fail 2 "landmarks" "land: zero landmarks" land "$D" --landmarks 0 --groundtruth "$T/grid.gt"
 { [ -z "$(find "$T" -name '*.tmp.*')" ]; }; verdict "database commands leave no temporary files"

@@ -31,6 +31,7 @@ void gs_build_options_default(gs_build_options *o)
     o->leaf_exact = 0;
     o->seed = 1;
     o->sample_spacing = 0.5;
+    gs_solver_options_default(&o->solver);
 }
 
 /* Per-vertex function slots: vertex x owns funs[fun_start[x] ..) and each
@@ -167,7 +168,7 @@ static int solve_columns(builder *b, node_job *j, const gs_source *src, uint32_t
         gs_solver *s = NULL;
         gs_error e;
         double *dist = gs__malloc(nl, sizeof *dist);
-        int my = dist ? gs_solver_create(j->patch, b->opt->method, &s, &e) : GS_ENOMEM;
+        int my = dist ? gs_solver_create_ex(j->patch, b->opt->method, &b->opt->solver, &s, &e) : GS_ENOMEM;
         if (!dist) gs__fail(&e, GS_ENOMEM, "out of memory");
 #pragma omp for schedule(dynamic, 1)
         for (uint32_t k = 0; k < nsrc; ++k) {
@@ -495,14 +496,14 @@ static uint32_t leaf_region(const gs_mesh *m, const uint32_t *lv, uint32_t n, co
 /* Fields from every vertex of patch p's subset lv (n vertices); row k of T
  * (n x n) gets source k's distances to all of lv. bound: per-source bound
  * (NULL: none). */
-static int leaf_solve(const gs_patch *p, gs_method method, const uint32_t *lv, uint32_t n, const double *bound,
+static int leaf_solve(const gs_patch *p, gs_method method, const gs_solver_options *so_opt, const uint32_t *lv, uint32_t n, const double *bound,
                       double *T, leaf_work *w, gs_error *err)
 {
     uint32_t nl = gs_patch_num_vertices(p);
     if (grow((void **)&w->dist, &w->dcap, nl, sizeof *w->dist))
         return gs__fail(err, GS_ENOMEM, "out of memory for a leaf field");
     gs_solver *s = NULL;
-    int rc = gs_solver_create(p, method, &s, err);
+    int rc = gs_solver_create_ex(p, method, so_opt, &s, err);
     for (uint32_t k = 0; k < n && rc == GS_OK; ++k) {
         uint32_t src = gs_patch_vertex_from_mesh(p, lv[k]);
         if (src == GS_NONE) {
@@ -530,7 +531,7 @@ static int leaf_table(builder *b, uint32_t node, const uint32_t *lv, double *T, 
         return gs__fail(err, GS_ENOMEM, "out of memory for leaf %u", node);
     gs_patch *p = NULL;
     int rc = gs_patch_create(b->mesh, b->tree->faces + nd->face_start, nd->n_faces, &p, err);
-    if (rc == GS_OK) rc = leaf_solve(p, method, lv, n, NULL, T, w, err);
+    if (rc == GS_OK) rc = leaf_solve(p, method, &b->opt->solver, lv, n, NULL, T, w, err);
     gs_patch_free(p);
     p = NULL;
     if (rc) return rc;
@@ -542,7 +543,7 @@ static int leaf_table(builder *b, uint32_t node, const uint32_t *lv, double *T, 
     uint32_t nf = leaf_region(b->mesh, lv, n, w->radius, stamp, w);
     if (nf == GS_NONE) return gs__fail(err, GS_ENOMEM, "out of memory for leaf %u's region", node);
     rc = gs_patch_create(b->mesh, w->faces, nf, &p, err);
-    if (rc == GS_OK) rc = leaf_solve(p, method, lv, n, w->radius, T, w, err);
+    if (rc == GS_OK) rc = leaf_solve(p, method, &b->opt->solver, lv, n, w->radius, T, w, err);
     gs_patch_free(p);
     if (rc) return rc;
     for (uint32_t k = 0; k < n; ++k) {
@@ -684,6 +685,10 @@ static int check_options(const gs_build_options *o, gs_error *err)
     if (!(o->sample_spacing >= 0.01 && o->sample_spacing <= 100))
         return gs__fail(err, GS_EARG, "sample_spacing %g out of range [0.01, 100]", o->sample_spacing);
     if (o->threads > 1024) return gs__fail(err, GS_EARG, "threads %u is absurd", o->threads);
+    if (!(isfinite(o->solver.heat_time) && o->solver.heat_time > 0))
+        return gs__fail(err, GS_EARG, "solver.heat_time %g must be finite and > 0", o->solver.heat_time);
+    if (!(isfinite(o->solver.fmm_exact_start) && o->solver.fmm_exact_start >= 0))
+        return gs__fail(err, GS_EARG, "solver.fmm_exact_start %g must be finite and >= 0", o->solver.fmm_exact_start);
     return GS_OK;
 }
 

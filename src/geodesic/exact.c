@@ -103,8 +103,9 @@ static void ex_destroy(void *state)
     free(s);
 }
 
-static int ex_create(const gs_topo *t, void **state, gs_error *err)
+static int ex_create(const gs_topo *t, const gs_solver_options *opt, void **state, gs_error *err)
 {
+    (void)opt;
     ex_state *s = gs__calloc(1, sizeof *s);
     if (!s) return gs__fail(err, GS_ENOMEM, "out of memory creating an exact solver");
     s->t = t;

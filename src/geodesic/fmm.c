@@ -72,6 +72,9 @@ typedef struct fmm_state {
     uint32_t *rv;
     uint64_t n_virtual;/* obtuse corners with a virtual vertex               */
     uint64_t n_obtuse;
+    double init_radius;/* exact start: ball radius (0: off)                 */
+    void *exact;       /* exact solver for the start ball (lazily created)   */
+    double *edist;     /* nv: its distances                                  */
 } fmm_state;
 
 /* ---- geometry ------------------------------------------------------------- */
@@ -203,10 +206,12 @@ static void fmm_destroy(void *state)
     free(s->vlen);
     free(s->rv_start);
     free(s->rv);
+    if (s->exact) gs_exact_ops.destroy(s->exact);
+    free(s->edist);
     free(s);
 }
 
-static int fmm_create(const gs_topo *t, void **state, gs_error *err)
+static int fmm_create(const gs_topo *t, const gs_solver_options *opt, void **state, gs_error *err)
 {
     fmm_state *s = calloc(1, sizeof *s);
     if (!s) return gs__fail(err, GS_ENOMEM, "out of memory creating a fast-marching solver");
@@ -244,6 +249,10 @@ static int fmm_create(const gs_topo *t, void **state, gs_error *err)
         if (s->virt[h] != GS_NONE) s->rv[s->rv_start[s->virt[h]]++] = (uint32_t)h;
     for (uint32_t v = t->nv; v > 0; --v) s->rv_start[v] = s->rv_start[v - 1];
     s->rv_start[0] = 0;
+    double hsum = 0;
+    uint64_t nh = 0;
+    for (size_t h = 0; h < nc; ++h) hsum += t->len[h], ++nh;
+    s->init_radius = (nh ? hsum / nh : 0) * opt->fmm_exact_start;
     *state = s;
     return GS_OK;
 }
@@ -252,6 +261,7 @@ static int fmm_create(const gs_topo *t, void **state, gs_error *err)
 
 static void relax(fmm_state *s, double *dist, uint32_t v, double d, double max_d, uint32_t lab)
 {
+    if (s->alive[v] == 2) return; /* exact start value: final */
     if (d < dist[v] && d <= max_d) {
         dist[v] = d;
         s->label[v] = lab;
@@ -307,6 +317,36 @@ static int fmm_solve(void *state, const gs_source *src, uint32_t n_src, double m
         double sd[3];
         uint32_t ns = gs_source_seeds(t, &src[i], sv, sd);
         for (uint32_t k = 0; k < ns; ++k) relax(s, dist, sv[k], sd[k], max_d, i);
+    }
+    if (s->init_radius > 0) {
+        if (!s->exact) {
+            int rc = gs_exact_ops.create(t, NULL, &s->exact, err);
+            if (rc) return rc;
+            s->edist = malloc((t->nv ? t->nv : 1) * sizeof *s->edist);
+            if (!s->edist) return gs__fail(err, GS_ENOMEM, "out of memory");
+        }
+        double r = s->init_radius < max_d ? s->init_radius : max_d;
+        gs_solve_stats es = {0, 0}; /* the march's own statistics only */
+        int rc = gs_exact_ops.solve(s->exact, src, n_src, r, s->edist, &es, err);
+        if (rc) return rc;
+        for (uint32_t v = 0; v < t->nv; ++v) {
+            if (!(s->edist[v] <= r)) continue;
+            uint32_t lab = 0;
+            if (n_src > 1) { /* the nearest source in space labels the ball */
+                double best = INFINITY, p[3];
+                const double *q = t->xyz + 3 * (size_t)v;
+                for (uint32_t i = 0; i < n_src; ++i) {
+                    if (src[i].face == GS_NONE) memcpy(p, t->xyz + 3 * (size_t)src[i].vertex, sizeof p);
+                    else gs_source_position(t, &src[i], p);
+                    double dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2], e = dx * dx + dy * dy + dz * dz;
+                    if (e < best) best = e, lab = i;
+                }
+            }
+            dist[v] = s->edist[v];
+            s->label[v] = lab;
+            gs_iheap_push_or_decrease(&s->heap, v, dist[v]);
+            s->alive[v] = 2;
+        }
     }
     while (s->heap.n) {
         double d;

@@ -18,7 +18,7 @@ typedef struct gs_solve_stats {
 typedef struct gs_method_ops {
     const char *name;
     /* allocate per-patch state; *state receives it */
-    int (*create)(const gs_topo *t, void **state, gs_error *err);
+    int (*create)(const gs_topo *t, const gs_solver_options *opt, void **state, gs_error *err);
     void (*destroy)(void *state);
     /* fill dist[0..nv) ; max_distance is +INFINITY when unbounded */
     int (*solve)(void *state, const gs_source *src, uint32_t n_src, double max_distance,

@@ -12,8 +12,9 @@ typedef struct graph_state {
     gs_iheap heap;
 } graph_state;
 
-static int graph_create(const gs_topo *t, void **state, gs_error *err)
+static int graph_create(const gs_topo *t, const gs_solver_options *opt, void **state, gs_error *err)
 {
+    (void)opt;
     graph_state *g = calloc(1, sizeof *g);
     if (!g || gs_iheap_init(&g->heap, t->nv)) {
         if (g) gs_iheap_free(&g->heap);

@@ -15,7 +15,8 @@
  *    with that margin (a no-op on ordinary meshes; it keeps areas > 0).
  *  - L: the cotan Laplacian (positive semi-definite sign), M: lumped
  *    barycentric mass (area / 3 per corner), on the intrinsic mesh.
- *  - t = h^2 with h the mean edge length of the input mesh (field t_step).
+ *  - t = m h^2 with h the mean edge length of the input mesh (field t_step),
+ *    m = gs_solver_options.heat_time (default 1: the paper's t = h^2).
  *  - Boundaries: the paper's recommendation, the average of the Neumann
  *    heat flow (the plain system) and the Dirichlet one (u = 0 on boundary
  *    vertices: a second factorisation over interior vertices). Closed
@@ -269,7 +270,7 @@ static void heat_destroy(void *state)
     free(s);
 }
 
-static int heat_create(const gs_topo *t, void **state, gs_error *err)
+static int heat_create(const gs_topo *t, const gs_solver_options *opt, void **state, gs_error *err)
 {
     heat_state *s = calloc(1, sizeof *s);
     if (!s) return gs__fail(err, GS_ENOMEM, "out of memory creating a heat solver");
@@ -305,7 +306,7 @@ static int heat_create(const gs_topo *t, void **state, gs_error *err)
     for (size_t h = 0; h < nh; ++h)
         if (t->opp[h] == GS_NONE || h < t->opp[h]) sum += t->len[h], ne++;
     s->h_mean = ne ? sum / (double)ne : 1.0;
-    s->t_step = s->h_mean * s->h_mean;
+    s->t_step = opt->heat_time * s->h_mean * s->h_mean;
 
     int rc = make_intrinsic_delaunay(s, err);
     if (rc) {

@@ -86,18 +86,39 @@ uint32_t gs_source_seeds(const gs_topo *t, const gs_source *s, uint32_t v[3], do
     return 3;
 }
 
+void gs_solver_options_default(gs_solver_options *o)
+{
+    if (!o) return;
+    o->heat_time = 1.0;
+    o->fmm_exact_start = 4.0;
+}
+
 int gs_solver_create(const gs_patch *patch, gs_method method, gs_solver **out, gs_error *err)
+{
+    return gs_solver_create_ex(patch, method, NULL, out, err);
+}
+
+int gs_solver_create_ex(const gs_patch *patch, gs_method method, const gs_solver_options *opt,
+                        gs_solver **out, gs_error *err)
 {
     if (!out) return gs__fail(err, GS_EARG, "gs_solver_create: out is NULL");
     *out = NULL;
     if (!patch) return gs__fail(err, GS_EARG, "gs_solver_create: patch is NULL");
     const gs_method_ops *ops = ops_of(method);
     if (!ops) return gs__fail(err, GS_EARG, "gs_solver_create: unknown method %d", (int)method);
+    gs_solver_options o;
+    gs_solver_options_default(&o);
+    if (opt) o = *opt;
+    if (!(isfinite(o.heat_time) && o.heat_time > 0))
+        return gs__fail(err, GS_EARG, "gs_solver_create: heat_time %g must be finite and > 0", o.heat_time);
+    if (!(isfinite(o.fmm_exact_start) && o.fmm_exact_start >= 0))
+        return gs__fail(err, GS_EARG, "gs_solver_create: fmm_exact_start %g must be finite and >= 0",
+                        o.fmm_exact_start);
     gs_solver *s = gs__calloc(1, sizeof *s);
     if (!s) return gs__fail(err, GS_ENOMEM, "out of memory");
     s->patch = patch;
     s->ops = ops;
-    int rc = ops->create(patch->topo, &s->state, err);
+    int rc = ops->create(patch->topo, &o, &s->state, err);
     if (rc) {
         free(s);
         return rc;
