@@ -405,9 +405,9 @@ static double grid_pair_min(const gs_fun *a, const gs_fun *b, double *u)
         double x = closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1);
         ga[j] = (float)gs_fun_value(a, x), gb[j] = (float)gs_fun_value(b, x);
     }
-    double ua, ub;
-    gs_fun_min(a, &ua), gs_fun_min(b, &ub);
-    return gs_fun_pair_min_grid(a, b, ga, gb, g, ua, ub, u);
+    gs_fun_dip da, db;
+    gs_fun_dip_find(a, &da), gs_fun_dip_find(b, &db);
+    return gs_fun_pair_min_grid(a, b, ga, gb, g, &da, &db, u);
 }
 
 static void check_pairs(const fset *s, long npairs, pstats *st)
