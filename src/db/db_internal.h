@@ -86,12 +86,16 @@ struct gs_db {
     const double *leaf_dist;
     /* Query cache (memory only, built at open, src/query/grid.c): one
      * contiguous block per vertex, so that a query touches few cache lines.
-     * Block of x at qbuf + qstart[x] (in doubles): nodes[leaf[x]].curve_prefix
-     * entries (gs_qentry, root's curves first, as in the file), then one
-     * record per function at block + entry.rec (gs_qrec layout below).
-     * NULL when not built (queries then read the file's sections). */
+     * Block of x at qbuf + qstart[x] (in doubles): nf = nodes[leaf[x]].
+     * curve_prefix entries (gs_qentry, root's curves first, as in the
+     * file), then the records (layout below): the record of x's function
+     * on curve c at block + 2 nf + qcoff[c], an offset that does not depend
+     * on x (records are sized per curve), so that a query can fetch the
+     * records it will likely need before it reads the entries. NULL when
+     * not built (queries then read the file's sections). */
     double *qbuf;
-    uint64_t *qstart;         /* nv                                        */
+    uint64_t *qstart;         /* nv + 1                                    */
+    uint32_t *qcoff;          /* n_curves                                  */
     uint64_t qsize;           /* doubles in qbuf                           */
 };
 
@@ -99,6 +103,7 @@ struct gs_db {
 typedef struct gs_qentry {
     double minval;  /* as in the file (quick reject)                       */
     uint32_t rec;   /* its record: offset in doubles from the block start  */
+                    /*   (2 nf + qcoff[curve]); 0: unreachable, none      */
     uint32_t meta;  /* as in the file: degree, kind, squared, closed       */
 } gs_qentry;
 
@@ -107,10 +112,11 @@ typedef struct gs_qentry {
  *   [1]    float: the dip's u (gs_fun_dip; NaN: not sharp), then uint32 g:
  *          grid points (0: no grid, e.g. sampled functions)
  *   [2]    two floats: the dip's lo - u and hi - u
- *   [3..]  the degree+1 coefficients (or samples)
- *   then   g floats: the values on the curve's uniform grid in u (paths:
+ *   [3..]  g floats: the values on the curve's uniform grid in u (paths:
  *          u_j = -1 + 2j/(g-1); loops: u_j = -1 + 2j/g), padded to a
- *          multiple of 4 floats. Unreachable functions have no record. */
+ *          multiple of 4 floats
+ *   then   the degree+1 coefficients (or samples)
+ * Every record of a curve has the same size (room for its largest degree). */
 #define GS_QREC_HEAD 3u
 
 static inline uint32_t gs__qrec_grid(const double *rec)
@@ -130,9 +136,14 @@ static inline void gs__qrec_dip(const double *rec, gs_fun_dip *d)
     d->hi = d->u + f[2];
 }
 
-static inline const float *gs__qrec_values(const double *rec, uint32_t degree)
+static inline const float *gs__qrec_values(const double *rec)
 {
-    return (const float *)(rec + GS_QREC_HEAD + degree + 1);
+    return (const float *)(rec + GS_QREC_HEAD);
+}
+
+static inline const double *gs__qrec_coef(const double *rec, uint32_t g)
+{
+    return rec + GS_QREC_HEAD + (g + 3u) / 4u * 2u;
 }
 
 /* Build the query cache (called once the database is validated). */

@@ -40,29 +40,25 @@ static void max_degree(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user
     else if (deg[c] != UINT32_MAX && f.degree + 1 > deg[c]) deg[c] = f.degree + 1;
 }
 
-/* Doubles of a record: head, coefficients, grid values padded to 4 floats. */
-static uint64_t record_doubles(const gs_fun *f, uint32_t g)
+/* Doubles of a record with up to m1 coefficients and g grid points. */
+static uint64_t record_doubles(uint32_t m1, uint32_t g)
 {
-    return GS_QREC_HEAD + (uint64_t)f->degree + 1 + ((g + 3u) / 4u) * 2u;
+    return GS_QREC_HEAD + ((g + 3u) / 4u) * 2u + m1;
 }
 
-typedef struct size_ctx {
-    const uint32_t *curve_grid;
-    uint64_t n; /* doubles of the block so far */
-} size_ctx;
-
-static void add_size(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
+/* Per curve: the most coefficients (or samples) of its functions. */
+static void max_coefs(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
 {
-    size_ctx *s = user;
     gs_fun f;
     gs__db_fun(db, x, k, &f);
-    if (f.coef) s->n += record_doubles(&f, s->curve_grid[c]);
+    uint32_t *m1 = user;
+    if (f.coef && f.degree + 1 > m1[c]) m1[c] = f.degree + 1;
 }
 
 typedef struct fill_ctx {
     const uint32_t *curve_grid;
     double *block;
-    uint64_t next; /* next record, doubles from the block start */
+    uint64_t nf;
 } fill_ctx;
 
 static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
@@ -76,10 +72,10 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     e->meta = fe->meta;
     e->rec = 0;
     if (!f.coef) return; /* unreachable: never minimised */
-    uint32_t g = f.kind == GS_FUN_SAMPLED ? 0 : fc->curve_grid[c];
-    double *rec = fc->block + fc->next;
-    e->rec = (uint32_t)fc->next;
-    fc->next += record_doubles(&f, g);
+    uint32_t g = fc->curve_grid[c];
+    uint64_t off = 2 * fc->nf + db->qcoff[c];
+    double *rec = fc->block + off;
+    e->rec = (uint32_t)off;
     gs_fun_dip dip = {NAN, NAN, NAN};
     if (g) gs_fun_dip_find(&f, &dip);
     /* offsets as floats: pulled in by a little more than their rounding */
@@ -89,58 +85,100 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     memcpy(rec + 1, head, 4);
     memcpy((char *)(rec + 1) + 4, &g, 4);
     memcpy(rec + 2, head + 1, 8);
-    memcpy(rec + GS_QREC_HEAD, f.coef, ((size_t)f.degree + 1) * sizeof *rec);
-    float *v = (float *)(rec + GS_QREC_HEAD + f.degree + 1);
+    float *v = (float *)(rec + GS_QREC_HEAD);
     for (uint32_t j = 0; j < g; ++j) {
         double u = f.closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1);
         v[j] = (float)gs_fun_value(&f, u);
     }
     for (uint32_t j = g; j < (g + 3u) / 4u * 4u; ++j) v[j] = INFINITY;
+    memcpy((double *)gs__qrec_coef(rec, g), f.coef, ((size_t)f.degree + 1) * sizeof *rec);
 }
 
 void gs__db_grid_free(gs_db *db)
 {
     free(db->qbuf);
     free(db->qstart);
+    free(db->qcoff);
     db->qbuf = NULL;
     db->qstart = NULL;
+    db->qcoff = NULL;
     db->qsize = 0;
 }
 
 /* Vertex blocks start on a 64-byte line. */
 #define LINE_DOUBLES 8u
 
+/* The offsets qcoff (records of the curves of a node's proper ancestors
+ * first, root's first, then the node's own in order); rsize: each curve's
+ * record size. Returns 0 when some vertex's block would exceed 32-bit
+ * offsets (no cache then). */
+static int curve_offsets(gs_db *db, const uint32_t *rsize)
+{
+    uint64_t *noff = gs__malloc(db->n_nodes ? db->n_nodes : 1, sizeof *noff);
+    if (!noff) return -1;
+    int ok = 1;
+    for (uint32_t a = 0; a < db->n_nodes; ++a) { /* parents come first (validated) */
+        const gs_db_node *n = &db->nodes[a];
+        uint64_t o = 0;
+        if (n->parent != GS_NONE) {
+            const gs_db_node *p = &db->nodes[n->parent];
+            o = noff[n->parent];
+            for (uint32_t j = 0; j < p->n_curves; ++j) o += rsize[p->curve_start + j];
+        }
+        noff[a] = o;
+        uint64_t co = o;
+        for (uint32_t j = 0; j < n->n_curves; ++j) {
+            db->qcoff[n->curve_start + j] = (uint32_t)co;
+            co += rsize[n->curve_start + j];
+        }
+        if (co + 2ull * n->curve_prefix + 2ull * n->n_curves > UINT32_MAX) ok = 0;
+    }
+    free(noff);
+    return ok;
+}
+
 int gs__db_grid_build(gs_db *db, gs_error *err)
 {
     for (uint32_t x = 0; x < db->nv; ++x) /* absurdly deep trees: no cache */
         if (db->leaf[x] != GS_NONE && db->nodes[db->leaf[x]].depth >= MAX_PATH) return GS_OK;
-    uint32_t *curve_grid = gs__calloc(db->n_curves ? db->n_curves : 1, sizeof *curve_grid);
+    size_t nc = db->n_curves ? db->n_curves : 1;
+    uint32_t *curve_grid = gs__calloc(nc, sizeof *curve_grid), *m1 = gs__calloc(nc, sizeof *m1);
     db->qstart = gs__malloc((size_t)db->nv + 1, sizeof *db->qstart);
-    if (!curve_grid || !db->qstart) {
-        free(curve_grid);
+    db->qcoff = gs__calloc(nc, sizeof *db->qcoff);
+    int ok = curve_grid && m1 && db->qstart && db->qcoff;
+    if (ok) {
+        for (uint32_t x = 0; x < db->nv; ++x) visit(db, x, max_degree, curve_grid), visit(db, x, max_coefs, m1);
+        for (uint32_t c = 0; c < db->n_curves; ++c) {
+            uint32_t d = curve_grid[c];
+            curve_grid[c] = (d == 0 || d == UINT32_MAX) ? 0 : gs_fun_grid_points(d - 1);
+            m1[c] = (uint32_t)record_doubles(m1[c], curve_grid[c]); /* now: record size */
+        }
+        int r = curve_offsets(db, m1);
+        if (r <= 0) {
+            free(curve_grid), free(m1);
+            gs__db_grid_free(db);
+            return r < 0 ? gs__fail(err, GS_ENOMEM, "out of memory for the query cache") : GS_OK;
+        }
+    }
+    if (!ok) {
+        free(curve_grid), free(m1);
         gs__db_grid_free(db);
         return gs__fail(err, GS_ENOMEM, "out of memory for the query cache");
-    }
-    for (uint32_t x = 0; x < db->nv; ++x) visit(db, x, max_degree, curve_grid);
-    for (uint32_t c = 0; c < db->n_curves; ++c) {
-        uint32_t d = curve_grid[c];
-        curve_grid[c] = (d == 0 || d == UINT32_MAX) ? 0 : gs_fun_grid_points(d - 1);
     }
     uint64_t total = 0;
     for (uint32_t x = 0; x < db->nv; ++x) {
         uint32_t l = db->leaf[x];
-        uint64_t nf = l == GS_NONE ? 0 : db->nodes[l].curve_prefix;
-        size_ctx s = {curve_grid, 2 * nf};
-        visit(db, x, add_size, &s);
-        if (s.n > UINT32_MAX) { /* record offsets are 32-bit: no cache */
-            free(curve_grid);
-            gs__db_grid_free(db);
-            return GS_OK;
+        uint64_t n = 0;
+        if (l != GS_NONE && db->nodes[l].curve_prefix) { /* entries, then records up to the last curve's end */
+            const gs_db_node *p = &db->nodes[db->nodes[l].parent];
+            uint32_t c = p->curve_start + p->n_curves - 1;
+            n = 2ull * db->nodes[l].curve_prefix + db->qcoff[c] + m1[c];
         }
         db->qstart[x] = total;
-        total += (s.n + LINE_DOUBLES - 1) / LINE_DOUBLES * LINE_DOUBLES;
+        total += (n + LINE_DOUBLES - 1) / LINE_DOUBLES * LINE_DOUBLES;
     }
     db->qstart[db->nv] = total;
+    free(m1);
     size_t bytes = (total ? total : LINE_DOUBLES) * sizeof(double);
     if (total > SIZE_MAX / 16 || !(db->qbuf = aligned_alloc(64, bytes))) {
         free(curve_grid);
@@ -152,11 +190,11 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
 #pragma omp parallel for schedule(dynamic, 256)
     for (uint32_t x = 0; x < db->nv; ++x) {
         uint32_t l = db->leaf[x];
-        uint64_t nf = l == GS_NONE ? 0 : db->nodes[l].curve_prefix;
-        fill_ctx fc = {curve_grid, db->qbuf + db->qstart[x], 2 * nf};
+        double *block = db->qbuf + db->qstart[x];
+        uint64_t n = db->qstart[x + 1] - db->qstart[x];
+        memset(block, 0, n * sizeof *block); /* padding and unused room */
+        fill_ctx fc = {curve_grid, block, l == GS_NONE ? 0 : db->nodes[l].curve_prefix};
         visit(db, x, fill, &fc);
-        uint64_t end = db->qstart[x + 1] - db->qstart[x];
-        for (uint64_t i = fc.next; i < end; ++i) fc.block[i] = 0.0; /* padding */
     }
     free(curve_grid);
     return GS_OK;

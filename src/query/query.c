@@ -46,7 +46,7 @@ static uint32_t lowest_common_ancestor(const gs_db_node *nodes, uint32_t a, uint
  * common curve, and the curve's function index. */
 typedef struct candidate {
     double bound;
-    uint32_t k;
+    uint32_t k, curve;
 } candidate;
 
 #define MAX_CANDIDATES 64
@@ -69,7 +69,7 @@ static uint32_t gather(const gs_db *db, const char *ex, const char *ey, size_t s
             double b = *(const double *)(ex + k * stride) + *(const double *)(ey + k * stride);
             uint32_t i = n++;
             for (; i > 0 && c[i - 1].bound > b; --i) c[i] = c[i - 1];
-            c[i].bound = b, c[i].k = k;
+            c[i].bound = b, c[i].k = k, c[i].curve = db->nodes[a].curve_start + (k - k0);
         }
     }
     *rest = a;
@@ -90,16 +90,16 @@ static inline const double *cached_fun(const double *b, uint32_t k, gs_fun *f)
     f->closed = GS_META_CLOSED(m);
     f->minval = e->minval;
     f->shift = rec[0];
-    f->coef = rec + GS_QREC_HEAD;
+    f->coef = gs__qrec_coef(rec, gs__qrec_grid(rec));
     return rec;
 }
 
-/* Fetch the first lines of function k's record ahead of its minimisation. */
-static inline void prefetch_record(const double *b, uint32_t k)
+/* Start fetching the record of curve c in the block b of a vertex with nf
+ * functions (the head and grid: the first lines). */
+static inline void prefetch_record(const gs_db *db, const double *b, uint32_t nf, uint32_t c)
 {
-    const char *r = (const char *)(b + ((const gs_qentry *)b)[k].rec);
-    __builtin_prefetch(r), __builtin_prefetch(r + 64), __builtin_prefetch(r + 128);
-    __builtin_prefetch(r + 192), __builtin_prefetch(r + 256);
+    const char *r = (const char *)(b + 2 * (size_t)nf + db->qcoff[c]);
+    for (int i = 0; i < 6; ++i) __builtin_prefetch(r + 64 * i);
 }
 
 /* min over curve k of f_x + f_y; x < y (the order of the two functions
@@ -113,21 +113,27 @@ static double cached_pair(const double *bx, const double *by, uint32_t k)
     gs_fun_dip dx, dy;
     gs__qrec_dip(rx, &dx);
     gs__qrec_dip(ry, &dy);
-    return gs_fun_pair_min_grid(&fx, &fy, gs__qrec_values(rx, fx.degree), gs__qrec_values(ry, fy.degree), g, &dx,
-                                &dy, NULL);
+    return gs_fun_pair_min_grid(&fx, &fy, gs__qrec_values(rx), gs__qrec_values(ry), g, &dx, &dy, NULL);
 }
 
 /* eq. 4-5 with the quick reject, x < y. */
 static double cross_cached(const gs_db *db, uint32_t x, uint32_t y, uint32_t top)
 {
     const double *bx = db->qbuf + db->qstart[x], *by = db->qbuf + db->qstart[y];
+    uint32_t nfx = db->nodes[db->leaf[x]].curve_prefix, nfy = db->nodes[db->leaf[y]].curve_prefix;
+    /* the lowest common separator's curves hold the minimum most often:
+     * their records are on their way while the entries arrive */
+    for (uint32_t j = 0; j < db->nodes[top].n_curves && j < 2; ++j) {
+        uint32_t c = db->nodes[top].curve_start + j;
+        prefetch_record(db, bx, nfx, c), prefetch_record(db, by, nfy, c);
+    }
     candidate c[MAX_CANDIDATES];
     uint32_t rest, n = gather(db, (const char *)bx, (const char *)by, sizeof(gs_qentry), top, c, &rest);
-    for (uint32_t i = 0; i < n && i < 2; ++i) prefetch_record(bx, c[i].k), prefetch_record(by, c[i].k);
+    if (n && db->curves[c[0].curve].node != top) prefetch_record(db, bx, nfx, c[0].curve), prefetch_record(db, by, nfy, c[0].curve);
     double best = INFINITY;
     for (uint32_t i = 0; i < n; ++i) {
         if (c[i].bound >= best) break; /* sorted: all others rejected too (and unreachable) */
-        if (i + 2 < n && c[i + 2].bound < best) prefetch_record(bx, c[i + 2].k), prefetch_record(by, c[i + 2].k);
+        if (i + 1 < n) prefetch_record(db, bx, nfx, c[i + 1].curve), prefetch_record(db, by, nfy, c[i + 1].curve);
         double d = cached_pair(bx, by, c[i].k);
         if (d < best) best = d;
     }
