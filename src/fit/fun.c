@@ -938,6 +938,25 @@ static float grid_sum(const float *ga, const float *gb, uint32_t g, float *s)
     return nan ? NAN : mn;
 }
 
+/* The grid points j (increasing) where s[j] <= thr, into low; their count. */
+static uint32_t grid_below(const float *s, uint32_t g, float thr, uint32_t *low)
+{
+    uint32_t n = 0, j = 0;
+#ifdef __SSE2__
+    __m128 t = _mm_set1_ps(thr);
+    for (; j + 4 <= g; j += 4) {
+        int m = _mm_movemask_ps(_mm_cmple_ps(_mm_loadu_ps(s + j), t));
+        while (m) {
+            low[n++] = j + (uint32_t)__builtin_ctz((unsigned)m);
+            m &= m - 1;
+        }
+    }
+#endif
+    for (; j < g; ++j)
+        if (s[j] <= thr) low[n++] = j;
+    return n;
+}
+
 /* Whether grid point j is a discrete local minimum of s (ties included). */
 static int grid_local_min(const float *s, uint32_t g, uint32_t j, int closed)
 {
@@ -1027,16 +1046,20 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
     if (mn != mn) return gs_fun_pair_min(a, b, u_at);
     /* j1: the lowest grid value (a discrete local minimum); j2: the lowest
      * other discrete local minimum when the grid cannot tell it from j1 */
-    uint32_t j1 = 0, j2 = GS_NONE_U32;
-    while (s[j1] != mn) ++j1;
+    uint32_t j1 = GS_NONE_U32, j2 = GS_NONE_U32;
     float thr = mn * 1.02f;
     /* loops: a sharp dip or a seam that may hold the minimum go to the
      * robust minimiser (a quarter of the loop pairs on bunny-5k) */
     if (closed && ((da && da->u == da->u) || (db && db->u == db->u) || seam_low(a, gb, g, thr) || seam_low(b, ga, g, thr)))
         return gs_fun_pair_min(a, b, u_at);
-    for (uint32_t j = 0; j < g; ++j)
-        if (s[j] <= thr && j != j1 && (j2 == GS_NONE_U32 || s[j] < s[j2]) && grid_local_min(s, g, j, closed))
-            j2 = j;
+    uint32_t low[GS_FUN_GRID_MAX], nl = grid_below(s, g, thr, low);
+    for (uint32_t i = 0; i < nl && j1 == GS_NONE_U32; ++i)
+        if (s[low[i]] == mn) j1 = low[i];
+    if (j1 == GS_NONE_U32) return gs_fun_pair_min(a, b, u_at); /* cannot happen */
+    for (uint32_t i = 0; i < nl; ++i) {
+        uint32_t j = low[i];
+        if (j != j1 && (j2 == GS_NONE_U32 || s[j] < s[j2]) && grid_local_min(s, g, j, closed)) j2 = j;
+    }
     double h = closed ? 2.0 / g : 2.0 / (g - 1), best = INFINITY, bu = 0.0;
     int exact = 1;
     for (int c = 0; c < 2; ++c) {
