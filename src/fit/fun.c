@@ -885,7 +885,7 @@ static double pair_value(const gs_fun *a, const gs_fun *b, double u)
  * says whether *best is pair_value(a, b, *bu) (else it came from the
  * derivative recurrences and is evaluated again at the end). */
 #define NEWTON_STEPS 2 /* from a sharp function's own minimiser          */
-#define DIP_INSIDE 1e-4 /* zero-set edges: this fraction of the way in   */
+#define DIP_INSIDE 1e-7 /* zero-set edges: this fraction of the way in   */
 static void newton_candidate(const gs_fun *a, const gs_fun *b, double u, double h, int closed,
                              int steps, double *best, double *bu, int *exact)
 {
