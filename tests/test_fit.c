@@ -405,9 +405,9 @@ static double grid_pair_min(const gs_fun *a, const gs_fun *b, double *u)
         double x = closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1);
         ga[j] = (float)gs_fun_value(a, x), gb[j] = (float)gs_fun_value(b, x);
     }
-    double ua, ub;
-    gs_fun_min(a, &ua), gs_fun_min(b, &ub);
-    return gs_fun_pair_min_grid(a, b, ga, gb, g, ua, ub, u);
+    gs_fun_dip da, db;
+    gs_fun_dip_find(a, &da), gs_fun_dip_find(b, &db);
+    return gs_fun_pair_min_grid(a, b, ga, gb, g, &da, &db, u);
 }
 
 static void check_pairs(const fset *s, long npairs, pstats *st)
@@ -543,6 +543,48 @@ static void test_sampled(void)
     CHECK(gs_fun_make_sampled(d1, 10, 0, c1, &a, &err) == GS_EARG);
 }
 
+/* The cached-grid minimiser on loops: the fit is not periodic, so its seam
+ * may jump; a minimum at the seam (one-sided limit) must be found exactly
+ * as gs_fun_pair_min finds it, and a loop without a seam near the minimum
+ * agrees with it closely. A sharp dip clamped to 0 (a vertex on the curve):
+ * the minimum sits at its zero set's edge. */
+static void test_grid_loops(void)
+{
+    double ca[3] = {1.0, 0.3, 0.0}, cb[3] = {1.0, 0.0, 0.0}, cc[3] = {1.0, 0.0, 0.5};
+    for (int i = 0; i < 8; i++) {
+        double shift = -0.9 + 0.237 * i; /* seam of a at u = shift - 1 (wrapped) */
+        gs_fun a = {GS_FUN_CHEBYSHEV, 1, 0, 1, shift, 0.0, ca};
+        gs_fun b = {GS_FUN_CHEBYSHEV, 0, 0, 1, 0.3, 0.0, cb};
+        a.minval = gs_fun_min(&a, NULL), b.minval = gs_fun_min(&b, NULL);
+        double u, r = gs_fun_pair_min(&a, &b, NULL), rg = grid_pair_min(&a, &b, &u);
+        /* a = 1 + 0.3 t jumps from 1.3 to 0.7 at its seam: the minimum, 1.7 */
+        CHECK_NEAR(r, 1.7, 1e-9);
+        CHECK_MSG(fabs(rg - r) <= 1e-12 && rg == gs_fun_value(&a, u) + gs_fun_value(&b, u),
+                  "seam minimum: grid %.17g, robust %.17g", rg, r);
+        /* a smooth periodic partner: 1 + 0.5 T2(t) has its minimum inside */
+        gs_fun c = {GS_FUN_CHEBYSHEV, 2, 0, 1, -shift, 0.0, cc};
+        c.minval = gs_fun_min(&c, NULL);
+        double r2 = gs_fun_pair_min(&c, &b, NULL), rg2 = grid_pair_min(&c, &b, &u);
+        CHECK_MSG(fabs(rg2 - r2) <= 1e-9 * r2 && rg2 == gs_fun_value(&c, u) + gs_fun_value(&b, u),
+                  "smooth loop: grid %.17g, robust %.17g", rg2, r2);
+    }
+    /* sharp: d^2 = (t - 0.2)^2 - 1e-4 dips below 0 on [0.19, 0.21]; with
+     * the slope of b the minimum is b at the zero set's right edge */
+    double cs[3] = {0.5 * 1.0 + 0.04 - 1e-4, -0.4, 0.5}, cl[2] = {2.0, -0.5};
+    for (int closed = 0; closed <= 1; closed++) {
+        gs_fun a = {GS_FUN_CHEBYSHEV, 2, 1, (uint32_t)closed, 0.0, 0.0, cs};
+        gs_fun b = {GS_FUN_CHEBYSHEV, 1, 0, (uint32_t)closed, 0.0, 0.0, cl};
+        a.minval = gs_fun_min(&a, NULL), b.minval = gs_fun_min(&b, NULL);
+        gs_fun_dip d;
+        gs_fun_dip_find(&a, &d);
+        CHECK_NEAR(d.lo, 0.19, 1e-9);
+        CHECK_NEAR(d.hi, 0.21, 1e-9);
+        double u, r = gs_fun_pair_min(&a, &b, NULL), rg = grid_pair_min(&a, &b, &u);
+        CHECK_NEAR(r, 2.0 - 0.5 * 0.21, 1e-9);
+        CHECK_MSG(rg >= r && rg - r <= 1e-8, "zero-set edge: grid %.17g, robust %.17g", rg, r);
+    }
+}
+
 int main(void)
 {
     printf("chebyshev kernels\n");
@@ -556,6 +598,7 @@ int main(void)
     test_tiny_and_bad();
     printf("pair minimum vs dense scan\n");
     test_pairs_real();
+    test_grid_loops();
     test_infinity();
     test_sampled();
     return gs_test_finish("test_fit");

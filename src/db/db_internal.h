@@ -84,15 +84,67 @@ struct gs_db {
     const uint32_t *leaf_vstart, *leaf_local; /* NULL without leaf tables */
     const uint64_t *leaf_dstart;
     const double *leaf_dist;
-    /* Query cache (memory only, built at open, src/query/grid.c): every
-     * function's values on its curve's uniform grid of curve_grid[c]
-     * points in u, as floats; function f's values start at grid[grid_start[f]].
-     * NULL when not built. */
-    float *grid;
-    uint64_t *grid_start;     /* n_functions                               */
-    float *umin;              /* n_functions: each function's own minimiser */
-    uint32_t *curve_grid;     /* n_curves: points (0: sampled functions)   */
+    /* Query cache (memory only, built at open, src/query/grid.c): one
+     * contiguous block per vertex, so that a query touches few cache lines.
+     * Block of x at qbuf + qstart[x] (in doubles): nf = nodes[leaf[x]].
+     * curve_prefix entries (gs_qentry, root's curves first, as in the
+     * file), then the records (layout below): the record of x's function
+     * on curve c at block + 2 nf + qcoff[c], an offset that does not depend
+     * on x (records are sized per curve), so that a query can fetch the
+     * records it will likely need before it reads the entries. NULL when
+     * not built (queries then read the file's sections). */
+    double *qbuf;
+    uint64_t *qstart;         /* nv + 1                                    */
+    uint32_t *qcoff;          /* n_curves                                  */
+    uint64_t qsize;           /* doubles in qbuf                           */
 };
+
+/* One function in a vertex's cache block: 16 bytes, like gs_db_fentry. */
+typedef struct gs_qentry {
+    double minval;  /* as in the file (quick reject)                       */
+    uint32_t rec;   /* its record: offset in doubles from the block start  */
+                    /*   (2 nf + qcoff[curve]); 0: unreachable, none      */
+    uint32_t meta;  /* as in the file: degree, kind, squared, closed       */
+} gs_qentry;
+
+/* A function's record, doubles from block + rec:
+ *   [0]    shift (loops; 0 for paths)
+ *   [1]    float: the dip's u (gs_fun_dip; NaN: not sharp), then uint32 g:
+ *          grid points (0: no grid, e.g. sampled functions)
+ *   [2]    two floats: the dip's lo - u and hi - u
+ *   [3..]  g floats: the values on the curve's uniform grid in u (paths:
+ *          u_j = -1 + 2j/(g-1); loops: u_j = -1 + 2j/g), padded to a
+ *          multiple of 4 floats
+ *   then   the degree+1 coefficients (or samples)
+ * Every record of a curve has the same size (room for its largest degree). */
+#define GS_QREC_HEAD 3u
+
+static inline uint32_t gs__qrec_grid(const double *rec)
+{
+    uint32_t g;
+    __builtin_memcpy(&g, (const char *)(rec + 1) + 4, 4);
+    return g;
+}
+
+static inline void gs__qrec_dip(const double *rec, gs_fun_dip *d)
+{
+    float f[3];
+    __builtin_memcpy(f, rec + 1, 4);
+    __builtin_memcpy(f + 1, rec + 2, 8);
+    d->u = f[0];
+    d->lo = d->u + f[1];
+    d->hi = d->u + f[2];
+}
+
+static inline const float *gs__qrec_values(const double *rec)
+{
+    return (const float *)(rec + GS_QREC_HEAD);
+}
+
+static inline const double *gs__qrec_coef(const double *rec, uint32_t g)
+{
+    return rec + GS_QREC_HEAD + (g + 3u) / 4u * 2u;
+}
 
 /* Build the query cache (called once the database is validated). */
 int gs__db_grid_build(gs_db *db, gs_error *err);

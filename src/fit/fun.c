@@ -860,22 +860,44 @@ static double fun_at3(const gs_fun *f, double u, double *d1, double *d2)
     return term_at3(&t, f->closed ? gs_fun_wrap(u - f->shift) : u, d1, d2);
 }
 
+/* gs_fun_value(a, u) + gs_fun_value(b, u) for two Chebyshev functions, bit
+ * for bit, with the two Clenshaw recurrences interleaved (a series of lower
+ * degree starts with exact zeros). */
+static double pair_value(const gs_fun *a, const gs_fun *b, double u)
+{
+    double ta = clamp1(a->closed ? gs_fun_wrap(u - a->shift) : u);
+    double tb = clamp1(b->closed ? gs_fun_wrap(u - b->shift) : u);
+    const double *ca = a->coef, *cb = b->coef;
+    uint32_t ma = a->degree, mb = b->degree, m = ma > mb ? ma : mb;
+    double a1 = 0.0, a2 = 0.0, b1 = 0.0, b2 = 0.0, sa = 2.0 * ta, sb = 2.0 * tb;
+    for (uint32_t k = m; k >= 1; k--) {
+        double a0 = (k <= ma ? ca[k] : 0.0) + sa * a1 - a2;
+        double b0 = (k <= mb ? cb[k] : 0.0) + sb * b1 - b2;
+        a2 = a1, a1 = a0, b2 = b1, b1 = b0;
+    }
+    double pa = ma ? ca[0] + ta * a1 - a2 : ca[0], pb = mb ? cb[0] + tb * b1 - b2 : cb[0];
+    term fa = {ca, ma, a->squared}, fb = {cb, mb, b->squared};
+    return term_value(&fa, pa) + term_value(&fb, pb);
+}
+
 /* Newton on the slope of the sum from u (steps kept within +-h, a cell),
- * NEWTON_STEPS times; updates (*best, *bu) with every point it evaluates. */
+ * `steps` times; updates (*best, *bu) with every point it evaluates. *exact
+ * says whether *best is pair_value(a, b, *bu) (else it came from the
+ * derivative recurrences and is evaluated again at the end). */
 #define NEWTON_STEPS 2 /* from a sharp function's own minimiser          */
-#define GRID_STEPS 0   /* from the grid's parabola (fine grid: accurate)  */
+#define DIP_INSIDE 1e-7 /* zero-set edges: this fraction of the way in   */
 static void newton_candidate(const gs_fun *a, const gs_fun *b, double u, double h, int closed,
-                             int steps, double *best, double *bu)
+                             int steps, double *best, double *bu, int *exact)
 {
     if (steps == 0) { /* the value alone: two Clenshaw sums */
-        double v = gs_fun_value(a, u) + gs_fun_value(b, u);
-        if (v < *best) *best = v, *bu = u;
+        double v = pair_value(a, b, u);
+        if (v < *best) *best = v, *bu = u, *exact = 1;
         return;
     }
     for (int it = 0; it <= steps; ++it) {
         double a1, a2, b1, b2;
         double v = fun_at3(a, u, &a1, &a2) + fun_at3(b, u, &b1, &b2);
-        if (v < *best) *best = v, *bu = u;
+        if (v < *best) *best = v, *bu = u, *exact = 0;
         double s1 = a1 + b1, s2 = a2 + b2;
         if (it == steps || !(s2 > 0.0)) return;
         double step = -s1 / s2;
@@ -886,33 +908,173 @@ static void newton_candidate(const gs_fun *a, const gs_fun *b, double u, double 
     }
 }
 
-double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, const float *gb,
-                            uint32_t g, double ua, double ub, double *u_at)
+/* s = ga + gb on the g grid points; returns min s (NaN if some s is NaN). */
+static float grid_sum(const float *ga, const float *gb, uint32_t g, float *s)
 {
-    /* loops: each function's seam may jump (the fit is not periodic), and
-     * the robust minimiser handles seams exactly */
-    if (unreachable(a) || unreachable(b) || g < 3 || a->kind == GS_FUN_SAMPLED ||
-        b->kind == GS_FUN_SAMPLED || a->closed || b->closed)
+    uint32_t j = 0;
+    float mn = INFINITY;
+    int nan = 0;
+#ifdef __SSE2__
+    __m128 vm = _mm_set1_ps(INFINITY), vn = _mm_setzero_ps();
+    for (; j + 4 <= g; j += 4) {
+        __m128 v = _mm_add_ps(_mm_loadu_ps(ga + j), _mm_loadu_ps(gb + j));
+        _mm_storeu_ps(s + j, v);
+        vm = _mm_min_ps(vm, v);
+        vn = _mm_or_ps(vn, _mm_cmpunord_ps(v, v));
+    }
+    float m4[4];
+    _mm_storeu_ps(m4, vm);
+    mn = m4[0] < m4[1] ? m4[0] : m4[1];
+    mn = mn < m4[2] ? mn : m4[2];
+    mn = mn < m4[3] ? mn : m4[3];
+    nan = _mm_movemask_ps(vn) != 0;
+#endif
+    for (; j < g; ++j) {
+        float v = ga[j] + gb[j];
+        s[j] = v;
+        nan |= v != v;
+        mn = v < mn ? v : mn;
+    }
+    return nan ? NAN : mn;
+}
+
+/* The grid points j (increasing) where s[j] <= thr, into low; their count. */
+static uint32_t grid_below(const float *s, uint32_t g, float thr, uint32_t *low)
+{
+    uint32_t n = 0, j = 0;
+#ifdef __SSE2__
+    __m128 t = _mm_set1_ps(thr);
+    for (; j + 4 <= g; j += 4) {
+        int m = _mm_movemask_ps(_mm_cmple_ps(_mm_loadu_ps(s + j), t));
+        while (m) {
+            low[n++] = j + (uint32_t)__builtin_ctz((unsigned)m);
+            m &= m - 1;
+        }
+    }
+#endif
+    for (; j < g; ++j)
+        if (s[j] <= thr) low[n++] = j;
+    return n;
+}
+
+/* Whether grid point j is a discrete local minimum of s (ties included). */
+static int grid_local_min(const float *s, uint32_t g, uint32_t j, int closed)
+{
+    float l = (j > 0 || closed) ? s[j ? j - 1 : g - 1] : INFINITY;
+    float r = (j + 1 < g || closed) ? s[j + 1 < g ? j + 1 : 0] : INFINITY;
+    return s[j] <= l && s[j] <= r;
+}
+
+/* A loop's seam lies in (u_{j-1}, u_{j+1}] (closed grid, with a little
+ * slack): there the fit may jump, and no parabola describes the sum. */
+static int seam_near(const gs_fun *f, uint32_t j, uint32_t g)
+{
+    double sigma = (gs_fun_wrap(f->shift - 1.0) + 1.0) * 0.5 * g; /* seam in grid units */
+    double d = sigma - ((double)j - 1.0);
+    if (d < 0.0) d += g;
+    if (d >= g) d -= g;
+    return d <= 2.0 + 1e-9 * g || d >= g - 1e-9 * g;
+}
+
+void gs_fun_dip_find(const gs_fun *f, gs_fun_dip *d)
+{
+    d->u = d->lo = d->hi = NAN;
+    if (!gs_fun_is_sharp(f)) return;
+    double u;
+    gs_fun_min(f, &u);
+    d->u = d->lo = d->hi = u;
+    term t = {f->coef, f->degree, f->squared};
+    double t0 = f->closed ? gs_fun_wrap(u - f->shift) : u, p0, p1, p2;
+    /* the raw series' own minimum near t0 (t0 may sit on a zero set's edge) */
+    double tm = poly_min(&t, t0 - 0.1 > -1.0 ? t0 - 0.1 : -1.0, t0 + 0.1 < 1.0 ? t0 + 0.1 : 1.0, t0, &p0);
+    if (p0 > 0.0) return;
+    /* the fit dips below 0 (clamped): the edges of that zero set */
+    gs_cheb_eval3(t.c, t.m, tm, &p0, &p1, &p2);
+    double w = p2 > 0.0 ? sqrt(-2.0 * p0 / p2) : 0.01;
+    double r1 = poly_root(&t, -1.0, tm, tm - w), r2 = poly_root(&t, tm, 1.0, tm + w);
+    d->lo = u + (r1 < t0 ? r1 - t0 : 0.0);
+    d->hi = u + (r2 > t0 ? r2 - t0 : 0.0);
+}
+
+/* The sum at an edge of a's zero set, just inside. */
+static void dip_edge(const gs_fun *a, const gs_fun *b, double e, double u, int closed, double *best, double *bu,
+                     int *exact)
+{
+    double x = e + (u - e) * DIP_INSIDE;
+    x = closed ? gs_fun_wrap(x) : clamp1(x);
+    double v = pair_value(a, b, x);
+    if (v < *best) *best = v, *bu = x, *exact = 1;
+}
+
+/* Candidates of a sharp function's dip: Newton from its own minimiser, and
+ * the edges of its zero set, where the sum of a clamped fit and a smooth
+ * function has its kink. */
+static void dip_candidates(const gs_fun *a, const gs_fun *b, const gs_fun_dip *d, double h, int closed,
+                           double *best, double *bu, int *exact)
+{
+    if (!d || d->u != d->u || !is_sharp(a)) return;
+    newton_candidate(a, b, d->u, h, closed, NEWTON_STEPS, best, bu, exact);
+    if (d->lo < d->u) dip_edge(a, b, d->lo, d->u, closed, best, bu, exact);
+    if (d->hi > d->u) dip_edge(a, b, d->hi, d->u, closed, best, bu, exact);
+}
+
+/* Whether f's seam (a loop's fit may jump there) may hold the minimum of
+ * the sum: the lower of f's two one-sided limits there (p(1), p(-1)) plus
+ * the other function's lower grid value beside the seam is not above thr. */
+static int seam_low(const gs_fun *f, const float *go, uint32_t g, float thr)
+{
+    double sigma = (gs_fun_wrap(f->shift - 1.0) + 1.0) * 0.5 * g;
+    uint32_t j = (uint32_t)sigma;
+    j = j < g ? j : g - 1;
+    float o = go[j] < go[j + 1 < g ? j + 1 : 0] ? go[j] : go[j + 1 < g ? j + 1 : 0];
+    double p1 = 0.0, pm = 0.0;
+    for (uint32_t k = 0; k <= f->degree; k++) p1 += f->coef[k], pm += k & 1 ? -f->coef[k] : f->coef[k];
+    term t = {f->coef, f->degree, f->squared};
+    double v1 = term_value(&t, p1), vm = term_value(&t, pm);
+    return (v1 < vm ? v1 : vm) + o <= thr * (1.0 + 1e-6);
+}
+
+double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, const float *gb,
+                            uint32_t g, const gs_fun_dip *da, const gs_fun_dip *db, double *u_at)
+{
+    if (unreachable(a) || unreachable(b) || g < 3 || g > GS_FUN_GRID_MAX || a->kind == GS_FUN_SAMPLED ||
+        b->kind == GS_FUN_SAMPLED || a->closed != b->closed)
         return gs_fun_pair_min(a, b, u_at);
+    int closed = a->closed != 0;
     float s[GS_FUN_GRID_MAX];
-    for (uint32_t j = 0; j < g; ++j) s[j] = ga[j] + gb[j];
-    int closed = a->closed || b->closed;
-    /* the two lowest discrete local minima of the grid */
+    float mn = grid_sum(ga, gb, g, s);
+    if (mn != mn) return gs_fun_pair_min(a, b, u_at);
+    /* j1: the lowest grid value (a discrete local minimum); j2: the lowest
+     * other discrete local minimum when the grid cannot tell it from j1 */
     uint32_t j1 = GS_NONE_U32, j2 = GS_NONE_U32;
-    for (uint32_t j = 0; j < g; ++j) {
-        float l = (j > 0 || closed) ? s[j ? j - 1 : g - 1] : INFINITY;
-        float r = (j + 1 < g || closed) ? s[j + 1 < g ? j + 1 : 0] : INFINITY;
-        if (!(s[j] <= l && s[j] <= r)) continue;
-        if (j1 == GS_NONE_U32 || s[j] < s[j1]) j2 = j1, j1 = j;
-        else if (j2 == GS_NONE_U32 || s[j] < s[j2]) j2 = j;
+    float thr = mn * 1.02f;
+    /* loops: a sharp dip or a seam that may hold the minimum go to the
+     * robust minimiser (a quarter of the loop pairs on bunny-5k) */
+    if (closed && ((da && da->u == da->u) || (db && db->u == db->u) || seam_low(a, gb, g, thr) || seam_low(b, ga, g, thr)))
+        return gs_fun_pair_min(a, b, u_at);
+    uint32_t low[GS_FUN_GRID_MAX], nl = grid_below(s, g, thr, low);
+    for (uint32_t i = 0; i < nl && j1 == GS_NONE_U32; ++i)
+        if (s[low[i]] == mn) j1 = low[i];
+    if (j1 == GS_NONE_U32) return gs_fun_pair_min(a, b, u_at); /* cannot happen */
+    for (uint32_t i = 0; i < nl; ++i) {
+        uint32_t j = low[i];
+        if (j != j1 && (j2 == GS_NONE_U32 || s[j] < s[j2]) && grid_local_min(s, g, j, closed)) j2 = j;
     }
     double h = closed ? 2.0 / g : 2.0 / (g - 1), best = INFINITY, bu = 0.0;
+    int exact = 1;
     for (int c = 0; c < 2; ++c) {
         uint32_t jb = c ? j2 : j1;
-        /* a second local minimum only when the grid cannot tell them apart */
-        if (jb == GS_NONE_U32 || (c && s[j2] > s[j1] * 1.02f)) continue;
+        if (jb == GS_NONE_U32) continue;
+        /* a loop's seam beside the minimum: the robust minimiser */
+        if (closed && (seam_near(a, jb, g) || seam_near(b, jb, g))) return gs_fun_pair_min(a, b, u_at);
         double u0 = grid_u(jb, g, closed);
-        if (closed || (jb > 0 && jb + 1 < g)) { /* parabola through the neighbours */
+        if (!closed && (jb == 0 || jb + 1 == g) && g >= 3) { /* a path's end: the end, or inside its cell */
+            uint32_t m = jb ? g - 2 : 1;
+            double sl = s[m - 1], sc = s[m], sr = s[m + 1], den = sl - 2.0 * sc + sr;
+            double t = den > 0.0 ? 0.5 * (sl - sr) / den : 0.0;
+            if (jb ? t > 0.0 && t < 1.0 : t < 0.0 && t > -1.0)
+                newton_candidate(a, b, grid_u(m, g, 0) + t * h, h, 0, 0, &best, &bu, &exact);
+        } else { /* parabola through the neighbours */
             double sl = s[jb ? jb - 1 : g - 1], sc = s[jb], sr = s[jb + 1 < g ? jb + 1 : 0];
             double den = sl - 2.0 * sc + sr;
             if (den > 0.0) {
@@ -921,12 +1083,12 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
                 u0 = closed ? gs_fun_wrap(u0) : clamp1(u0);
             }
         }
-        newton_candidate(a, b, u0, h, closed, GRID_STEPS, &best, &bu);
+        newton_candidate(a, b, u0, h, closed, 0, &best, &bu, &exact);
     }
     /* a vertex close to the curve gives its function a sharp dip, which the
      * grid may step over: the dip's own minimiser is a candidate too */
-    if (ua == ua && is_sharp(a)) newton_candidate(a, b, ua, h, closed, NEWTON_STEPS, &best, &bu);
-    if (ub == ub && is_sharp(b)) newton_candidate(a, b, ub, h, closed, NEWTON_STEPS, &best, &bu);
+    dip_candidates(a, b, da, h, closed, &best, &bu, &exact);
+    dip_candidates(b, a, db, h, closed, &best, &bu, &exact);
     if (u_at) *u_at = bu;
-    return gs_fun_value(a, bu) + gs_fun_value(b, bu); /* the value as evaluated */
+    return exact && best < INFINITY ? best : pair_value(a, b, bu); /* the value as evaluated */
 }

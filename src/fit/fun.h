@@ -71,17 +71,30 @@ uint32_t gs_fun_grid_points(uint32_t m);
  * gs_fun_pair_min_grid needs f's own minimiser. */
 int gs_fun_is_sharp(const gs_fun *f);
 
+/* The dip of a sharp function: its own minimiser u and, when its fit dips
+ * below 0 there (the value is clamped to 0), the edges lo < u < hi of that
+ * zero set (else lo = hi = u); u = NaN: not sharp. Loops: lo and hi are u
+ * plus offsets (wrap them). */
+typedef struct gs_fun_dip {
+    double u, lo, hi;
+} gs_fun_dip;
+
+/* The dip of f (u = NaN unless gs_fun_is_sharp(f)). */
+void gs_fun_dip_find(const gs_fun *f, gs_fun_dip *d);
+
 /* The query hot path: min over u of a(u) + b(u) given both functions'
  * values on the same uniform grid of g points in u (paths: u_j = -1 +
- * 2j/(g-1); loops: u_j = -1 + 2j/g), as floats, and each function's own
- * minimiser ua, ub (NaN if unknown). The grid cell of the minimum is found
- * from the tables and refined by a parabola through the three values around
- * it, where the exact sum is evaluated; when a function has a sharp dip
- * (a vertex close to the curve) its own minimiser is refined the same way.
- * The result is a value the functions reach (tests compare it with
- * gs_fun_pair_min). Loops (whose seams may jump), sampled and unreachable
- * functions go to gs_fun_pair_min. */
+ * 2j/(g-1); loops: u_j = -1 + 2j/g), as floats, and each function's dip
+ * (da, db: gs_fun_dip_find; NULL or u = NaN: none). The grid cell of the
+ * minimum is found from the tables and refined by a parabola through the
+ * three values around it, where the exact sum is evaluated; a path's end
+ * cell by the parabola of the last three; when a function has a sharp dip
+ * (a vertex close to the curve) its own minimiser is refined by Newton and
+ * its zero set's edges are candidates. The result is a value the functions
+ * reach (tests compare it with gs_fun_pair_min). A loop's seam beside the
+ * minimum (the fit may jump there), sampled and unreachable functions go to
+ * gs_fun_pair_min. */
 double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, const float *gb,
-                            uint32_t g, double ua, double ub, double *u_at);
+                            uint32_t g, const gs_fun_dip *da, const gs_fun_dip *db, double *u_at);
 
 #endif

@@ -1,105 +1,201 @@
 /* grid.c - the query cache (paper sec. 4.3, made fast): at open, every
- * separator distance function is tabulated on a uniform grid in its curve's
- * parameter u (a loop's shift already applied), as floats, so that a query
- * finds the cell of the minimum of f_x + f_y with one vectorised pass and
- * only refines it (src/fit/fun.c gs_fun_pair_min_grid). Memory only; the
- * file stays as compact as the paper's. */
+ * vertex's separator distance functions are copied into one contiguous
+ * block (quick-reject entries, then per function its shift, coefficients and
+ * values tabulated on a uniform grid in the curve parameter u, a loop's
+ * shift already applied, as floats), so that a query touches few cache lines
+ * and finds the cell of the minimum of f_x + f_y with one vectorised pass
+ * (src/fit/fun.c gs_fun_pair_min_grid). Memory only; the file stays as
+ * compact as the paper's. Layout: src/db/db_internal.h (gs_qentry). */
 #include "../db/db_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#define MAX_PATH 1024 /* deeper trees (absurd) get no cache */
+
 /* Visit the functions of vertex x root first: calls fn(db, x, k, curve). */
 typedef void (*visit_fn)(gs_db *db, uint32_t x, uint64_t k, uint32_t curve, void *user);
 
 static void visit(gs_db *db, uint32_t x, visit_fn fn, void *user)
 {
-    uint32_t l = db->leaf[x], path[1024], n = 0;
+    uint32_t l = db->leaf[x], path[MAX_PATH], n = 0;
     if (l == GS_NONE) return;
-    for (uint32_t a = db->nodes[l].parent; a != GS_NONE && n < 1024; a = db->nodes[a].parent) path[n++] = a;
+    for (uint32_t a = db->nodes[l].parent; a != GS_NONE && n < MAX_PATH; a = db->nodes[a].parent) path[n++] = a;
     while (n--) {
         const gs_db_node *a = &db->nodes[path[n]];
         for (uint32_t j = 0; j < a->n_curves; ++j) fn(db, x, a->curve_prefix + j, a->curve_start + j, user);
     }
 }
 
+/* Per curve: 1 + the largest degree of its Chebyshev functions, UINT32_MAX
+ * when one is sampled, 0 when none is reachable. */
 static void max_degree(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
 {
     gs_fun f;
     gs__db_fun(db, x, k, &f);
     uint32_t *deg = user;
+    if (!f.coef) return;
     if (f.kind == GS_FUN_SAMPLED) deg[c] = UINT32_MAX;
     else if (deg[c] != UINT32_MAX && f.degree + 1 > deg[c]) deg[c] = f.degree + 1;
 }
 
-typedef struct fill_ctx {
-    uint64_t next;
-} fill_ctx;
-
-static void assign(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
+/* Doubles of a record with up to m1 coefficients and g grid points. */
+static uint64_t record_doubles(uint32_t m1, uint32_t g)
 {
-    fill_ctx *fc = user;
-    db->grid_start[db->vdir[x].first_function + k] = fc->next;
-    fc->next += db->curve_grid[c];
+    return GS_QREC_HEAD + ((g + 3u) / 4u) * 2u + m1;
 }
 
-static void tabulate(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
+/* Per curve: the most coefficients (or samples) of its functions. */
+static void max_coefs(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
 {
-    (void)user;
-    uint32_t g = db->curve_grid[c];
-    if (!g) return;
     gs_fun f;
     gs__db_fun(db, x, k, &f);
-    uint64_t fid = db->vdir[x].first_function + k;
-    float *v = db->grid + db->grid_start[fid];
-    double um = NAN; /* only a sharp function's own minimiser is ever used */
-    if (gs_fun_is_sharp(&f)) gs_fun_min(&f, &um);
-    db->umin[fid] = (float)um;
-    int closed = db->curves[c].closed != 0;
+    uint32_t *m1 = user;
+    if (f.coef && f.degree + 1 > m1[c]) m1[c] = f.degree + 1;
+}
+
+typedef struct fill_ctx {
+    const uint32_t *curve_grid;
+    double *block;
+    uint64_t nf;
+} fill_ctx;
+
+static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
+{
+    fill_ctx *fc = user;
+    gs_fun f;
+    gs__db_fun(db, x, k, &f);
+    gs_qentry *e = (gs_qentry *)fc->block + k;
+    const gs_db_fentry *fe = &db->funs[db->vdir[x].first_function + k];
+    e->minval = fe->minval;
+    e->meta = fe->meta;
+    e->rec = 0;
+    if (!f.coef) return; /* unreachable: never minimised */
+    uint32_t g = fc->curve_grid[c];
+    uint64_t off = 2 * fc->nf + db->qcoff[c];
+    double *rec = fc->block + off;
+    e->rec = (uint32_t)off;
+    gs_fun_dip dip = {NAN, NAN, NAN};
+    if (g) gs_fun_dip_find(&f, &dip);
+    /* offsets as floats: pulled in by a little more than their rounding */
+    float head[3] = {(float)dip.u, (float)((dip.lo - dip.u) * (1 - 1e-6)), (float)((dip.hi - dip.u) * (1 - 1e-6))};
+    if (dip.u != dip.u) head[1] = head[2] = 0.0f;
+    rec[0] = f.shift;
+    memcpy(rec + 1, head, 4);
+    memcpy((char *)(rec + 1) + 4, &g, 4);
+    memcpy(rec + 2, head + 1, 8);
+    float *v = (float *)(rec + GS_QREC_HEAD);
     for (uint32_t j = 0; j < g; ++j) {
-        double u = closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1);
+        double u = f.closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1);
         v[j] = (float)gs_fun_value(&f, u);
     }
+    for (uint32_t j = g; j < (g + 3u) / 4u * 4u; ++j) v[j] = INFINITY;
+    memcpy((double *)gs__qrec_coef(rec, g), f.coef, ((size_t)f.degree + 1) * sizeof *rec);
 }
 
 void gs__db_grid_free(gs_db *db)
 {
-    free(db->grid);
-    free(db->grid_start);
-    free(db->curve_grid);
-    free(db->umin);
-    db->umin = NULL;
-    db->grid = NULL;
-    db->grid_start = NULL;
-    db->curve_grid = NULL;
+    free(db->qbuf);
+    free(db->qstart);
+    free(db->qcoff);
+    db->qbuf = NULL;
+    db->qstart = NULL;
+    db->qcoff = NULL;
+    db->qsize = 0;
+}
+
+/* Vertex blocks start on a 64-byte line. */
+#define LINE_DOUBLES 8u
+
+/* The offsets qcoff (records of the curves of a node's proper ancestors
+ * first, root's first, then the node's own in order); rsize: each curve's
+ * record size. Returns 0 when some vertex's block would exceed 32-bit
+ * offsets (no cache then). */
+static int curve_offsets(gs_db *db, const uint32_t *rsize)
+{
+    uint64_t *noff = gs__malloc(db->n_nodes ? db->n_nodes : 1, sizeof *noff);
+    if (!noff) return -1;
+    int ok = 1;
+    for (uint32_t a = 0; a < db->n_nodes; ++a) { /* parents come first (validated) */
+        const gs_db_node *n = &db->nodes[a];
+        uint64_t o = 0;
+        if (n->parent != GS_NONE) {
+            const gs_db_node *p = &db->nodes[n->parent];
+            o = noff[n->parent];
+            for (uint32_t j = 0; j < p->n_curves; ++j) o += rsize[p->curve_start + j];
+        }
+        noff[a] = o;
+        uint64_t co = o;
+        for (uint32_t j = 0; j < n->n_curves; ++j) {
+            db->qcoff[n->curve_start + j] = (uint32_t)co;
+            co += rsize[n->curve_start + j];
+        }
+        if (co + 2ull * n->curve_prefix + 2ull * n->n_curves > UINT32_MAX) ok = 0;
+    }
+    free(noff);
+    return ok;
 }
 
 int gs__db_grid_build(gs_db *db, gs_error *err)
 {
     for (uint32_t x = 0; x < db->nv; ++x) /* absurdly deep trees: no cache */
-        if (db->leaf[x] != GS_NONE && db->nodes[db->leaf[x]].depth >= 1024) return GS_OK;
-    db->curve_grid = gs__calloc(db->n_curves ? db->n_curves : 1, sizeof *db->curve_grid);
-    db->grid_start = gs__malloc(db->n_functions ? db->n_functions : 1, sizeof *db->grid_start);
-    db->umin = gs__malloc(db->n_functions ? db->n_functions : 1, sizeof *db->umin);
-    if (!db->curve_grid || !db->grid_start || !db->umin) {
+        if (db->leaf[x] != GS_NONE && db->nodes[db->leaf[x]].depth >= MAX_PATH) return GS_OK;
+    size_t nc = db->n_curves ? db->n_curves : 1;
+    uint32_t *curve_grid = gs__calloc(nc, sizeof *curve_grid), *m1 = gs__calloc(nc, sizeof *m1);
+    db->qstart = gs__malloc((size_t)db->nv + 1, sizeof *db->qstart);
+    db->qcoff = gs__calloc(nc, sizeof *db->qcoff);
+    int ok = curve_grid && m1 && db->qstart && db->qcoff;
+    if (ok) {
+        for (uint32_t x = 0; x < db->nv; ++x) visit(db, x, max_degree, curve_grid), visit(db, x, max_coefs, m1);
+        for (uint32_t c = 0; c < db->n_curves; ++c) {
+            uint32_t d = curve_grid[c];
+            curve_grid[c] = (d == 0 || d == UINT32_MAX) ? 0 : gs_fun_grid_points(d - 1);
+            m1[c] = (uint32_t)record_doubles(m1[c], curve_grid[c]); /* now: record size */
+        }
+        int r = curve_offsets(db, m1);
+        if (r <= 0) {
+            free(curve_grid), free(m1);
+            gs__db_grid_free(db);
+            return r < 0 ? gs__fail(err, GS_ENOMEM, "out of memory for the query cache") : GS_OK;
+        }
+    }
+    if (!ok) {
+        free(curve_grid), free(m1);
         gs__db_grid_free(db);
         return gs__fail(err, GS_ENOMEM, "out of memory for the query cache");
     }
-    for (uint32_t x = 0; x < db->nv; ++x) visit(db, x, max_degree, db->curve_grid);
-    for (uint32_t c = 0; c < db->n_curves; ++c) {
-        uint32_t d = db->curve_grid[c];
-        db->curve_grid[c] = (d == 0 || d == UINT32_MAX) ? 0 : gs_fun_grid_points(d - 1);
+    uint64_t total = 0;
+    for (uint32_t x = 0; x < db->nv; ++x) {
+        uint32_t l = db->leaf[x];
+        uint64_t n = 0;
+        if (l != GS_NONE && db->nodes[l].curve_prefix) { /* entries, then records up to the last curve's end */
+            const gs_db_node *p = &db->nodes[db->nodes[l].parent];
+            uint32_t c = p->curve_start + p->n_curves - 1;
+            n = 2ull * db->nodes[l].curve_prefix + db->qcoff[c] + m1[c];
+        }
+        db->qstart[x] = total;
+        total += (n + LINE_DOUBLES - 1) / LINE_DOUBLES * LINE_DOUBLES;
     }
-    fill_ctx fc = {0};
-    for (uint32_t x = 0; x < db->nv; ++x) visit(db, x, assign, &fc);
-    db->grid = gs__malloc(fc.next ? fc.next : 1, sizeof *db->grid);
-    if (!db->grid) {
+    db->qstart[db->nv] = total;
+    free(m1);
+    size_t bytes = (total ? total : LINE_DOUBLES) * sizeof(double);
+    if (total > SIZE_MAX / 16 || !(db->qbuf = aligned_alloc(64, bytes))) {
+        free(curve_grid);
         gs__db_grid_free(db);
-        return gs__fail(err, GS_ENOMEM, "out of memory for the query cache (%llu values)",
-                        (unsigned long long)fc.next);
+        return gs__fail(err, GS_ENOMEM, "out of memory for the query cache (%llu bytes)",
+                        (unsigned long long)total * 8);
     }
+    db->qsize = total;
 #pragma omp parallel for schedule(dynamic, 256)
-    for (uint32_t x = 0; x < db->nv; ++x) visit(db, x, tabulate, NULL);
+    for (uint32_t x = 0; x < db->nv; ++x) {
+        uint32_t l = db->leaf[x];
+        double *block = db->qbuf + db->qstart[x];
+        uint64_t n = db->qstart[x + 1] - db->qstart[x];
+        memset(block, 0, n * sizeof *block); /* padding and unused room */
+        fill_ctx fc = {curve_grid, block, l == GS_NONE ? 0 : db->nodes[l].curve_prefix};
+        visit(db, x, fill, &fc);
+    }
+    free(curve_grid);
     return GS_OK;
 }

@@ -6,7 +6,6 @@
 
 #include <math.h>
 
-#define FIELD_MAX_FUNS 512  /* x's decoded functions kept on the stack      */
 #define FIELD_MAX_DEPTH 512 /* x's ancestors by depth kept on the stack     */
 
 static double euclidean(const gs_db *db, uint32_t x, uint32_t y)
@@ -47,8 +46,7 @@ static uint32_t lowest_common_ancestor(const gs_db_node *nodes, uint32_t a, uint
  * common curve, and the curve's function index. */
 typedef struct candidate {
     double bound;
-    uint64_t k;
-    uint32_t curve;
+    uint32_t k, curve;
 } candidate;
 
 #define MAX_CANDIDATES 64
@@ -57,76 +55,140 @@ typedef struct candidate {
  * their quick-reject bound (stable: bottom-up order breaks ties). Visiting
  * the most promising curve first makes the quick reject skip more pair
  * minimisations than the paper's plain bottom-up order (bunny-5k: 1.41
- * instead of 2.05 per query) and gives the same minimum. Returns the number
+ * instead of 2.05 per query) and gives the same minimum. ex, ey: the two
+ * vertices' entries (minval first, stride `stride` bytes). Returns the number
  * gathered; *rest is the node where gathering stopped (GS_NONE: all). */
-static uint32_t gather(const gs_db *db, const gs_db_fentry *ex, const gs_db_fentry *ey, uint32_t top,
-                       candidate *c, uint32_t *rest)
+static uint32_t gather(const gs_db *db, const char *ex, const char *ey, size_t stride, uint32_t top, candidate *c,
+                       uint32_t *rest)
 {
     uint32_t n = 0, a = top;
     for (; a != GS_NONE; a = db->nodes[a].parent) {
-        uint64_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
+        uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
         if (n + (k1 - k0) > MAX_CANDIDATES) break;
-        for (uint64_t k = k0; k < k1; ++k) {
-            double b = ex[k].minval + ey[k].minval;
+        for (uint32_t k = k0; k < k1; ++k) {
+            double b = *(const double *)(ex + k * stride) + *(const double *)(ey + k * stride);
             uint32_t i = n++;
             for (; i > 0 && c[i - 1].bound > b; --i) c[i] = c[i - 1];
-            c[i].bound = b, c[i].k = k, c[i].curve = db->nodes[a].curve_start + (uint32_t)(k - k0);
+            c[i].bound = b, c[i].k = k, c[i].curve = db->nodes[a].curve_start + (k - k0);
         }
     }
     *rest = a;
     return n;
 }
 
-/* min over the curve of f_x + f_y, from the query cache when it is there.
- * The two functions go in vertex-id order, so that d(x,y) == d(y,x). */
-static double pair_min(const gs_db *db, uint32_t x, uint32_t y, uint64_t k, uint32_t curve,
-                       const gs_fun *fx, const gs_fun *fy)
+/* ---- with the query cache (src/query/grid.c) ---- */
+
+/* Function k of a vertex whose block is b (reachable: minval finite). */
+static inline const double *cached_fun(const double *b, uint32_t k, gs_fun *f)
 {
-    uint32_t g = db->grid ? db->curve_grid[curve] : 0;
-    if (x > y) {
-        const gs_fun *t = fx;
-        fx = fy, fy = t;
-        uint32_t u = x;
-        x = y, y = u;
-    }
-    if (!g) return gs_fun_pair_min(fx, fy, NULL);
-    uint64_t ix = db->vdir[x].first_function + k, iy = db->vdir[y].first_function + k;
-    return gs_fun_pair_min_grid(fx, fy, db->grid + db->grid_start[ix], db->grid + db->grid_start[iy], g,
-                                db->umin[ix], db->umin[iy], NULL);
+    const gs_qentry *e = (const gs_qentry *)b + k;
+    const double *rec = b + e->rec;
+    uint32_t m = e->meta;
+    f->kind = GS_META_KIND(m);
+    f->degree = GS_META_DEGREE(m);
+    f->squared = GS_META_SQUARED(m);
+    f->closed = GS_META_CLOSED(m);
+    f->minval = e->minval;
+    f->shift = rec[0];
+    f->coef = gs__qrec_coef(rec, gs__qrec_grid(rec));
+    return rec;
 }
 
-/* eq. 4-5 with the quick reject. fx: x's decoded functions, or NULL. The
- * two functions of a pair go to the minimiser in vertex-id order, so that
- * d(x,y) == d(y,x) bit for bit. */
-static double cross_leaf(const gs_db *db, const gs_fun *fx, uint32_t x, uint32_t y, uint32_t top)
+/* Start fetching the record of curve c in the block b of a vertex with nf
+ * functions (the head and grid: the first lines). */
+static inline void prefetch_record(const gs_db *db, const double *b, uint32_t nf, uint32_t c)
 {
-    const gs_db_fentry *ex = db->funs + db->vdir[x].first_function;
-    const gs_db_fentry *ey = db->funs + db->vdir[y].first_function;
+    const char *r = (const char *)(b + 2 * (size_t)nf + db->qcoff[c]);
+    for (int i = 0; i < 6; ++i) __builtin_prefetch(r + 64 * i);
+}
+
+/* min over curve k of f_x + f_y; x < y (the order of the two functions
+ * makes d(x,y) == d(y,x) bit for bit). */
+static double cached_pair(const double *bx, const double *by, uint32_t k)
+{
+    gs_fun fx, fy;
+    const double *rx = cached_fun(bx, k, &fx), *ry = cached_fun(by, k, &fy);
+    uint32_t g = gs__qrec_grid(rx);
+    if (!g || g != gs__qrec_grid(ry)) return gs_fun_pair_min(&fx, &fy, NULL);
+    gs_fun_dip dx, dy;
+    gs__qrec_dip(rx, &dx);
+    gs__qrec_dip(ry, &dy);
+    return gs_fun_pair_min_grid(&fx, &fy, gs__qrec_values(rx), gs__qrec_values(ry), g, &dx, &dy, NULL);
+}
+
+/* eq. 4-5 with the quick reject, x < y. */
+static double cross_cached(const gs_db *db, uint32_t x, uint32_t y, uint32_t top)
+{
+    const double *bx = db->qbuf + db->qstart[x], *by = db->qbuf + db->qstart[y];
+    uint32_t nfx = db->nodes[db->leaf[x]].curve_prefix, nfy = db->nodes[db->leaf[y]].curve_prefix;
+    /* the lowest common separator's curves hold the minimum most often:
+     * their records are on their way while the entries arrive */
+    for (uint32_t j = 0; j < db->nodes[top].n_curves && j < 2; ++j) {
+        uint32_t c = db->nodes[top].curve_start + j;
+        prefetch_record(db, bx, nfx, c), prefetch_record(db, by, nfy, c);
+    }
     candidate c[MAX_CANDIDATES];
-    uint32_t rest, n = gather(db, ex, ey, top, c, &rest);
+    uint32_t rest, n = gather(db, (const char *)bx, (const char *)by, sizeof(gs_qentry), top, c, &rest);
+    if (n && db->curves[c[0].curve].node != top) prefetch_record(db, bx, nfx, c[0].curve), prefetch_record(db, by, nfy, c[0].curve);
     double best = INFINITY;
     for (uint32_t i = 0; i < n; ++i) {
         if (c[i].bound >= best) break; /* sorted: all others rejected too (and unreachable) */
-        gs_fun gx, gy;
-        if (!fx) gs__db_fun(db, x, c[i].k, &gx);
-        gs__db_fun(db, y, c[i].k, &gy);
-        const gs_fun *a = fx ? &fx[c[i].k] : &gx;
-        double d = pair_min(db, x, y, c[i].k, c[i].curve, a, &gy);
+        if (i + 1 < n) prefetch_record(db, bx, nfx, c[i + 1].curve), prefetch_record(db, by, nfy, c[i + 1].curve);
+        double d = cached_pair(bx, by, c[i].k);
         if (d < best) best = d;
     }
-    for (uint32_t a_node = rest; a_node != GS_NONE; a_node = db->nodes[a_node].parent) { /* > 64 curves: rare */
-        uint64_t k0 = db->nodes[a_node].curve_prefix, k1 = k0 + db->nodes[a_node].n_curves;
-        for (uint64_t k = k0; k < k1; ++k) {
+    const gs_qentry *ex = (const gs_qentry *)bx, *ey = (const gs_qentry *)by;
+    for (uint32_t a = rest; a != GS_NONE; a = db->nodes[a].parent) { /* > 64 curves: rare */
+        uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
+        for (uint32_t k = k0; k < k1; ++k) {
             if (ex[k].minval + ey[k].minval >= best) continue;
-            gs_fun gx, gy;
-            if (!fx) gs__db_fun(db, x, k, &gx);
-            gs__db_fun(db, y, k, &gy);
-            const gs_fun *a = fx ? &fx[k] : &gx;
-            double d = pair_min(db, x, y, k, db->nodes[a_node].curve_start + (uint32_t)(k - k0), a, &gy);
+            double d = cached_pair(bx, by, k);
             if (d < best) best = d;
         }
     }
     return best;
+}
+
+/* ---- without it (absurdly deep trees): the file's sections ---- */
+
+static double file_pair(const gs_db *db, uint32_t x, uint32_t y, uint32_t k)
+{
+    gs_fun fx, fy;
+    gs__db_fun(db, x, k, &fx);
+    gs__db_fun(db, y, k, &fy);
+    return gs_fun_pair_min(&fx, &fy, NULL);
+}
+
+static double cross_file(const gs_db *db, uint32_t x, uint32_t y, uint32_t top)
+{
+    const gs_db_fentry *ex = db->funs + db->vdir[x].first_function;
+    const gs_db_fentry *ey = db->funs + db->vdir[y].first_function;
+    candidate c[MAX_CANDIDATES];
+    uint32_t rest, n = gather(db, (const char *)ex, (const char *)ey, sizeof *ex, top, c, &rest);
+    double best = INFINITY;
+    for (uint32_t i = 0; i < n; ++i) {
+        if (c[i].bound >= best) break;
+        double d = file_pair(db, x, y, c[i].k);
+        if (d < best) best = d;
+    }
+    for (uint32_t a = rest; a != GS_NONE; a = db->nodes[a].parent) {
+        uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
+        for (uint32_t k = k0; k < k1; ++k) {
+            if (ex[k].minval + ey[k].minval >= best) continue;
+            double d = file_pair(db, x, y, k);
+            if (d < best) best = d;
+        }
+    }
+    return best;
+}
+
+/* Cross-leaf distance of x != y (any order), top their leaves' lowest common
+ * ancestor: the two go in vertex-id order so that d(x,y) == d(y,x). */
+static double cross_leaf(const gs_db *db, uint32_t x, uint32_t y, uint32_t top)
+{
+    uint32_t lo = x < y ? x : y, hi = x < y ? y : x;
+    double d = db->qbuf ? cross_cached(db, lo, hi, top) : cross_file(db, lo, hi, top);
+    return at_least_euclidean(db, x, y, d);
 }
 
 double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y)
@@ -136,7 +198,13 @@ double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y)
     uint32_t lx = db->leaf[x], ly = db->leaf[y];
     if (lx == GS_NONE || ly == GS_NONE) return INFINITY;
     if (lx == ly) return same_leaf(db, lx, x, y);
-    return at_least_euclidean(db, x, y, cross_leaf(db, NULL, x, y, lowest_common_ancestor(db->nodes, lx, ly)));
+    if (db->qbuf) { /* start the two blocks' entries on their way */
+        const char *bx = (const char *)(db->qbuf + db->qstart[x]), *by = (const char *)(db->qbuf + db->qstart[y]);
+        __builtin_prefetch(bx), __builtin_prefetch(bx + 64), __builtin_prefetch(bx + 128);
+        __builtin_prefetch(by), __builtin_prefetch(by + 64), __builtin_prefetch(by + 128);
+        __builtin_prefetch(db->xyz + 3 * (size_t)x), __builtin_prefetch(db->xyz + 3 * (size_t)y);
+    }
+    return cross_leaf(db, x, y, lowest_common_ancestor(db->nodes, lx, ly));
 }
 
 /* Out-of-range ids give NaN in out[] and GS_EARG naming the first one; the
@@ -155,13 +223,12 @@ int gs_db_distances(const gs_db *db, const uint32_t *pairs, size_t n, double *ou
     return GS_OK;
 }
 
-/* ---- fields: x's functions decoded once, its ancestors marked by depth ---- */
+/* ---- fields: x's ancestors marked by depth ---- */
 
 typedef struct field_ctx {
     const gs_db *db;
     uint32_t x, lx, depth_x;
     uint32_t anc[FIELD_MAX_DEPTH]; /* anc[d]: x's ancestor at depth d      */
-    gs_fun fx[FIELD_MAX_FUNS];
 } field_ctx;
 
 static double field_cross(const field_ctx *c, uint32_t y, uint32_t ly)
@@ -169,14 +236,12 @@ static double field_cross(const field_ctx *c, uint32_t y, uint32_t ly)
     const gs_db *db = c->db;
     uint32_t a = ly;
     while (db->nodes[a].depth > c->depth_x || c->anc[db->nodes[a].depth] != a) a = db->nodes[a].parent;
-    return at_least_euclidean(db, c->x, y, cross_leaf(db, c->fx, c->x, y, a));
+    return cross_leaf(db, c->x, y, a);
 }
 
 static void field_fast(field_ctx *c, double *out)
 {
     const gs_db *db = c->db;
-    uint32_t nf = db->nodes[c->lx].curve_prefix;
-    for (uint32_t k = 0; k < nf; ++k) gs__db_fun(db, c->x, k, &c->fx[k]);
     for (uint32_t a = c->lx; a != GS_NONE; a = db->nodes[a].parent) c->anc[db->nodes[a].depth] = a;
     for (uint32_t y = 0; y < db->nv; ++y) {
         uint32_t ly = db->leaf[y];
@@ -196,11 +261,11 @@ int gs_db_field(const gs_db *db, uint32_t x, double *out, gs_error *err)
         for (uint32_t y = 0; y < db->nv; ++y) out[y] = y == x ? 0.0 : INFINITY;
         return GS_OK;
     }
-    if (db->nodes[lx].curve_prefix > FIELD_MAX_FUNS || db->nodes[lx].depth >= FIELD_MAX_DEPTH) {
+    if (db->nodes[lx].depth >= FIELD_MAX_DEPTH) {
         for (uint32_t y = 0; y < db->nv; ++y) out[y] = gs_db_distance(db, x, y);
         return GS_OK;
     }
-    field_ctx c; /* ~30 KB on the stack; no heap allocation */
+    field_ctx c; /* ~2 KB on the stack; no heap allocation */
     c.db = db;
     c.x = x;
     c.lx = lx;
