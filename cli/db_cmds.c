@@ -106,6 +106,18 @@ static int build_option(gs_build_options *o, const char **out, int *quiet, int a
     return fail(EXIT_USAGE, "build: unknown or incomplete option '%s'", a);
 }
 
+/* One line: the build parameters the database records. */
+static void print_params(const gs_db_info *i)
+{
+    printf("built with: method %s", gs_method_name(i->method));
+    if (i->method == GS_METHOD_FMM) printf(" (exact start %g edge lengths)", i->solver.fmm_exact_start);
+    if (i->method == GS_METHOD_HEAT) printf(" (t = %g h^2)", i->solver.heat_time);
+    printf(", %s sources, vmax %u, mmax %u, tol %g, spacing %g", i->vertex_sources ? "vertex" : "sample", i->vmax,
+           i->mmax, i->tol, i->sample_spacing);
+    if (i->max_samples) printf(", at most %u samples per curve", i->max_samples);
+    printf(", seed %u%s%s\n", i->seed, i->sampled ? ", sampled (SEPsam)" : "", i->leaf_exact ? ", leaf tables" : "");
+}
+
 int cmd_build(int argc, char **argv)
 {
     gs_build_options o;
@@ -154,6 +166,7 @@ int cmd_build(int argc, char **argv)
                st.seconds_fields, st.seconds_fits, tw, st.seconds_total + tw);
         printf("size: %llu bytes, %.1f bytes/vertex, cost %.1f numbers/vertex\n",
                (unsigned long long)info.file_bytes, info.bytes_per_vertex, info.cost);
+        print_params(&info);
     }
     gs_db_free(db);
     gs_mesh_free(m);
@@ -379,6 +392,7 @@ int cmd_eval(int argc, char **argv)
                info.cost, info.bytes_per_vertex, info.avg_depth, info.max_depth, info.n_leaves, info.n_curves);
         printf("query time %.1f ns per pair (through %u fields)\n",
                1e9 * secs / ((double)gt->n_sources * info.n_vertices), gt->n_sources);
+        print_params(&info);
     }
     gs_gt_free(gt);
     gs_db_free(db);

@@ -338,6 +338,10 @@ typedef struct gs_db_info {
     uint32_t vmax, mmax;
     double tol;
     int vertex_sources, sampled, leaf_exact;
+    double sample_spacing;     /* build parameters (gs_build_options)          */
+    uint32_t seed;
+    uint32_t max_samples;      /* cap on samples per curve (0: none)          */
+    gs_solver_options solver;  /* the field method's parameters                */
 } gs_db_info;
 
 int gs_db_get_info(const gs_db *db, gs_db_info *info, gs_error *err);

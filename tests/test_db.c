@@ -128,6 +128,11 @@ static void make_fixture(fixture *f, int leaf_exact)
     c->mmax = 12;
     c->tol = 0.005;
     c->vertex_sources = 1;
+    c->sample_spacing = 0.25;
+    c->seed = 7;
+    c->max_samples = 64;
+    c->heat_time = 0.5;
+    c->fmm_exact_start = 3;
     c->avg_depth = 10.0 / 6.0;
     c->max_depth = 2;
     c->n_leaves = 3;
@@ -220,7 +225,9 @@ static void test_round_trip(int leaf_exact)
         CHECK(memcmp(&i1, &i2, sizeof i1) == 0);
         CHECK(i1.n_vertices == FX_NV && i1.n_nodes == 5 && i1.n_leaves == 3 && i1.n_curves == 3);
         CHECK(i1.max_depth == 2 && i1.vmax == 2 && i1.mmax == 12 && i1.tol == 0.005 && i1.vertex_sources == 1);
-        CHECK(i1.leaf_exact == leaf_exact && i1.sampled == 0 && i1.file_bytes == n && i1.format_version == 1);
+        CHECK(i1.leaf_exact == leaf_exact && i1.sampled == 0 && i1.file_bytes == n && i1.format_version == 2);
+        CHECK(i1.sample_spacing == 0.25 && i1.seed == 7 && i1.max_samples == 64 && i1.solver.heat_time == 0.5 &&
+              i1.solver.fmm_exact_start == 3);
         /* 14 functions: 12 reachable with 3 coefficients, 4 of them loops */
         CHECK_NEAR(i1.cost, (12.0 * 3 + 4 /* loop shifts */) / FX_NV, 1e-12); /* Table 1: coefficients and shifts */
         /* saving a loaded database writes the same bytes */
@@ -316,8 +323,8 @@ static void reseal(unsigned char *b, size_t n)
         uint64_t h = gs__db_checksum(b + off, (size_t)size, NULL, 0);
         memcpy(t + 24, &h, 8);
     }
-    uint64_t h = gs__db_checksum(b, 120, b + GS_DB_HEADER_BYTES, GS_DB_ENTRY_BYTES * n_sec);
-    memcpy(b + 120, &h, 8);
+    uint64_t h = gs__db_checksum(b, GS_DB_CHECKSUM_AT, b + GS_DB_HEADER_BYTES, GS_DB_ENTRY_BYTES * n_sec);
+    memcpy(b + GS_DB_CHECKSUM_AT, &h, 8);
 }
 
 static unsigned char *section(unsigned char *b, uint32_t id)
@@ -361,6 +368,10 @@ static void m_size(unsigned char *b) { uint64_t v = 8; memcpy(b + GS_DB_HEADER_B
 static void m_n_leaves(unsigned char *b) { uint32_t v = 4; memcpy(b + 44, &v, 4); }
 static void m_flags(unsigned char *b) { uint32_t v = 3; memcpy(b + 16, &v, 4); }
 static void m_avg_depth(unsigned char *b) { double v = NAN; memcpy(b + 72, &v, 8); }
+static void m_method(unsigned char *b) { uint32_t v = 9; memcpy(b + 80, &v, 4); }
+static void m_spacing(unsigned char *b) { double v = 0; memcpy(b + 120, &v, 8); }
+static void m_heat_time(unsigned char *b) { double v = -1; memcpy(b + 136, &v, 8); }
+static void m_fmm_start(unsigned char *b) { double v = INFINITY; memcpy(b + 144, &v, 8); }
 static void m_pos_nan(unsigned char *b) { double v = NAN; memcpy(section(b, GS_SEC_POSITIONS) + 8, &v, 8); }
 static void m_leaf_local(unsigned char *b) { uint32_t v = 0; memcpy(section(b, GS_SEC_LEAF_LOCAL) + 4 * 1, &v, 4); }
 static void m_leaf_dist(unsigned char *b) { double v = -1; memcpy(section(b, GS_SEC_LEAF_DIST) + 8 * 1, &v, 8); }
@@ -398,6 +409,10 @@ static void test_structure(void)
         {m_n_leaves, "n_leaves 4 but the tree has 3"},
         {m_flags, "flags 0x3 has unknown bits"},
         {m_avg_depth, "avg_depth"},
+        {m_method, "method 9 unknown"},
+        {m_spacing, "sample_spacing 0"},
+        {m_heat_time, "heat_time -1"},
+        {m_fmm_start, "fmm_exact_start inf"},
         {m_pos_nan, "vertex 0 has a non-finite coordinate"},
         {m_leaf_local, "vertex 1 has number 0 in leaf 1"},
         {m_leaf_dist, "section 'leaf_dist': entry 1 is -1"},
@@ -425,9 +440,13 @@ static void test_structure(void)
     b[0] = 'X';
     CHECK(open_bad(b, n, &err) == GS_EPARSE && strstr(err.message, "bad magic"));
     memcpy(b, db->bytes, n);
-    b[8] = 2;
+    b[8] = 1; /* the first format (128-byte header) is not read */
     reseal(b, n);
-    CHECK(open_bad(b, n, &err) == GS_EFORMAT && strstr(err.message, "format_version 2"));
+    CHECK(open_bad(b, n, &err) == GS_EFORMAT && strstr(err.message, "format_version 1 (this reader knows 2)"));
+    memcpy(b, db->bytes, n);
+    b[8] = 3;
+    reseal(b, n);
+    CHECK(open_bad(b, n, &err) == GS_EFORMAT && strstr(err.message, "format_version 3"));
     free(b);
     gs_db_free(db);
 }

@@ -665,6 +665,11 @@ static int assemble(builder *b, const leaf_tables *lt, gs_db **out, gs_error *er
     c.mmax = b->opt->mmax;
     c.tol = b->opt->tol;
     c.vertex_sources = (uint32_t)b->opt->vertex_sources;
+    c.sample_spacing = b->opt->sample_spacing;
+    c.seed = b->opt->seed;
+    c.max_samples = 0;
+    c.heat_time = b->opt->solver.heat_time;
+    c.fmm_exact_start = b->opt->solver.fmm_exact_start;
     c.sampled = (uint32_t)b->opt->sampled;
     c.avg_depth = t->avg_leaf_depth;
     c.max_depth = t->max_depth;

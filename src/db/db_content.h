@@ -53,6 +53,10 @@ typedef struct gs_db_content {
     uint32_t vmax, mmax;
     double tol;
     uint32_t vertex_sources, sampled;
+    double sample_spacing;        /* / mean edge length                      */
+    uint32_t seed;                /* partitioning seed                       */
+    uint32_t max_samples;         /* cap on samples per curve (0: none)      */
+    double heat_time, fmm_exact_start; /* gs_solver_options                  */
     double avg_depth;
     uint32_t max_depth, n_leaves;
 } gs_db_content;

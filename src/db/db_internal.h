@@ -11,9 +11,10 @@
 #include <stdint.h>
 
 #define GS_DB_MAGIC "GSEPDB\0\0"
-#define GS_DB_VERSION 1u
+#define GS_DB_VERSION 2u
 #define GS_DB_ENDIAN_TAG 0x0A0B0C0Du
-#define GS_DB_HEADER_BYTES 128u
+#define GS_DB_HEADER_BYTES 160u
+#define GS_DB_CHECKSUM_AT 152u /* header_checksum: the header's last field */
 #define GS_DB_ENTRY_BYTES 32u
 #define GS_DB_FLAG_LEAF_EXACT 1u
 #define GS_DB_BUILD_VERTEX_SOURCES 1u
@@ -73,6 +74,8 @@ struct gs_db {
     uint64_t n_functions, n_words, leaf_entries;
     uint32_t flags, build_flags, method, vmax, mmax;
     double avg_depth, tol, cost;
+    double sample_spacing, heat_time, fmm_exact_start;
+    uint32_t seed, max_samples;
     /* sections, in place */
     const double *xyz;
     const uint32_t *leaf;

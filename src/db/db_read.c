@@ -79,6 +79,11 @@ static void read_header(gs_db *db, const unsigned char *b)
     db->tol = getf(b + 96);
     db->leaf_entries = get64(b + 104);
     db->cost = getf(b + 112);
+    db->sample_spacing = getf(b + 120);
+    db->seed = get32(b + 128);
+    db->max_samples = get32(b + 132);
+    db->heat_time = getf(b + 136);
+    db->fmm_exact_start = getf(b + 144);
 }
 
 static int check_header(reader *r, const unsigned char *b, uint64_t size, uint32_t *n_sec)
@@ -97,7 +102,7 @@ static int check_header(reader *r, const unsigned char *b, uint64_t size, uint32
     uint64_t tab = GS_DB_ENTRY_BYTES * (uint64_t)want;
     if (size < GS_DB_HEADER_BYTES + tab)
         return BAD(r, "%s: section table: file ends inside the table", r->name);
-    if (gs__db_checksum(b, 120, b + GS_DB_HEADER_BYTES, (size_t)tab) != get64(b + 120))
+    if (gs__db_checksum(b, GS_DB_CHECKSUM_AT, b + GS_DB_HEADER_BYTES, (size_t)tab) != get64(b + GS_DB_CHECKSUM_AT))
         return BAD(r, "%s: header: header_checksum mismatch (corrupt header or section table)", r->name);
     return GS_OK;
 }
@@ -115,6 +120,13 @@ static int check_counts(reader *r)
         return BAD(r, "%s: header: avg_depth %g not in [0, max_depth %u]", r->name, db->avg_depth, db->max_depth);
     if (!(db->tol >= 0 && isfinite(db->tol))) return BAD(r, "%s: header: tol %g not finite and >= 0", r->name, db->tol);
     if (!(db->cost >= 0 && isfinite(db->cost))) return BAD(r, "%s: header: cost %g not finite and >= 0", r->name, db->cost);
+    if (!gs_method_name((gs_method)db->method)) return BAD(r, "%s: header: method %u unknown", r->name, db->method);
+    if (!(db->sample_spacing > 0 && isfinite(db->sample_spacing)))
+        return BAD(r, "%s: header: sample_spacing %g not finite and > 0", r->name, db->sample_spacing);
+    if (!(db->heat_time > 0 && isfinite(db->heat_time)))
+        return BAD(r, "%s: header: heat_time %g not finite and > 0", r->name, db->heat_time);
+    if (!(db->fmm_exact_start >= 0 && isfinite(db->fmm_exact_start)))
+        return BAD(r, "%s: header: fmm_exact_start %g not finite and >= 0", r->name, db->fmm_exact_start);
     if (!(db->flags & GS_DB_FLAG_LEAF_EXACT) && db->leaf_entries)
         return BAD(r, "%s: header: leaf_entries %llu without leaf tables", r->name, (unsigned long long)db->leaf_entries);
     return GS_OK;
@@ -552,5 +564,10 @@ int gs_db_get_info(const gs_db *db, gs_db_info *info, gs_error *err)
     info->vertex_sources = (db->build_flags & GS_DB_BUILD_VERTEX_SOURCES) != 0;
     info->sampled = (db->build_flags & GS_DB_BUILD_SAMPLED) != 0;
     info->leaf_exact = db->leaf_vstart != NULL;
+    info->sample_spacing = db->sample_spacing;
+    info->seed = db->seed;
+    info->max_samples = db->max_samples;
+    info->solver.heat_time = db->heat_time;
+    info->solver.fmm_exact_start = db->fmm_exact_start;
     return GS_OK;
 }

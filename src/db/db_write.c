@@ -189,6 +189,11 @@ static void write_header(unsigned char *b, const gs_db_content *c, uint32_t n_se
     /* Table 1 counts what describes the functions: coefficients and loop
      * shifts; minima and meta words are index overhead (bytes/vertex). */
     putf(b + 112, c->nv ? (double)n_words / c->nv : 0.0);
+    putf(b + 120, c->sample_spacing);
+    put32(b + 128, c->seed);
+    put32(b + 132, c->max_samples);
+    putf(b + 136, c->heat_time);
+    putf(b + 144, c->fmm_exact_start);
 }
 
 static void write_functions(unsigned char *fsec, unsigned char *wsec, unsigned char *vsec,
@@ -261,7 +266,8 @@ static void write_sections(unsigned char *buf, const gs_db_content *c, const uin
         put64(t + 16, size[s]);
         put64(t + 24, gs__db_checksum(sec[s], size[s], NULL, 0));
     }
-    put64(buf + 120, gs__db_checksum(buf, 120, buf + GS_DB_HEADER_BYTES, GS_DB_ENTRY_BYTES * n_sec));
+    put64(buf + GS_DB_CHECKSUM_AT,
+          gs__db_checksum(buf, GS_DB_CHECKSUM_AT, buf + GS_DB_HEADER_BYTES, GS_DB_ENTRY_BYTES * n_sec));
 }
 
 int gs_db_pack(const gs_db_content *c, gs_db **out, gs_error *err)
