@@ -4,6 +4,7 @@
  * the faces crossed by the separator go to both children (ghost triangles). */
 #include "partition_internal.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -17,6 +18,9 @@ void gs_tree_options_default(gs_tree_options *o)
     o->seed = 1;
     o->level_iters = 16;
     o->filter_iters = 20;
+    o->cut_seeds = 4;
+    o->bisector = 1;
+    o->level_bias = 1.25;
 }
 
 void gs_tree_free(gs_tree *t)
@@ -172,14 +176,61 @@ static int make_children(builder *b, uint32_t id, const gs_part_node *nd)
     return GS_OK;
 }
 
+/* One candidate cut of node nd: sides by METIS with `seed`, then the
+ * diffusion level set, and with `bisector` the power bisector of its two
+ * sides (split.c). */
+static int candidate_sides(builder *b, gs_part_node *nd, uint32_t seed, int bisector,
+                           gs_error *err)
+{
+    nd->phi_valid = 0;
+    int rc = gs__part_sides(nd, seed, b->mean_edge, err);
+    if (rc == GS_OK) rc = gs__part_level_set(nd, b->opt->level_iters, err);
+    if (rc == GS_OK && bisector) rc = gs__part_bisector(nd, 1, err);
+    return rc;
+}
+
+/* Choose the candidate cut (METIS seed x level set / bisector) whose curves
+ * are shortest in total (level-set curves weighted by level_bias): builds
+ * each candidate's curves into the output and takes them back out. */
+static int choose_cut(builder *b, gs_part_node *nd, uint32_t *seed, int *bisector, gs_error *err)
+{
+    uint32_t nseeds = b->opt->cut_seeds ? b->opt->cut_seeds : 1;
+    int nvar = b->opt->bisector && b->opt->level_iters ? 2 : 1;
+    *seed = b->opt->seed;
+    *bisector = nvar == 2;
+    if (nseeds * nvar == 1) return GS_OK;
+    double best = INFINITY;
+    gs_part_out *o = &b->out;
+    for (uint32_t k = 0; k < nseeds; ++k)
+        for (int v = 0; v < nvar; ++v) {
+            size_t c0 = o->n_curves, s0 = o->n_samples, x0 = o->n_cross;
+            int bis = nvar == 2 ? 1 - v : 0;
+            int rc = candidate_sides(b, nd, b->opt->seed + k, bis, err);
+            if (rc == GS_OK) rc = gs__part_curves(nd, b->opt, b->mean_edge, o, err);
+            if (rc) return rc;
+            double len = 0;
+            for (size_t c = c0; c < o->n_curves; ++c) len += o->curves[c].length;
+            if (!bis) len *= b->opt->level_bias;
+            if (len < best) {
+                best = len;
+                *seed = b->opt->seed + k;
+                *bisector = bis;
+            }
+            o->n_curves = c0, o->n_samples = s0, o->n_cross = x0;
+        }
+    return GS_OK;
+}
+
 static int split_node(builder *b, uint32_t id, gs_error *err)
 {
     gs_part_node nd;
     b->t->nodes[id].curve_start = (uint32_t)b->out.n_curves;
     if (b->t->nodes[id].n_verts <= b->opt->vmax) return GS_OK;
     if (load_node(b, id, &nd)) return gs__fail(err, GS_ENOMEM, "out of memory building the tree");
-    int rc = gs__part_sides(&nd, b->opt->seed, err);
-    if (rc == GS_OK) rc = gs__part_level_set(&nd, b->opt->level_iters, err);
+    uint32_t seed;
+    int bisector;
+    int rc = choose_cut(b, &nd, &seed, &bisector, err);
+    if (rc == GS_OK) rc = candidate_sides(b, &nd, seed, bisector, err);
     if (rc == GS_OK) rc = gs__part_curves(&nd, b->opt, b->mean_edge, &b->out, err);
     if (rc == GS_OK) {
         b->t->nodes[id].n_curves = (uint32_t)(b->out.n_curves - b->t->nodes[id].curve_start);
@@ -238,6 +289,10 @@ int gs_tree_build(const gs_mesh *mesh, const gs_tree_options *opt, gs_tree **out
     if (!opt) opt = &def;
     if (!mesh) return gs__fail(err, GS_EARG, "gs_tree_build: mesh is NULL");
     if (opt->vmax < 1) return gs__fail(err, GS_EARG, "gs_tree_build: vmax must be >= 1");
+    if (!(opt->level_bias > 0) || opt->level_bias > 1e6)
+        return gs__fail(err, GS_EARG, "gs_tree_build: level_bias %g out of range", opt->level_bias);
+    if (opt->cut_seeds > 1024)
+        return gs__fail(err, GS_EARG, "gs_tree_build: cut_seeds %u out of range", opt->cut_seeds);
     if (!(opt->sample_spacing > 0) || opt->sample_spacing > 1e6)
         return gs__fail(err, GS_EARG, "gs_tree_build: sample_spacing %g out of range",
                         opt->sample_spacing);
