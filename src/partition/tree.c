@@ -45,9 +45,9 @@ typedef struct builder {
     double mean_edge;
     uint32_t *vloc, *floc;     /* mesh-sized maps, GS_NONE outside a node */
     uint32_t *lv, *lf, *tmp;   /* node scratch (grown as needed)          */
-    uint8_t *side;
-    double *phi;
-    size_t cap_lv, cap_lf, cap_tmp, cap_side, cap_phi;
+    uint8_t *side, *best_side;
+    double *phi, *best_phi;    /* best_*: the best candidate cut so far    */
+    size_t cap_lv, cap_lf, cap_tmp, cap_side, cap_phi, cap_best_side, cap_best_phi;
 } builder;
 
 static void builder_free(builder *b)
@@ -62,6 +62,8 @@ static void builder_free(builder *b)
     free(b->tmp);
     free(b->side);
     free(b->phi);
+    free(b->best_side);
+    free(b->best_phi);
 }
 
 #define RESERVE(ptr, cap, need) gs__part_reserve((void **)&(ptr), &(cap), (need), sizeof *(ptr))
@@ -189,17 +191,21 @@ static int candidate_sides(builder *b, gs_part_node *nd, uint32_t seed, int bise
     return rc;
 }
 
-/* Choose the candidate cut (METIS seed x level set / bisector) whose curves
- * are shortest in total (level-set curves weighted by level_bias): builds
- * each candidate's curves into the output and takes them back out. */
-static int choose_cut(builder *b, gs_part_node *nd, uint32_t *seed, int *bisector, gs_error *err)
+/* The candidate cuts (METIS seeds seed, seed+1, ... x diffusion level set /
+ * power bisector): each one's curves are built into the output, measured
+ * and taken back out; the sides and phi of the one whose curves are
+ * shortest in total (level-set curves weighted by level_bias) are left in
+ * nd. */
+static int choose_cut(builder *b, gs_part_node *nd, gs_error *err)
 {
     uint32_t nseeds = b->opt->cut_seeds ? b->opt->cut_seeds : 1;
     int nvar = b->opt->bisector && b->opt->level_iters ? 2 : 1;
-    *seed = b->opt->seed;
-    *bisector = nvar == 2;
-    if (nseeds * nvar == 1) return GS_OK;
+    if (nseeds * nvar == 1) return candidate_sides(b, nd, b->opt->seed, 0, err);
+    if (RESERVE(b->best_side, b->cap_best_side, nd->nl ? nd->nl : 1) ||
+        RESERVE(b->best_phi, b->cap_best_phi, nd->nl ? nd->nl : 1))
+        return gs__fail(err, GS_ENOMEM, "out of memory building the tree");
     double best = INFINITY;
+    int best_valid = 0;
     gs_part_out *o = &b->out;
     for (uint32_t k = 0; k < nseeds; ++k)
         for (int v = 0; v < nvar; ++v) {
@@ -213,11 +219,15 @@ static int choose_cut(builder *b, gs_part_node *nd, uint32_t *seed, int *bisecto
             if (!bis) len *= b->opt->level_bias;
             if (len < best) {
                 best = len;
-                *seed = b->opt->seed + k;
-                *bisector = bis;
+                memcpy(b->best_side, nd->side, nd->nl * sizeof *nd->side);
+                memcpy(b->best_phi, nd->phi, nd->nl * sizeof *nd->phi);
+                best_valid = nd->phi_valid;
             }
             o->n_curves = c0, o->n_samples = s0, o->n_cross = x0;
         }
+    memcpy(nd->side, b->best_side, nd->nl * sizeof *nd->side);
+    memcpy(nd->phi, b->best_phi, nd->nl * sizeof *nd->phi);
+    nd->phi_valid = best_valid;
     return GS_OK;
 }
 
@@ -227,10 +237,7 @@ static int split_node(builder *b, uint32_t id, gs_error *err)
     b->t->nodes[id].curve_start = (uint32_t)b->out.n_curves;
     if (b->t->nodes[id].n_verts <= b->opt->vmax) return GS_OK;
     if (load_node(b, id, &nd)) return gs__fail(err, GS_ENOMEM, "out of memory building the tree");
-    uint32_t seed;
-    int bisector;
-    int rc = choose_cut(b, &nd, &seed, &bisector, err);
-    if (rc == GS_OK) rc = candidate_sides(b, &nd, seed, bisector, err);
+    int rc = choose_cut(b, &nd, err);
     if (rc == GS_OK) rc = gs__part_curves(&nd, b->opt, b->mean_edge, &b->out, err);
     if (rc == GS_OK) {
         b->t->nodes[id].n_curves = (uint32_t)(b->out.n_curves - b->t->nodes[id].curve_start);
