@@ -21,6 +21,7 @@ void gs_tree_options_default(gs_tree_options *o)
     o->cut_seeds = 4;
     o->bisector = 1;
     o->level_bias = 1.25;
+    o->long_curve = 2.0;
 }
 
 void gs_tree_free(gs_tree *t)
@@ -48,6 +49,7 @@ typedef struct builder {
     uint8_t *side, *best_side;
     double *phi, *best_phi;    /* best_*: the best candidate cut so far    */
     size_t cap_lv, cap_lf, cap_tmp, cap_side, cap_phi, cap_best_side, cap_best_phi;
+    double long_curve;         /* L of choose_cut (0: plain lengths)      */
 } builder;
 
 static void builder_free(builder *b)
@@ -193,9 +195,12 @@ static int candidate_sides(builder *b, gs_part_node *nd, uint32_t seed, int bise
 
 /* The candidate cuts (METIS seeds seed, seed+1, ... x diffusion level set /
  * power bisector): each one's curves are built into the output, measured
- * and taken back out; the sides and phi of the one whose curves are
- * shortest in total (level-set curves weighted by level_bias) are left in
- * nd. */
+ * and taken back out; the sides and phi of the one whose curves score
+ * lowest are left in nd. A curve of length l scores l (1 + l / L), L =
+ * long_curve * mean edge * sqrt(vertices) (about twice the side of a square
+ * of the mesh's area): one long curve needs a higher degree than two curves
+ * of half its length together (it can exceed mmax), so long ones pay more.
+ * Level-set candidates' scores are multiplied by level_bias. */
 static int choose_cut(builder *b, gs_part_node *nd, gs_error *err)
 {
     uint32_t nseeds = b->opt->cut_seeds ? b->opt->cut_seeds : 1;
@@ -215,7 +220,10 @@ static int choose_cut(builder *b, gs_part_node *nd, gs_error *err)
             if (rc == GS_OK) rc = gs__part_curves(nd, b->opt, b->mean_edge, o, err);
             if (rc) return rc;
             double len = 0;
-            for (size_t c = c0; c < o->n_curves; ++c) len += o->curves[c].length;
+            for (size_t c = c0; c < o->n_curves; ++c) {
+                double l = o->curves[c].length;
+                len += b->long_curve > 0 ? l * (1 + l / b->long_curve) : l;
+            }
             if (!bis) len *= b->opt->level_bias;
             if (len < best) {
                 best = len;
@@ -298,6 +306,8 @@ int gs_tree_build(const gs_mesh *mesh, const gs_tree_options *opt, gs_tree **out
     if (opt->vmax < 1) return gs__fail(err, GS_EARG, "gs_tree_build: vmax must be >= 1");
     if (!(opt->level_bias > 0) || opt->level_bias > 1e6)
         return gs__fail(err, GS_EARG, "gs_tree_build: level_bias %g out of range", opt->level_bias);
+    if (!(opt->long_curve >= 0) || opt->long_curve > 1e6)
+        return gs__fail(err, GS_EARG, "gs_tree_build: long_curve %g out of range", opt->long_curve);
     if (opt->cut_seeds > 1024)
         return gs__fail(err, GS_EARG, "gs_tree_build: cut_seeds %u out of range", opt->cut_seeds);
     if (!(opt->sample_spacing > 0) || opt->sample_spacing > 1e6)
@@ -308,6 +318,7 @@ int gs_tree_build(const gs_mesh *mesh, const gs_tree_options *opt, gs_tree **out
     b.t = gs__calloc(1, sizeof *b.t);
     int rc = b.t ? init_root(&b) : GS_ENOMEM;
     if (rc) rc = gs__fail(err, rc, "out of memory building the tree");
+    if (rc == GS_OK) b.long_curve = opt->long_curve * b.mean_edge * sqrt((double)b.t->n_verts);
     for (uint32_t i = 0; rc == GS_OK && i < b.t->n_nodes; ++i) rc = split_node(&b, i, err);
     if (rc == GS_OK && (rc = take_output(&b)) != GS_OK)
         rc = gs__fail(err, rc, "tree too large (%zu samples)", b.out.n_samples);

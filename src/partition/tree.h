@@ -89,6 +89,9 @@ typedef struct gs_tree_options {
                             /*   level-set curves only: level_iters > 0)    */
     double level_bias;      /* diffusion level-set candidates count this    */
                             /*   much longer (1.25): bisectors are straight */
+    double long_curve;      /* length scale of the candidates' score, in    */
+                            /*   mean edges x sqrt(vertices) (2; 0: plain   */
+                            /*   total length; see tree.c choose_cut)       */
 } gs_tree_options;
 
 void gs_tree_options_default(gs_tree_options *o);
