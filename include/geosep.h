@@ -280,7 +280,9 @@ typedef struct gs_build_options {
     gs_method method;        /* distance fields to compress [GS_METHOD_EXACT]  */
     uint32_t vmax;           /* leaf patch size [30]                           */
     uint32_t mmax;           /* maximum polynomial degree [20]                 */
-    double tol;              /* fit mean relative error target [0.006]         */
+    double tol;              /* fit mean relative error target at the root     */
+                             /*   [0.002], 1.5x looser per tree level, at most */
+                             /*   max(tol, 2%)                                 */
     uint32_t threads;        /* 0: all cores [0]                               */
     int vertex_sources;      /* 1: fields from the corners of the triangles    */
                              /*   holding samples + barycentric interpolation  */

@@ -585,6 +585,19 @@ static void test_grid_loops(void)
     }
 }
 
+/* The tolerance schedule over tree depth: tol at the root, 1.5x per level,
+ * capped at max(tol, 2%). */
+static void test_depth_tol(void)
+{
+    const double expect[8] = {0.002, 0.003, 0.0045, 0.00675, 0.010125, 0.0151875, 0.02, 0.02};
+    for (uint32_t d = 0; d < 8; d++)
+        CHECK_NEAR(gs_fit_tol_at_depth(0.002, d), expect[d], 1e-15);
+    CHECK_NEAR(gs_fit_tol_at_depth(0.002, 1000000), 0.02, 0);
+    for (uint32_t d = 0; d < 5; d++) /* looser than the cap at the root: kept */
+        CHECK_NEAR(gs_fit_tol_at_depth(0.05, d), 0.05, 0);
+    CHECK_NEAR(gs_fit_tol_at_depth(0.015, 1), 0.02, 0);
+}
+
 int main(void)
 {
     printf("chebyshev kernels\n");
@@ -596,6 +609,7 @@ int main(void)
     test_escalation();
     test_near_zero();
     test_tiny_and_bad();
+    test_depth_tol();
     printf("pair minimum vs dense scan\n");
     test_pairs_real();
     test_grid_loops();

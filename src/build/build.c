@@ -23,8 +23,7 @@ void gs_build_options_default(gs_build_options *o)
     o->method = GS_METHOD_EXACT;
     o->vmax = 30;
     o->mmax = 20; /* long top-level curves need more than 12 (paper 4.2) */
-    o->tol = 0.006; /* with mmax 20, the paper's Bunny accuracy at its cost;
-                     * the paper's 0.5% and 12 give ME 0.56% at cost 92 here */
+    o->tol = 0.002; /* at the root, looser with depth (gs_fit_tol_at_depth) */
     o->threads = 0;
     o->vertex_sources = -1; /* by the method (see geosep.h) */
     o->sampled = 0;
@@ -303,7 +302,7 @@ static int fit_node(builder *b, node_job *j, uint32_t node_id, gs_error *err)
     gs_fit_options fo;
     gs_fit_options_default(&fo);
     fo.m_max = b->opt->mmax;
-    fo.tol = b->opt->tol;
+    fo.tol = gs_fit_tol_at_depth(b->opt->tol, nd->depth);
     int rc = GS_OK;
     uint64_t n_fun = 0, n_mixed = 0, n_over = 0;
     double deg_sum = 0, err_sum = 0;

@@ -35,6 +35,14 @@ void gs_fit_options_default(gs_fit_options *o)
     o->tol = 0.005;
 }
 
+double gs_fit_tol_at_depth(double tol, uint32_t depth)
+{
+    double cap = tol > GS_FIT_TOL_CAP ? tol : GS_FIT_TOL_CAP, t = tol;
+    for (uint32_t d = 0; d < depth && t < cap; d++)
+        t *= GS_FIT_TOL_GROWTH;
+    return t < cap ? t : cap;
+}
+
 void gs_fit_work_free(gs_fit_work *w)
 {
     if (!w)

@@ -30,6 +30,15 @@ typedef struct gs_fit_result {
  * must not blow up). */
 #define GS_FIT_DFLOOR 1e-3
 
+/* The tolerance for the functions of the curves of a tree node at `depth`:
+ * tol at the root, GS_FIT_TOL_GROWTH times looser per level, but never
+ * looser than max(tol, GS_FIT_TOL_CAP). The curves of depth d decide the
+ * distances of about 2^-d of the vertex pairs (those split there), so
+ * spending the coefficients near the root buys the most accuracy. */
+#define GS_FIT_TOL_GROWTH 1.5
+#define GS_FIT_TOL_CAP 0.02
+double gs_fit_tol_at_depth(double tol, uint32_t depth);
+
 /* Scratch space for fitting, one per thread. */
 typedef struct gs_fit_work gs_fit_work;
 int gs_fit_work_create(uint32_t max_samples, const gs_fit_options *o, gs_fit_work **out,

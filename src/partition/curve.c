@@ -548,7 +548,6 @@ static void resample_regular(const gs_part_node *nd, gs_sep_sample *sm, uint32_t
 static int filter_samples(const gs_part_node *nd, gs_sep_sample *sm, uint32_t n, int closed,
                           uint32_t iters, double *len)
 {
-    if (n < 3) return GS_OK;
     double *pts = gs__malloc(3 * (size_t)n, sizeof *pts);
     gs_sep_sample *old = gs__malloc(n, sizeof *old);
     if (!pts || !old) {
@@ -556,6 +555,7 @@ static int filter_samples(const gs_part_node *nd, gs_sep_sample *sm, uint32_t n,
         free(old);
         return GS_ENOMEM;
     }
+    if (n < 3) iters = 0; /* nothing to filter; lengths still become chords */
     for (uint32_t it = 0; it < iters; ++it) {
         for (uint32_t k = 0; k < n; ++k) sample_point(nd, &sm[k], pts + 3 * k);
         for (uint32_t k = 0; k < n; ++k) {
@@ -566,7 +566,7 @@ static int filter_samples(const gs_part_node *nd, gs_sep_sample *sm, uint32_t n,
             project_sample(nd, q, &sm[k]);
         }
     }
-    resample_regular(nd, sm, n, closed, old, pts);
+    if (n >= 3) resample_regular(nd, sm, n, closed, old, pts);
     for (uint32_t k = 0; k < n; ++k) sample_point(nd, &sm[k], pts + 3 * k);
     *len = sample_lengths(sm, pts, n, closed);
     free(pts);

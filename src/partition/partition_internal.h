@@ -43,7 +43,7 @@ int gs__part_reserve(void **p, size_t *cap, size_t need, size_t size);
  * possible, otherwise a METIS bisection. Both sides are non-empty (no >= 2).
  * Then every ghost vertex takes the side of the majority of its owned
  * neighbours. (split.c, the only file that includes metis.h) */
-int gs__part_sides(gs_part_node *nd, uint32_t seed, gs_error *err);
+int gs__part_sides(gs_part_node *nd, uint32_t seed, double mean_edge, gs_error *err);
 
 /* Smooth separator (paper 4.1's aim, by a level set): diffuse the +-1 side
  * indicator of the METIS cut over the graph of P(N) for `iters` rounds of
@@ -53,6 +53,17 @@ int gs__part_sides(gs_part_node *nd, uint32_t seed, gs_error *err);
  * face) is the separator. Keeps the METIS sides if the cut would empty a
  * side. (split.c) */
 int gs__part_level_set(gs_part_node *nd, uint32_t iters, gs_error *err);
+
+/* Cut nd->phi at the level keeping the current share of side-1 owned
+ * vertices (exact balance): phi minus that level, sides, phi_valid. Keeps
+ * the sides if ties make that impossible. GS_ENOMEM only. (split.c) */
+int gs__part_cut_median(gs_part_node *nd);
+
+/* Smooth separator as a level set of d_A^2 - d_B^2 (exact geodesic
+ * distances from the owned vertices A, B nearest to the centroids of the two
+ * sides): linear in flat regions, so its level sets are straight there.
+ * Repeated `iters` times with the new sides' centres. (split.c) */
+int gs__part_bisector(gs_part_node *nd, uint32_t iters, gs_error *err);
 
 /* The separator curves of a node whose sides are set: the faces of P(N)
  * with corners on both sides are chained into paths and loops; each one is

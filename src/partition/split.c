@@ -1,8 +1,13 @@
 /* split.c - the graph cut of one node of the nested bisection (paper sec.
  * 4.1): the vertices owned by a patch are bisected by their connected
- * components or by METIS; ghost vertices then join a side by majority. */
+ * components or by METIS (edges weighted by the length a cut through them
+ * adds to the separator); ghost vertices then join a side by majority. The
+ * cut is then smoothed into a level set: of the diffused side indicator, or
+ * of d_A^2 - d_B^2 for the two sides' centres A, B (the power bisector:
+ * straight wherever the patch is flat). */
 #include "partition_internal.h"
 
+#include <math.h>
 #include <metis.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,23 +16,51 @@
 typedef struct owned_graph {
     idx_t n;
     idx_t *xadj, *adj;
+    idx_t *wgt;     /* per adjacency entry: the edge's dual length, scaled */
 } owned_graph;
 
 static void graph_free(owned_graph *g)
 {
     free(g->xadj);
     free(g->adj);
+    free(g->wgt);
 }
 
-/* Every undirected edge between two owned vertices once in each direction.
- * All faces at an owned vertex are in P(N), so h < opp(h) picks each mesh
- * edge exactly once. */
-static int graph_build(const gs_part_node *nd, owned_graph *g)
+/* Length of the dual edge of half-edge h: face centroid -> edge midpoint ->
+ * centroid of the face across (the piece of a cut curve that crosses it). */
+static double dual_length(const gs_mesh *m, uint32_t h)
+{
+    const gs_topo *t = &m->topo;
+    uint32_t a = m->tri[h], b = m->tri[gs_next(h)];
+    double mid[3], len = 0;
+    for (int d = 0; d < 3; ++d) mid[d] = 0.5 * (m->xyz[3 * (size_t)a + d] + m->xyz[3 * (size_t)b + d]);
+    uint32_t hs[2] = {h, t->opp[h]};
+    for (int s = 0; s < 2; ++s) {
+        if (hs[s] == GS_NONE) continue;
+        const uint32_t *c = m->tri + 3 * (size_t)(hs[s] / 3);
+        double q = 0;
+        for (int d = 0; d < 3; ++d) {
+            double cd = (m->xyz[3 * (size_t)c[0] + d] + m->xyz[3 * (size_t)c[1] + d] + m->xyz[3 * (size_t)c[2] + d]) / 3;
+            q += (cd - mid[d]) * (cd - mid[d]);
+        }
+        len += sqrt(q);
+    }
+    return len;
+}
+
+/* Every undirected edge between two owned vertices once in each direction,
+ * weighted by its dual length (about 100 per mean edge length) so that the
+ * minimum cut is the shortest curve in space, not the fewest edges (on a
+ * steep height field the two differ a lot). All faces at an owned vertex
+ * are in P(N), so h < opp(h) picks each mesh edge exactly once. */
+static int graph_build(const gs_part_node *nd, owned_graph *g, double mean_edge)
 {
     const gs_topo *t = &nd->mesh->topo;
+    double scale = 100.0 / (mean_edge > 0 ? mean_edge : 1.0); /* ~100 per edge */
     g->n = (idx_t)nd->no;
     g->xadj = calloc((size_t)nd->no + 1, sizeof *g->xadj);
     g->adj = NULL;
+    g->wgt = NULL;
     if (!g->xadj) return GS_ENOMEM;
     for (int pass = 0; pass < 2; ++pass) {
         for (uint32_t lf = 0; lf < nd->nf; ++lf)
@@ -40,17 +73,32 @@ static int graph_build(const gs_part_node *nd, owned_graph *g)
                     g->xadj[a + 1]++;
                     g->xadj[b + 1]++;
                 } else {
+                    double dl = dual_length(nd->mesh, h) * scale;
+                    idx_t w = dl < 1 ? 1 : (dl > 1e4 ? 10000 : (idx_t)lround(dl));
+                    g->wgt[g->xadj[a]] = w;
                     g->adj[g->xadj[a]++] = (idx_t)b;
+                    g->wgt[g->xadj[b]] = w;
                     g->adj[g->xadj[b]++] = (idx_t)a;
                 }
             }
         if (pass == 0) {
             for (uint32_t v = 0; v < nd->no; ++v) g->xadj[v + 1] += g->xadj[v];
             g->adj = gs__malloc((size_t)g->xadj[nd->no] + 1, sizeof *g->adj);
-            if (!g->adj) return GS_ENOMEM;
+            g->wgt = gs__malloc((size_t)g->xadj[nd->no] + 1, sizeof *g->wgt);
+            if (!g->adj || !g->wgt) return GS_ENOMEM;
         } else { /* the fill advanced xadj[v] to the start of v + 1 */
             memmove(g->xadj + 1, g->xadj, (size_t)nd->no * sizeof *g->xadj);
             g->xadj[0] = 0;
+        }
+    }
+    /* METIS sums the weights in 32 bits: keep the total below 2^30 */
+    uint64_t total = 0, ne = (uint64_t)g->xadj[nd->no];
+    for (uint64_t k = 0; k < ne; ++k) total += (uint64_t)g->wgt[k];
+    if (total > (1u << 30)) {
+        double f = (double)(1u << 30) / (double)total;
+        for (uint64_t k = 0; k < ne; ++k) {
+            idx_t w = (idx_t)(g->wgt[k] * f);
+            g->wgt[k] = w < 1 ? 1 : w;
         }
     }
     return GS_OK;
@@ -132,7 +180,7 @@ static int split_by_metis(gs_part_node *nd, const owned_graph *g, uint32_t seed,
     METIS_SetDefaultOptions(options);
     options[METIS_OPTION_SEED] = (idx_t)(seed & 0x7fffffff);
     options[METIS_OPTION_NUMBERING] = 0;
-    int r = METIS_PartGraphRecursive(&nv, &ncon, g->xadj, g->adj, NULL, NULL, NULL,
+    int r = METIS_PartGraphRecursive(&nv, &ncon, g->xadj, g->adj, NULL, NULL, g->wgt,
                                      &nparts, NULL, NULL, options, &objval, part);
     if (r != METIS_OK) {
         free(part);
@@ -173,12 +221,12 @@ static int ghost_sides(gs_part_node *nd)
     return GS_OK;
 }
 
-int gs__part_sides(gs_part_node *nd, uint32_t seed, gs_error *err)
+int gs__part_sides(gs_part_node *nd, uint32_t seed, double mean_edge, gs_error *err)
 {
     owned_graph g = {0};
     uint32_t *comp = gs__malloc(nd->no, sizeof *comp);
     uint32_t *order = gs__malloc(nd->no, sizeof *order);
-    int rc = (comp && order) ? graph_build(nd, &g) : GS_ENOMEM;
+    int rc = (comp && order) ? graph_build(nd, &g, mean_edge) : GS_ENOMEM;
     if (rc) {
         rc = gs__fail(err, GS_ENOMEM, "out of memory bisecting a patch");
         goto done;
@@ -250,13 +298,47 @@ static int local_graph_build(const gs_part_node *nd, local_graph *g)
     return GS_OK;
 }
 
+/* Cut nd->phi at the level that keeps METIS's share of side-1 owned
+ * vertices, or the nearest share (within an eighth of the vertices) whose
+ * level is clear of the values by 1e-9 of their range: a level set through
+ * (numerically) tied values would zigzag around them. Sets every local side
+ * and phi_valid; keeps the sides when there is no such level. */
+int gs__part_cut_median(gs_part_node *nd)
+{
+    double *phi = nd->phi, *sorted = gs__malloc(nd->no, sizeof *sorted);
+    if (!sorted) return GS_ENOMEM;
+    uint32_t n1 = 0;
+    for (uint32_t v = 0; v < nd->no; ++v) {
+        sorted[v] = phi[v];
+        n1 += nd->side[v];
+    }
+    qsort(sorted, nd->no, sizeof *sorted, cmp_double);
+    uint32_t k0 = nd->no - n1, k = 0; /* side-0 count */
+    double gap = 1e-9 * (sorted[nd->no - 1] - sorted[0]);
+    for (uint32_t j = 0; j <= nd->no / 8 && k == 0; ++j) {
+        if (k0 + j > 0 && k0 + j < nd->no && sorted[k0 + j] - sorted[k0 + j - 1] > gap) k = k0 + j;
+        else if (j && k0 > j && sorted[k0 - j] - sorted[k0 - j - 1] > gap) k = k0 - j;
+    }
+    if (k > 0 && k < nd->no) {
+        double level = 0.5 * (sorted[k - 1] + sorted[k]);
+        if (sorted[k - 1] < level && level < sorted[k]) {
+            for (uint32_t v = 0; v < nd->nl; ++v) {
+                phi[v] -= level;
+                nd->side[v] = phi[v] > 0;
+            }
+            nd->phi_valid = 1;
+        }
+    }
+    free(sorted);
+    return GS_OK;
+}
+
 int gs__part_level_set(gs_part_node *nd, uint32_t iters, gs_error *err)
 {
     if (!nd->phi || iters == 0) return GS_OK;
     local_graph g = {0};
     double *tmp = gs__malloc(nd->nl, sizeof *tmp);
-    double *sorted = gs__malloc(nd->no, sizeof *sorted);
-    int rc = (tmp && sorted) ? local_graph_build(nd, &g) : GS_ENOMEM;
+    int rc = tmp ? local_graph_build(nd, &g) : GS_ENOMEM;
     if (rc) {
         rc = gs__fail(err, GS_ENOMEM, "out of memory smoothing a separator");
         goto done;
@@ -274,25 +356,87 @@ int gs__part_level_set(gs_part_node *nd, uint32_t iters, gs_error *err)
         }
         memcpy(phi, tmp, (size_t)nd->nl * sizeof *phi);
     }
-    /* cut level: keep METIS's share of side-1 owned vertices */
-    uint32_t n1 = 0;
-    for (uint32_t v = 0; v < nd->no; ++v) {
-        sorted[v] = phi[v];
-        n1 += nd->side[v];
-    }
-    qsort(sorted, nd->no, sizeof *sorted, cmp_double);
-    uint32_t k0 = nd->no - n1; /* side-0 count */
-    if (k0 == 0 || k0 >= nd->no) goto done;
-    double level = 0.5 * (sorted[k0 - 1] + sorted[k0]);
-    if (!(sorted[k0 - 1] < level && level < sorted[k0])) goto done; /* ties: keep METIS */
-    for (uint32_t v = 0; v < nd->nl; ++v) {
-        phi[v] -= level;
-        nd->side[v] = phi[v] > 0;
-    }
-    nd->phi_valid = 1;
+    rc = gs__part_cut_median(nd);
+    if (rc) rc = gs__fail(err, rc, "out of memory smoothing a separator");
 done:
     local_graph_free(&g);
     free(tmp);
-    free(sorted);
+    return rc;
+}
+
+/* ---- the power bisector of the two sides' centres ------------------------ */
+
+/* The owned vertex of side s nearest (in space) to the centroid of the
+ * owned vertices of side s; GS_NONE if the side is empty. */
+static uint32_t side_centre(const gs_part_node *nd, uint8_t s)
+{
+    double c[3] = {0, 0, 0};
+    uint32_t n = 0, best = GS_NONE;
+    for (uint32_t v = 0; v < nd->no; ++v) {
+        if (nd->side[v] != s) continue;
+        const double *p = nd->mesh->xyz + 3 * (size_t)nd->lv[v];
+        c[0] += p[0], c[1] += p[1], c[2] += p[2];
+        n++;
+    }
+    if (!n) return GS_NONE;
+    c[0] /= n, c[1] /= n, c[2] /= n;
+    double bd = INFINITY;
+    for (uint32_t v = 0; v < nd->no; ++v) {
+        if (nd->side[v] != s) continue;
+        const double *p = nd->mesh->xyz + 3 * (size_t)nd->lv[v];
+        double d = (p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) + (p[2] - c[2]) * (p[2] - c[2]);
+        if (d < bd) bd = d, best = v;
+    }
+    return best;
+}
+
+int gs__part_bisector(gs_part_node *nd, uint32_t iters, gs_error *err)
+{
+    if (!nd->phi || iters == 0 || nd->no < 4) return GS_OK;
+    gs_patch *p = NULL;
+    gs_solver *sv = NULL;
+    uint32_t np = 0;
+    double *d[2] = {NULL, NULL};
+    int rc = gs_patch_create(nd->mesh, nd->faces, nd->nf, &p, err);
+    if (rc == GS_OK) rc = gs_solver_create(p, GS_METHOD_EXACT, &sv, err);
+    if (rc) goto done;
+    np = gs_patch_num_vertices(p);
+    d[0] = gs__malloc(np, sizeof *d[0]);
+    d[1] = gs__malloc(np, sizeof *d[1]);
+    if (!d[0] || !d[1]) {
+        rc = gs__fail(err, GS_ENOMEM, "out of memory smoothing a separator");
+        goto done;
+    }
+    for (uint32_t it = 0; it < iters; ++it) {
+        int ok = 1;
+        for (uint8_t s = 0; s < 2 && ok; ++s) {
+            uint32_t c = side_centre(nd, s);
+            if (c == GS_NONE) { ok = 0; break; }
+            gs_source src = gs_source_vertex(gs_patch_vertex_from_mesh(p, nd->lv[c]));
+            if ((rc = gs_solver_solve(sv, &src, 1, 0, d[s], err)) != GS_OK) goto done;
+        }
+        if (!ok) break;
+        uint32_t bad = 0;
+        for (uint32_t v = 0; v < nd->nl; ++v) {
+            uint32_t q = gs_patch_vertex_from_mesh(p, nd->lv[v]);
+            bad += !(isfinite(d[0][q]) && isfinite(d[1][q]));
+        }
+        if (bad) break; /* another component: keep the sides */
+        for (uint32_t v = 0; v < nd->nl; ++v) {
+            uint32_t q = gs_patch_vertex_from_mesh(p, nd->lv[v]);
+            nd->phi[v] = d[0][q] * d[0][q] - d[1][q] * d[1][q];
+        }
+        nd->phi_valid = 0;
+        if ((rc = gs__part_cut_median(nd)) != GS_OK) {
+            rc = gs__fail(err, rc, "out of memory smoothing a separator");
+            goto done;
+        }
+        if (!nd->phi_valid) break;
+    }
+done:
+    gs_solver_free(sv);
+    gs_patch_free(p);
+    free(d[0]);
+    free(d[1]);
     return rc;
 }

@@ -4,6 +4,7 @@
  * the faces crossed by the separator go to both children (ghost triangles). */
 #include "partition_internal.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -17,6 +18,10 @@ void gs_tree_options_default(gs_tree_options *o)
     o->seed = 1;
     o->level_iters = 16;
     o->filter_iters = 20;
+    o->cut_seeds = 4;
+    o->bisector = 1;
+    o->level_bias = 1.25;
+    o->long_curve = 2.0;
 }
 
 void gs_tree_free(gs_tree *t)
@@ -41,9 +46,10 @@ typedef struct builder {
     double mean_edge;
     uint32_t *vloc, *floc;     /* mesh-sized maps, GS_NONE outside a node */
     uint32_t *lv, *lf, *tmp;   /* node scratch (grown as needed)          */
-    uint8_t *side;
-    double *phi;
-    size_t cap_lv, cap_lf, cap_tmp, cap_side, cap_phi;
+    uint8_t *side, *best_side;
+    double *phi, *best_phi;    /* best_*: the best candidate cut so far    */
+    size_t cap_lv, cap_lf, cap_tmp, cap_side, cap_phi, cap_best_side, cap_best_phi;
+    double long_curve;         /* L of choose_cut (0: plain lengths)      */
 } builder;
 
 static void builder_free(builder *b)
@@ -58,6 +64,8 @@ static void builder_free(builder *b)
     free(b->tmp);
     free(b->side);
     free(b->phi);
+    free(b->best_side);
+    free(b->best_phi);
 }
 
 #define RESERVE(ptr, cap, need) gs__part_reserve((void **)&(ptr), &(cap), (need), sizeof *(ptr))
@@ -172,14 +180,72 @@ static int make_children(builder *b, uint32_t id, const gs_part_node *nd)
     return GS_OK;
 }
 
+/* One candidate cut of node nd: sides by METIS with `seed`, then the
+ * diffusion level set, and with `bisector` the power bisector of its two
+ * sides (split.c). */
+static int candidate_sides(builder *b, gs_part_node *nd, uint32_t seed, int bisector,
+                           gs_error *err)
+{
+    nd->phi_valid = 0;
+    int rc = gs__part_sides(nd, seed, b->mean_edge, err);
+    if (rc == GS_OK) rc = gs__part_level_set(nd, b->opt->level_iters, err);
+    if (rc == GS_OK && bisector) rc = gs__part_bisector(nd, 1, err);
+    return rc;
+}
+
+/* The candidate cuts (METIS seeds seed, seed+1, ... x diffusion level set /
+ * power bisector): each one's curves are built into the output, measured
+ * and taken back out; the sides and phi of the one whose curves score
+ * lowest are left in nd. A curve of length l scores l (1 + l / L), L =
+ * long_curve * mean edge * sqrt(vertices) (about twice the side of a square
+ * of the mesh's area): one long curve needs a higher degree than two curves
+ * of half its length together (it can exceed mmax), so long ones pay more.
+ * Level-set candidates' scores are multiplied by level_bias. */
+static int choose_cut(builder *b, gs_part_node *nd, gs_error *err)
+{
+    uint32_t nseeds = b->opt->cut_seeds ? b->opt->cut_seeds : 1;
+    int nvar = b->opt->bisector && b->opt->level_iters ? 2 : 1;
+    if (nseeds * nvar == 1) return candidate_sides(b, nd, b->opt->seed, 0, err);
+    if (RESERVE(b->best_side, b->cap_best_side, nd->nl ? nd->nl : 1) ||
+        RESERVE(b->best_phi, b->cap_best_phi, nd->nl ? nd->nl : 1))
+        return gs__fail(err, GS_ENOMEM, "out of memory building the tree");
+    double best = INFINITY;
+    int best_valid = 0;
+    gs_part_out *o = &b->out;
+    for (uint32_t k = 0; k < nseeds; ++k)
+        for (int v = 0; v < nvar; ++v) {
+            size_t c0 = o->n_curves, s0 = o->n_samples, x0 = o->n_cross;
+            int bis = nvar == 2 ? 1 - v : 0;
+            int rc = candidate_sides(b, nd, b->opt->seed + k, bis, err);
+            if (rc == GS_OK) rc = gs__part_curves(nd, b->opt, b->mean_edge, o, err);
+            if (rc) return rc;
+            double len = 0;
+            for (size_t c = c0; c < o->n_curves; ++c) {
+                double l = o->curves[c].length;
+                len += b->long_curve > 0 ? l * (1 + l / b->long_curve) : l;
+            }
+            if (!bis) len *= b->opt->level_bias;
+            if (len < best) {
+                best = len;
+                memcpy(b->best_side, nd->side, nd->nl * sizeof *nd->side);
+                memcpy(b->best_phi, nd->phi, nd->nl * sizeof *nd->phi);
+                best_valid = nd->phi_valid;
+            }
+            o->n_curves = c0, o->n_samples = s0, o->n_cross = x0;
+        }
+    memcpy(nd->side, b->best_side, nd->nl * sizeof *nd->side);
+    memcpy(nd->phi, b->best_phi, nd->nl * sizeof *nd->phi);
+    nd->phi_valid = best_valid;
+    return GS_OK;
+}
+
 static int split_node(builder *b, uint32_t id, gs_error *err)
 {
     gs_part_node nd;
     b->t->nodes[id].curve_start = (uint32_t)b->out.n_curves;
     if (b->t->nodes[id].n_verts <= b->opt->vmax) return GS_OK;
     if (load_node(b, id, &nd)) return gs__fail(err, GS_ENOMEM, "out of memory building the tree");
-    int rc = gs__part_sides(&nd, b->opt->seed, err);
-    if (rc == GS_OK) rc = gs__part_level_set(&nd, b->opt->level_iters, err);
+    int rc = choose_cut(b, &nd, err);
     if (rc == GS_OK) rc = gs__part_curves(&nd, b->opt, b->mean_edge, &b->out, err);
     if (rc == GS_OK) {
         b->t->nodes[id].n_curves = (uint32_t)(b->out.n_curves - b->t->nodes[id].curve_start);
@@ -238,6 +304,12 @@ int gs_tree_build(const gs_mesh *mesh, const gs_tree_options *opt, gs_tree **out
     if (!opt) opt = &def;
     if (!mesh) return gs__fail(err, GS_EARG, "gs_tree_build: mesh is NULL");
     if (opt->vmax < 1) return gs__fail(err, GS_EARG, "gs_tree_build: vmax must be >= 1");
+    if (!(opt->level_bias > 0) || opt->level_bias > 1e6)
+        return gs__fail(err, GS_EARG, "gs_tree_build: level_bias %g out of range", opt->level_bias);
+    if (!(opt->long_curve >= 0) || opt->long_curve > 1e6)
+        return gs__fail(err, GS_EARG, "gs_tree_build: long_curve %g out of range", opt->long_curve);
+    if (opt->cut_seeds > 1024)
+        return gs__fail(err, GS_EARG, "gs_tree_build: cut_seeds %u out of range", opt->cut_seeds);
     if (!(opt->sample_spacing > 0) || opt->sample_spacing > 1e6)
         return gs__fail(err, GS_EARG, "gs_tree_build: sample_spacing %g out of range",
                         opt->sample_spacing);
@@ -246,6 +318,7 @@ int gs_tree_build(const gs_mesh *mesh, const gs_tree_options *opt, gs_tree **out
     b.t = gs__calloc(1, sizeof *b.t);
     int rc = b.t ? init_root(&b) : GS_ENOMEM;
     if (rc) rc = gs__fail(err, rc, "out of memory building the tree");
+    if (rc == GS_OK) b.long_curve = opt->long_curve * b.mean_edge * sqrt((double)b.t->n_verts);
     for (uint32_t i = 0; rc == GS_OK && i < b.t->n_nodes; ++i) rc = split_node(&b, i, err);
     if (rc == GS_OK && (rc = take_output(&b)) != GS_OK)
         rc = gs__fail(err, rc, "tree too large (%zu samples)", b.out.n_samples);

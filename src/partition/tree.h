@@ -82,6 +82,16 @@ typedef struct gs_tree_options {
     uint32_t seed;          /* METIS seed (deterministic builds)            */
     uint32_t level_iters;   /* diffusion rounds of the level-set separator  */
                             /*   (0: curves pulled taut in the METIS strip) */
+    uint32_t cut_seeds;     /* METIS seeds seed, seed+1, ... tried per node  */
+                            /*   (4); the candidate cut whose separator is  */
+                            /*   shortest wins (paper 4.1: short, smooth)   */
+    uint32_t bisector;      /* also try each cut as a power bisector (1;    */
+                            /*   level-set curves only: level_iters > 0)    */
+    double level_bias;      /* diffusion level-set candidates count this    */
+                            /*   much longer (1.25): bisectors are straight */
+    double long_curve;      /* length scale of the candidates' score, in    */
+                            /*   mean edges x sqrt(vertices) (2; 0: plain   */
+                            /*   total length; see tree.c choose_cut)       */
 } gs_tree_options;
 
 void gs_tree_options_default(gs_tree_options *o);
