@@ -390,6 +390,12 @@ static uint32_t side_centre(const gs_part_node *nd, uint8_t s)
     return best;
 }
 
+/* Patches with more vertices take the bisector's two fields from fast
+ * marching (with its exact start) instead of window propagation: an exact
+ * field over a 1M-vertex root costs tens of seconds, and the cut only needs
+ * a smooth level set there (flat regions straight to the march's ~1%). */
+#define BISECTOR_EXACT_MAX 100000u
+
 int gs__part_bisector(gs_part_node *nd, uint32_t iters, gs_error *err)
 {
     if (!nd->phi || iters == 0 || nd->no < 4) return GS_OK;
@@ -398,7 +404,9 @@ int gs__part_bisector(gs_part_node *nd, uint32_t iters, gs_error *err)
     uint32_t np = 0;
     double *d[2] = {NULL, NULL};
     int rc = gs_patch_create(nd->mesh, nd->faces, nd->nf, &p, err);
-    if (rc == GS_OK) rc = gs_solver_create(p, GS_METHOD_EXACT, &sv, err);
+    if (rc == GS_OK)
+        rc = gs_solver_create(p, gs_patch_num_vertices(p) > BISECTOR_EXACT_MAX ? GS_METHOD_FMM : GS_METHOD_EXACT, &sv,
+                              err);
     if (rc) goto done;
     np = gs_patch_num_vertices(p);
     d[0] = gs__malloc(np, sizeof *d[0]);
