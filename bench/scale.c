@@ -5,7 +5,8 @@
  * n, build time per stage, peak memory, bytes per vertex, median query
  * time; then the fitted exponent of build time against n (the paper
  * expects 1.5). Usage:
- *   bench_scale [--method exact|graph|fmm|heat] [--threads N] [--max-n N] [MESH|SPEC ...] */
+ *   bench_scale [--method exact|graph|fmm|heat] [--threads N] [--max-samples N]
+ *               [--max-n N] [MESH|SPEC ...] */
 #define _DEFAULT_SOURCE /* wait4: the peak memory of each child build */
 #include "geosep.h"
 
@@ -121,6 +122,8 @@ int main(int argc, char **argv)
             }
         } else if (!strcmp(argv[i], "--threads") && i + 1 < argc)
             opt.threads = (uint32_t)atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--max-samples") && i + 1 < argc)
+            opt.max_samples = (uint32_t)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--max-n") && i + 1 < argc)
             max_n = atof(argv[++i]);
         else if (nl < 32)
@@ -130,7 +133,7 @@ int main(int argc, char **argv)
                                      "homer-60k", "homer-60k*4", "homer-60k*16"};
     if (nl == 0)
         for (size_t i = 0; i < sizeof defaults / sizeof *defaults; ++i) list[nl++] = defaults[i];
-    printf("method %s, threads %u\n", gs_method_name(opt.method), opt.threads);
+    printf("method %s, threads %u, max_samples %u\n", gs_method_name(opt.method), opt.threads, opt.max_samples);
     printf("%-16s %9s %8s %9s %8s %9s %9s %8s %10s %6s\n", "mesh", "n", "tree s", "fields s", "fits s",
            "total s", "peak MiB", "B/vert", "query ns", "cost");
     double lx[32], ly[32];

@@ -274,6 +274,10 @@ typedef struct gs_build_options {
     uint32_t seed;           /* partitioning seed [1]                          */
     double sample_spacing;   /* separator sample spacing / mean edge length    */
                              /*   [0.5]                                        */
+    uint32_t max_samples;    /* samples per curve at most: longer curves are   */
+                             /*   thinned to this many, evenly by arc length;  */
+                             /*   bounds the fields per separator; 0: no cap   */
+                             /*   [256]                                        */
     gs_progress_fn progress; /* may be NULL                                    */
     void *progress_user;
 } gs_build_options;

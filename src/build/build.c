@@ -31,6 +31,33 @@ void gs_build_options_default(gs_build_options *o)
     o->leaf_exact = 0;
     o->seed = 1;
     o->sample_spacing = 0.5;
+    o->max_samples = 256;
+}
+
+/* Thin every curve of more than cap samples to cap samples, in place: the
+ * samples nearest to cap targets at regular arc length (a path keeps both
+ * ends). A distance function is fitted with degree <= mmax, so a long curve
+ * gains nothing from thousands of samples, while each one costs a field
+ * (or three corner fields) over the whole patch. */
+static void thin_samples(gs_tree *t, uint32_t cap)
+{
+    for (uint32_t c = 0; c < t->n_curves && cap; ++c) {
+        gs_sep_curve *cv = &t->curves[c];
+        uint32_t n = cv->n_samples;
+        if (n <= cap) continue;
+        gs_sep_sample *sm = t->samples + cv->sample_start;
+        double step = cv->length / (cv->closed ? cap : cap - 1);
+        uint32_t prev = 0;
+        for (uint32_t k = 1; k < cap; ++k) {
+            uint32_t i = prev + 1, last = n - (cap - k); /* room for the rest */
+            double target = k * step;
+            while (i < last && fabs(sm[i + 1].s - target) <= fabs(sm[i].s - target)) ++i;
+            if (!cv->closed && k == cap - 1) i = n - 1;
+            sm[k] = sm[i];
+            prev = i;
+        }
+        cv->n_samples = cap;
+    }
 }
 
 /* Per-vertex function slots: vertex x owns funs[fun_start[x] ..) and each
@@ -87,12 +114,22 @@ typedef struct node_job {
     uint32_t n_samples;       /* over all curves of the node              */
     uint32_t *sample_first;   /* per curve: first column                  */
     uint32_t *owned_local;    /* owned vertex -> patch-local id           */
-    double *D;                /* n_owned x n_samples distances (row = x)  */
+    float *D;                 /* n_owned x n_samples distances (row = x)  */
     gs_source *src;           /* one per sample (patch-local)             */
+    /* per thread, created on first use: a solver and CHUNK fields */
+    uint32_t nthreads;
+    gs_solver **solver;
+    double **buf;
 } node_job;
 
 static void job_free(node_job *j)
 {
+    for (uint32_t t = 0; t < j->nthreads; ++t) {
+        if (j->solver) gs_solver_free(j->solver[t]);
+        if (j->buf) free(j->buf[t]);
+    }
+    free(j->solver);
+    free(j->buf);
     gs_patch_free(j->patch);
     free(j->sample_first);
     free(j->owned_local);
@@ -106,6 +143,10 @@ static int job_prepare(builder *b, const gs_tree_node *nd, node_job *j, gs_error
     const gs_tree *t = b->tree;
     memset(j, 0, sizeof *j);
     j->node = nd;
+    j->nthreads = b->nthreads;
+    j->solver = gs__calloc(b->nthreads, sizeof *j->solver);
+    j->buf = gs__calloc(b->nthreads, sizeof *j->buf);
+    if (!j->solver || !j->buf) return gs__fail(err, GS_ENOMEM, "out of memory preparing node");
     int rc = gs_patch_create(b->mesh, t->faces + nd->face_start, nd->n_faces, &j->patch, err);
     if (rc) return rc;
     face_pos *fp = gs__malloc(nd->n_faces, sizeof *fp);
@@ -154,44 +195,83 @@ static int job_prepare(builder *b, const gs_tree_node *nd, node_job *j, gs_error
     return GS_OK;
 }
 
-/* Solve a field from each source inside the node's patch, in parallel (one
- * solver per thread), and store source k's distances to the owned vertices
- * as column k of M (row-major, n_owned x ncols). */
-static int solve_columns(builder *b, node_job *j, const gs_source *src, uint32_t nsrc, double *M,
-                         uint32_t ncols, gs_error *err)
+/* Fields are solved in chunks of CHUNK sources (one batched solve for the
+ * heat method). Chunks are fixed by the source order alone, never by the
+ * thread count, so the result does not depend on it. */
+enum { CHUNK = 16 };
+
+/* Memory for one block of fields (n_block x n_owned doubles): a node's
+ * fields are computed block by block and folded into D at once, so a node
+ * never holds all of them (two blocks live at a time with vertex sources). */
+#define FIELD_BLOCK_BYTES ((size_t)384 << 20)
+
+/* Sources per block for a node with nown owned vertices, at least a chunk. */
+static uint32_t block_sources(uint32_t nown, uint32_t per_source)
+{
+    size_t k = FIELD_BLOCK_BYTES / ((size_t)(nown ? nown : 1) * per_source * sizeof(double));
+    k = k / CHUNK * CHUNK;
+    return k < CHUNK ? CHUNK : (k > (1u << 20) ? (1u << 20) : (uint32_t)k);
+}
+
+/* Solve one field per source src[0..n) (patch-local) with the node's
+ * per-thread solvers and store source k's distances to the owned vertices
+ * in F[col[k] * nown ..) (col NULL: column k). */
+static int solve_block(builder *b, node_job *j, const gs_source *src, uint32_t n, const uint32_t *col, double *F,
+                       gs_error *err)
 {
     uint32_t nl = gs_patch_num_vertices(j->patch), nown = j->node->n_verts;
+    uint32_t nchunks = (n + CHUNK - 1) / CHUNK;
     int rc = GS_OK;
 #pragma omp parallel num_threads(b->nthreads)
     {
-        gs_solver *s = NULL;
+        uint32_t tid = (uint32_t)omp_get_thread_num();
         gs_error e;
-        double *dist = gs__malloc(nl, sizeof *dist);
-        int my = dist ? gs_solver_create(j->patch, b->opt->method, &s, &e) : GS_ENOMEM;
-        if (!dist) gs__fail(&e, GS_ENOMEM, "out of memory");
+        int my = GS_OK;
 #pragma omp for schedule(dynamic, 1)
-        for (uint32_t k = 0; k < nsrc; ++k) {
+        for (uint32_t q = 0; q < nchunks; ++q) {
             if (my) continue;
-            my = gs_solver_solve(s, &src[k], 1, 0, dist, &e);
+            if (!j->solver[tid]) my = gs_solver_create(j->patch, b->opt->method, &j->solver[tid], &e);
+            if (!my && !j->buf[tid] && !(j->buf[tid] = gs__malloc((size_t)CHUNK * nl + 1, sizeof(double))))
+                my = gs__fail(&e, GS_ENOMEM, "out of memory for %u fields of %u vertices", CHUNK, nl);
             if (my) continue;
-            for (uint32_t i = 0; i < nown; ++i) M[(size_t)i * ncols + k] = dist[j->owned_local[i]];
+            uint32_t k0 = q * CHUNK, k = n - k0 < CHUNK ? n - k0 : CHUNK;
+            my = gs__solver_solve_each(j->solver[tid], src + k0, k, j->buf[tid], &e);
+            if (my) continue;
+            for (uint32_t c = 0; c < k; ++c) {
+                const double *dist = j->buf[tid] + (size_t)c * nl;
+                double *out = F + (size_t)(col ? col[k0 + c] : k0 + c) * nown;
+                for (uint32_t i = 0; i < nown; ++i) out[i] = dist[j->owned_local[i]];
+            }
         }
 #pragma omp critical
         if (my && rc == GS_OK) {
             rc = my;
             if (err) *err = e;
         }
-        gs_solver_free(s);
-        free(dist);
     }
-    b->n_fields += nsrc;
+    b->n_fields += n;
     return rc;
 }
 
-/* Fields from every sample (sample sources). Column k of D. */
+/* Fields from every sample (sample sources): column k of D, block by block. */
 static int fields_from_samples(builder *b, node_job *j, gs_error *err)
 {
-    return solve_columns(b, j, j->src, j->n_samples, j->D, j->n_samples, err);
+    uint32_t nown = j->node->n_verts, ns = j->n_samples;
+    uint32_t blk = block_sources(nown, 1);
+    if (blk > ns) blk = ns;
+    double *F = gs__malloc((size_t)blk * nown + 1, sizeof *F);
+    if (!F) return gs__fail(err, GS_ENOMEM, "out of memory: %u vertices x %u fields", nown, blk);
+    int rc = GS_OK;
+    for (uint32_t k0 = 0; k0 < ns && rc == GS_OK; k0 += blk) {
+        uint32_t k = ns - k0 < blk ? ns - k0 : blk;
+        rc = solve_block(b, j, j->src + k0, k, NULL, F, err);
+        if (rc) break;
+#pragma omp parallel for num_threads(b->nthreads) schedule(static)
+        for (uint32_t i = 0; i < nown; ++i)
+            for (uint32_t c = 0; c < k; ++c) j->D[(size_t)i * ns + k0 + c] = (float)F[(size_t)c * nown + i];
+    }
+    free(F);
+    return rc;
 }
 
 /* The paper's variant: fields from the corners of the sample faces, then
@@ -215,45 +295,73 @@ static uint32_t find_u32(const uint32_t *a, uint32_t n, uint32_t v)
     return lo;
 }
 
+/* One block of corner fields: the sorted distinct corners of some samples,
+ * and each one's column in F (nown doubles per column). */
+typedef struct corner_block {
+    uint32_t n, *corner, *col;
+    double *F;
+} corner_block;
+
+/* The corner fields are computed block by block of samples (consecutive
+ * samples share corners: those of the previous block are copied, not
+ * solved again), each block folded into D before the next one. */
 static int fields_from_vertices(builder *b, node_job *j, gs_error *err)
 {
     const gs_topo *pt = j->patch->topo;
     uint32_t nown = j->node->n_verts, ns = j->n_samples;
-    uint32_t *corners = gs__malloc(3 * (size_t)ns, sizeof *corners);
-    if (!corners) return gs__fail(err, GS_ENOMEM, "out of memory");
-    for (uint32_t k = 0; k < ns; ++k)
-        for (int i = 0; i < 3; ++i) corners[3 * (size_t)k + i] = pt->tri[3 * (size_t)j->src[k].face + i];
-    uint32_t *uniq = gs__malloc(3 * (size_t)ns, sizeof *uniq);
-    if (!uniq) {
-        free(corners);
-        return gs__fail(err, GS_ENOMEM, "out of memory");
+    uint32_t blk = block_sources(nown, 3) / 3;
+    if (blk > ns) blk = ns;
+    if (blk == 0) blk = 1;
+    size_t ncol = 3 * (size_t)blk;
+    corner_block cb[2];
+    uint32_t *todo_col = gs__malloc(ncol, sizeof *todo_col);
+    gs_source *vs = gs__malloc(ncol, sizeof *vs);
+    int rc = todo_col && vs ? GS_OK : GS_ENOMEM;
+    for (int q = 0; q < 2; ++q) {
+        cb[q].n = 0;
+        cb[q].corner = gs__malloc(ncol, sizeof *cb[q].corner);
+        cb[q].col = gs__malloc(ncol, sizeof *cb[q].col);
+        cb[q].F = gs__malloc(ncol * nown + 1, sizeof *cb[q].F);
+        if (!cb[q].corner || !cb[q].col || !cb[q].F) rc = GS_ENOMEM;
     }
-    memcpy(uniq, corners, 3 * (size_t)ns * sizeof *uniq);
-    qsort(uniq, 3 * (size_t)ns, sizeof *uniq, cmp_u32);
-    uint32_t nu = 0;
-    for (uint32_t i = 0; i < 3 * ns; ++i)
-        if (i == 0 || uniq[i] != uniq[i - 1]) uniq[nu++] = uniq[i];
-    double *V = gs__malloc((size_t)nown * nu, sizeof *V); /* row x, column corner */
-    if (!V) {
-        free(corners);
-        free(uniq);
-        return gs__fail(err, GS_ENOMEM, "out of memory: %u vertices x %u corner fields", nown, nu);
-    }
-    gs_source *vs = gs__malloc(nu, sizeof *vs);
-    int rc = vs ? GS_OK : gs__fail(err, GS_ENOMEM, "out of memory");
-    for (uint32_t k = 0; vs && k < nu; ++k) vs[k] = gs_source_vertex(uniq[k]);
-    if (rc == GS_OK) rc = solve_columns(b, j, vs, nu, V, nu, err);
-    free(vs);
-    if (rc == GS_OK) {
+    if (rc) gs__fail(err, rc, "out of memory: %u vertices x %zu corner fields", nown, 2 * ncol);
+    for (uint32_t k0 = 0; k0 < ns && rc == GS_OK; k0 += blk) {
+        uint32_t nk = ns - k0 < blk ? ns - k0 : blk;
+        corner_block *cur = &cb[(k0 / blk) & 1], *prev = &cb[((k0 / blk) & 1) ^ 1];
+        uint32_t nc = 0;
+        for (uint32_t k = k0; k < k0 + nk; ++k)
+            for (int i = 0; i < 3; ++i) cur->corner[nc++] = pt->tri[3 * (size_t)j->src[k].face + i];
+        qsort(cur->corner, nc, sizeof *cur->corner, cmp_u32);
+        uint32_t nu = 0;
+        for (uint32_t i = 0; i < nc; ++i)
+            if (i == 0 || cur->corner[i] != cur->corner[i - 1]) cur->corner[nu++] = cur->corner[i];
+        cur->n = nu;
+        /* columns: corners to solve first (in corner order), then copies */
+        uint32_t nt = 0, next = 0;
+        for (uint32_t u = 0; u < nu; ++u) {
+            uint32_t p = find_u32(prev->corner, prev->n, cur->corner[u]);
+            if (p < prev->n && prev->corner[p] == cur->corner[u]) continue;
+            vs[nt] = gs_source_vertex(cur->corner[u]);
+            todo_col[nt++] = cur->col[u] = next++;
+        }
+        for (uint32_t u = 0; u < nu; ++u) {
+            uint32_t p = find_u32(prev->corner, prev->n, cur->corner[u]);
+            if (p < prev->n && prev->corner[p] == cur->corner[u]) {
+                cur->col[u] = next++;
+                memcpy(cur->F + (size_t)cur->col[u] * nown, prev->F + (size_t)prev->col[p] * nown,
+                       nown * sizeof *cur->F);
+            }
+        }
+        rc = solve_block(b, j, vs, nt, todo_col, cur->F, err);
+        if (rc) break;
 #pragma omp parallel for num_threads(b->nthreads) schedule(static)
         for (uint32_t i = 0; i < nown; ++i) {
-            const double *row = V + (size_t)i * nu;
-            for (uint32_t k = 0; k < ns; ++k) {
+            for (uint32_t k = k0; k < k0 + nk; ++k) {
                 const double *l = j->src[k].bary;
-                const uint32_t *c = corners + 3 * (size_t)k;
+                const uint32_t *c = pt->tri + 3 * (size_t)j->src[k].face;
                 double d[3], p[3][3];
                 for (int q = 0; q < 3; ++q) {
-                    d[q] = row[find_u32(uniq, nu, c[q])];
+                    d[q] = cur->F[(size_t)cur->col[find_u32(cur->corner, nu, c[q])] * nown + i];
                     memcpy(p[q], pt->xyz + 3 * (size_t)c[q], sizeof p[q]);
                 }
                 double v = 0;
@@ -263,13 +371,17 @@ static int fields_from_vertices(builder *b, node_job *j, gs_error *err)
                         double dx = p[q][0] - p[r][0], dy = p[q][1] - p[r][1], dz = p[q][2] - p[r][2];
                         v -= l[q] * l[r] * (dx * dx + dy * dy + dz * dz);
                     }
-                j->D[(size_t)i * ns + k] = isfinite(v) ? sqrt(v > 0 ? v : 0) : INFINITY;
+                j->D[(size_t)i * ns + k] = (float)(isfinite(v) ? sqrt(v > 0 ? v : 0) : INFINITY);
             }
         }
     }
-    free(corners);
-    free(uniq);
-    free(V);
+    for (int q = 0; q < 2; ++q) {
+        free(cb[q].corner);
+        free(cb[q].col);
+        free(cb[q].F);
+    }
+    free(todo_col);
+    free(vs);
     return rc;
 }
 
@@ -324,7 +436,7 @@ static int fit_node(builder *b, node_job *j, uint32_t node_id, gs_error *err)
             for (uint32_t c = 0; c < nc && !my; ++c) {
                 const gs_sep_curve *cv = &t->curves[nd->curve_start + c];
                 uint32_t n = cv->n_samples;
-                const double *row = j->D + (size_t)i * ns + j->sample_first[c];
+                const float *row = j->D + (size_t)i * ns + j->sample_first[c];
                 double mx = 0, mn = INFINITY;
                 uint32_t n_inf = 0;
                 for (uint32_t k = 0; k < n; ++k) {
@@ -683,6 +795,8 @@ static int check_options(const gs_build_options *o, gs_error *err)
     if (!(o->tol > 0 && o->tol < 1)) return gs__fail(err, GS_EARG, "tol %g out of range (0, 1)", o->tol);
     if (!(o->sample_spacing >= 0.01 && o->sample_spacing <= 100))
         return gs__fail(err, GS_EARG, "sample_spacing %g out of range [0.01, 100]", o->sample_spacing);
+    if (o->max_samples && (o->max_samples < 8 || o->max_samples > (1u << 24)))
+        return gs__fail(err, GS_EARG, "max_samples %u out of range (0 or [8, 2^24])", o->max_samples);
     if (o->threads > 1024) return gs__fail(err, GS_EARG, "threads %u is absurd", o->threads);
     return GS_OK;
 }
@@ -719,6 +833,7 @@ int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt_in, gs_db **out
     progress(&b, "tree", 0);
     rc = gs_tree_build(mesh, &to, &tree, err);
     if (rc) return rc;
+    thin_samples(tree, opt->max_samples);
     b.tree = tree;
     double t1 = gs__now();
     progress(&b, "tree", 1);

@@ -19,6 +19,7 @@ struct gs_fit_work {
     double *qa, *qb;     /* the weighted d and d^2 systems, factorised (QR)   */
     double *ra, *rb;     /* their right-hand sides, Q^T applied               */
     double *val;         /* scratch: fitted values at the rows                */
+    double *va, *vb;     /* reflection data of qa / qb (see householder)      */
 };
 
 /* One candidate fit (coefficients on normalised distances). */
@@ -40,7 +41,7 @@ void gs_fit_work_free(gs_fit_work *w)
     if (!w)
         return;
     free(w->t), free(w->y), free(w->basis), free(w->qa), free(w->qb);
-    free(w->ra), free(w->rb), free(w->val);
+    free(w->ra), free(w->rb), free(w->val), free(w->va), free(w->vb);
     free(w);
 }
 
@@ -64,8 +65,10 @@ int gs_fit_work_create(uint32_t max_samples, const gs_fit_options *o, gs_fit_wor
         w->qa = gs__malloc(cap * cols, sizeof(double)), w->qb = gs__malloc(cap * cols, sizeof(double));
         w->ra = gs__malloc(cap, sizeof(double)), w->rb = gs__malloc(cap, sizeof(double));
         w->val = gs__malloc(cap, sizeof(double));
+        w->va = gs__malloc(2 * cap, sizeof(double)), w->vb = gs__malloc(2 * cap, sizeof(double));
     }
-    if (!w || !w->t || !w->y || !w->basis || !w->qa || !w->qb || !w->ra || !w->rb || !w->val) {
+    if (!w || !w->t || !w->y || !w->basis || !w->qa || !w->qb || !w->ra || !w->rb || !w->val || !w->va ||
+        !w->vb) {
         gs_fit_work_free(w);
         return gs__fail(err, GS_ENOMEM, "gs_fit_work_create: out of memory");
     }
@@ -124,28 +127,46 @@ static void build_systems(gs_fit_work *w, uint32_t rows, uint32_t cols)
     }
 }
 
-/* In-place Householder QR of the rows x cols column-major A; the reflections
- * are applied to y. R is left in the upper triangle. */
-static void householder(double *a, double *y, uint32_t rows, uint32_t cols)
+/* In-place Householder QR of the rows x cols column-major A, one column at
+ * a time (left-looking): extend from `from` factored columns to `to`. Each
+ * new column receives the earlier reflections in order, then its own, which
+ * is also applied to y; R is left in the upper triangle, reflection j's
+ * first entry in vd[j] (0: none). The operations on every column are those
+ * of the usual right-looking order, so the result is the same to the bit,
+ * but degree escalation only pays for the columns it uses. */
+static void householder(double *a, double *y, double *vd, uint32_t rows, uint32_t from, uint32_t to)
 {
-    for (uint32_t j = 0; j < cols && j < rows; j++) {
-        double *aj = a + (size_t)j * rows, nrm = 0.0;
+    for (uint32_t j = from; j < to && j < rows; j++) {
+        double *aj = a + (size_t)j * rows;
+        for (uint32_t p = 0; p < j; p++) { /* earlier reflections, in order */
+            if (vd[p] == 0.0) continue;
+            const double *ap = a + (size_t)p * rows;
+            double dot = vd[p] * aj[p];
+            for (uint32_t i = p + 1; i < rows; i++)
+                dot += ap[i] * aj[i];
+            double f = 2.0 * dot / vd[rows + p];
+            aj[p] -= f * vd[p];
+            for (uint32_t i = p + 1; i < rows; i++)
+                aj[i] -= f * ap[i];
+        }
+        double nrm = 0.0;
         for (uint32_t i = j; i < rows; i++)
             nrm += aj[i] * aj[i];
         nrm = sqrt(nrm);
+        vd[j] = 0.0;
         if (nrm == 0.0)
             continue;
         double alpha = aj[j] > 0.0 ? -nrm : nrm;
         double vv = 2.0 * nrm * (nrm + fabs(aj[j]));
         aj[j] -= alpha;
-        for (uint32_t k = j + 1; k <= cols; k++) {
-            double *ak = k < cols ? a + (size_t)k * rows : y, dot = 0.0;
-            for (uint32_t i = j; i < rows; i++)
-                dot += aj[i] * ak[i];
-            double f = 2.0 * dot / vv;
-            for (uint32_t i = j; i < rows; i++)
-                ak[i] -= f * aj[i];
-        }
+        double dot = 0.0;
+        for (uint32_t i = j; i < rows; i++)
+            dot += aj[i] * y[i];
+        double f = 2.0 * dot / vv;
+        for (uint32_t i = j; i < rows; i++)
+            y[i] -= f * aj[i];
+        vd[j] = aj[j];
+        vd[rows + j] = vv;
         aj[j] = alpha;
     }
 }
@@ -191,7 +212,11 @@ static void escalate(gs_fit_work *w, uint32_t rows, uint32_t n, uint32_t mlo, ui
 {
     cand ca, cb;
     best->mean = INFINITY;
+    uint32_t done = 0; /* columns factored */
     for (uint32_t m = mlo; m <= mhi; m++) {
+        householder(w->qa, w->ra, w->va, rows, done, m + 1);
+        householder(w->qb, w->rb, w->vb, rows, done, m + 1);
+        done = m + 1;
         ca.m = cb.m = m, ca.sq = 0, cb.sq = 1;
         solve_degree(w->qa, w->ra, rows, m, ca.c);
         solve_degree(w->qb, w->rb, rows, m, cb.c);
@@ -240,8 +265,6 @@ int gs_fit_distance(gs_fit_work *w, const double *u, const double *d, uint32_t n
     uint32_t mhi = w->opt.m_max < n - 1 ? w->opt.m_max : n - 1;
     uint32_t mlo = w->opt.m_min < mhi ? w->opt.m_min : mhi;
     build_systems(w, rows, mhi + 1);
-    householder(w->qa, w->ra, rows, mhi + 1);
-    householder(w->qb, w->rb, rows, mhi + 1);
     escalate(w, rows, n, mlo, mhi, &best);
     return store_result(&best, dmax, shift, closed, res, err);
 }
