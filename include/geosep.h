@@ -278,6 +278,14 @@ typedef struct gs_build_options {
                              /*   thinned to this many, evenly by arc length;  */
                              /*   bounds the fields per separator; 0: no cap   */
                              /*   [256]                                        */
+    uint32_t field_memory_mib; /* memory for one block of distance fields, in  */
+                             /*   MiB: a node's fields are computed block by   */
+                             /*   block and folded into its samples (float),   */
+                             /*   never all at once; two blocks live at a time */
+                             /*   (at least 16 fields each). Peak memory is    */
+                             /*   about 2 x this + n_owned x n_samples x 4     */
+                             /*   bytes for the largest node + the factors     */
+                             /*   (heat) + the database [384]                  */
     gs_progress_fn progress; /* may be NULL                                    */
     void *progress_user;
 } gs_build_options;

@@ -32,6 +32,7 @@ void gs_build_options_default(gs_build_options *o)
     o->seed = 1;
     o->sample_spacing = 0.5;
     o->max_samples = 256;
+    o->field_memory_mib = 384;
 }
 
 /* Thin every curve of more than cap samples to cap samples, in place: the
@@ -122,7 +123,9 @@ typedef struct node_job {
     double **buf;
 } node_job;
 
-static void job_free(node_job *j)
+/* The solvers (factorisations for heat) and field buffers: freed as soon as
+ * the node's fields are done. */
+static void job_free_solvers(node_job *j)
 {
     for (uint32_t t = 0; t < j->nthreads; ++t) {
         if (j->solver) gs_solver_free(j->solver[t]);
@@ -130,6 +133,13 @@ static void job_free(node_job *j)
     }
     free(j->solver);
     free(j->buf);
+    j->solver = NULL;
+    j->buf = NULL;
+}
+
+static void job_free(node_job *j)
+{
+    job_free_solvers(j);
     gs_patch_free(j->patch);
     free(j->sample_first);
     free(j->owned_local);
@@ -138,14 +148,14 @@ static void job_free(node_job *j)
     memset(j, 0, sizeof *j);
 }
 
-static int job_prepare(builder *b, const gs_tree_node *nd, node_job *j, gs_error *err)
+static int job_prepare(builder *b, const gs_tree_node *nd, uint32_t nthreads, node_job *j, gs_error *err)
 {
     const gs_tree *t = b->tree;
     memset(j, 0, sizeof *j);
     j->node = nd;
-    j->nthreads = b->nthreads;
-    j->solver = gs__calloc(b->nthreads, sizeof *j->solver);
-    j->buf = gs__calloc(b->nthreads, sizeof *j->buf);
+    j->nthreads = nthreads;
+    j->solver = gs__calloc(nthreads, sizeof *j->solver);
+    j->buf = gs__calloc(nthreads, sizeof *j->buf);
     if (!j->solver || !j->buf) return gs__fail(err, GS_ENOMEM, "out of memory preparing node");
     int rc = gs_patch_create(b->mesh, t->faces + nd->face_start, nd->n_faces, &j->patch, err);
     if (rc) return rc;
@@ -195,20 +205,22 @@ static int job_prepare(builder *b, const gs_tree_node *nd, node_job *j, gs_error
     return GS_OK;
 }
 
+/* Nodes with fewer owned vertices are processed in parallel, one thread
+ * each; larger ones one at a time with all threads. */
+enum { SMALL_NODE = 4096 };
+
 /* Fields are solved in chunks of CHUNK sources (one batched solve for the
  * heat method). Chunks are fixed by the source order alone, never by the
  * thread count, so the result does not depend on it. */
 enum { CHUNK = 16 };
 
-/* Memory for one block of fields (n_block x n_owned doubles): a node's
- * fields are computed block by block and folded into D at once, so a node
- * never holds all of them (two blocks live at a time with vertex sources). */
-#define FIELD_BLOCK_BYTES ((size_t)384 << 20)
-
-/* Sources per block for a node with nown owned vertices, at least a chunk. */
-static uint32_t block_sources(uint32_t nown, uint32_t per_source)
+/* Sources per block for a node with nown owned vertices: a block of fields
+ * (n_block x n_owned doubles, per_source per source) fits in
+ * field_memory_mib; at least a chunk. */
+static uint32_t block_sources(const builder *b, uint32_t nown, uint32_t per_source)
 {
-    size_t k = FIELD_BLOCK_BYTES / ((size_t)(nown ? nown : 1) * per_source * sizeof(double));
+    size_t bytes = (size_t)(b->opt->field_memory_mib ? b->opt->field_memory_mib : 384) << 20;
+    size_t k = bytes / ((size_t)(nown ? nown : 1) * per_source * sizeof(double));
     k = k / CHUNK * CHUNK;
     return k < CHUNK ? CHUNK : (k > (1u << 20) ? (1u << 20) : (uint32_t)k);
 }
@@ -222,7 +234,7 @@ static int solve_block(builder *b, node_job *j, const gs_source *src, uint32_t n
     uint32_t nl = gs_patch_num_vertices(j->patch), nown = j->node->n_verts;
     uint32_t nchunks = (n + CHUNK - 1) / CHUNK;
     int rc = GS_OK;
-#pragma omp parallel num_threads(b->nthreads)
+#pragma omp parallel num_threads(j->nthreads)
     {
         uint32_t tid = (uint32_t)omp_get_thread_num();
         gs_error e;
@@ -249,6 +261,7 @@ static int solve_block(builder *b, node_job *j, const gs_source *src, uint32_t n
             if (err) *err = e;
         }
     }
+#pragma omp atomic
     b->n_fields += n;
     return rc;
 }
@@ -257,7 +270,7 @@ static int solve_block(builder *b, node_job *j, const gs_source *src, uint32_t n
 static int fields_from_samples(builder *b, node_job *j, gs_error *err)
 {
     uint32_t nown = j->node->n_verts, ns = j->n_samples;
-    uint32_t blk = block_sources(nown, 1);
+    uint32_t blk = block_sources(b, nown, 1);
     if (blk > ns) blk = ns;
     double *F = gs__malloc((size_t)blk * nown + 1, sizeof *F);
     if (!F) return gs__fail(err, GS_ENOMEM, "out of memory: %u vertices x %u fields", nown, blk);
@@ -266,7 +279,7 @@ static int fields_from_samples(builder *b, node_job *j, gs_error *err)
         uint32_t k = ns - k0 < blk ? ns - k0 : blk;
         rc = solve_block(b, j, j->src + k0, k, NULL, F, err);
         if (rc) break;
-#pragma omp parallel for num_threads(b->nthreads) schedule(static)
+#pragma omp parallel for num_threads(j->nthreads) schedule(static)
         for (uint32_t i = 0; i < nown; ++i)
             for (uint32_t c = 0; c < k; ++c) j->D[(size_t)i * ns + k0 + c] = (float)F[(size_t)c * nown + i];
     }
@@ -309,7 +322,7 @@ static int fields_from_vertices(builder *b, node_job *j, gs_error *err)
 {
     const gs_topo *pt = j->patch->topo;
     uint32_t nown = j->node->n_verts, ns = j->n_samples;
-    uint32_t blk = block_sources(nown, 3) / 3;
+    uint32_t blk = block_sources(b, nown, 3);
     if (blk > ns) blk = ns;
     if (blk == 0) blk = 1;
     size_t ncol = 3 * (size_t)blk;
@@ -354,7 +367,7 @@ static int fields_from_vertices(builder *b, node_job *j, gs_error *err)
         }
         rc = solve_block(b, j, vs, nt, todo_col, cur->F, err);
         if (rc) break;
-#pragma omp parallel for num_threads(b->nthreads) schedule(static)
+#pragma omp parallel for num_threads(j->nthreads) schedule(static)
         for (uint32_t i = 0; i < nown; ++i) {
             for (uint32_t k = k0; k < k0 + nk; ++k) {
                 const double *l = j->src[k].bary;
@@ -418,7 +431,7 @@ static int fit_node(builder *b, node_job *j, uint32_t node_id, gs_error *err)
     int rc = GS_OK;
     uint64_t n_fun = 0, n_mixed = 0, n_over = 0;
     double deg_sum = 0, err_sum = 0;
-#pragma omp parallel num_threads(b->nthreads) reduction(+ : n_fun, n_mixed, deg_sum, n_over, err_sum)
+#pragma omp parallel num_threads(j->nthreads) reduction(+ : n_fun, n_mixed, deg_sum, n_over, err_sum)
     {
         gs_fit_work *w = NULL;
         gs_error e;
@@ -486,11 +499,63 @@ static int fit_node(builder *b, node_job *j, uint32_t node_id, gs_error *err)
         free(d);
     }
     free(u_all);
-    b->n_functions += n_fun;
-    b->n_mixed += n_mixed;
-    b->degree_sum += deg_sum;
-    b->n_over_tol += n_over;
-    b->fit_err_sum += err_sum;
+#pragma omp critical(gs_build_stats)
+    {
+        b->n_functions += n_fun;
+        b->n_mixed += n_mixed;
+        b->degree_sum += deg_sum;
+        b->n_over_tol += n_over;
+        b->fit_err_sum += err_sum;
+    }
+    return rc;
+}
+
+/* Shrink node_id's arena to the coefficients its functions use (the fits
+ * reserve room for degree mmax) and repoint them. */
+static int compact_arena(builder *b, const gs_tree_node *nd, uint32_t node_id, gs_error *err)
+{
+    const gs_tree *t = b->tree;
+    size_t used = 0;
+    for (uint32_t i = 0; i < nd->n_verts; ++i) {
+        const gs_fun *f = &b->funs[b->fun_start[t->verts[nd->vert_start + i]] + nd->curve_prefix];
+        for (uint32_t c = 0; c < nd->n_curves; ++c)
+            if (f[c].coef) used += f[c].degree + 1;
+    }
+    double *arena = gs__malloc(used + 1, sizeof *arena);
+    if (!arena) return gs__fail(err, GS_ENOMEM, "out of memory for node %u's functions", node_id);
+    size_t k = 0;
+    for (uint32_t i = 0; i < nd->n_verts; ++i) {
+        gs_fun *f = &b->funs[b->fun_start[t->verts[nd->vert_start + i]] + nd->curve_prefix];
+        for (uint32_t c = 0; c < nd->n_curves; ++c) {
+            if (!f[c].coef) continue;
+            memcpy(arena + k, f[c].coef, (f[c].degree + 1) * sizeof *arena);
+            f[c].coef = arena + k;
+            k += f[c].degree + 1;
+        }
+    }
+    free(b->arenas[node_id]);
+    b->arenas[node_id] = arena;
+    return GS_OK;
+}
+
+/* Fields, fits and compaction of node i with nthreads threads; adds the
+ * seconds spent to *t_fields and *t_fits. */
+static int process_node(builder *b, uint32_t i, uint32_t nthreads, double *t_fields, double *t_fits,
+                        gs_error *err)
+{
+    const gs_tree_node *nd = &b->tree->nodes[i];
+    node_job j;
+    double ta = gs__now();
+    int rc = job_prepare(b, nd, nthreads, &j, err);
+    if (rc == GS_OK)
+        rc = b->opt->vertex_sources ? fields_from_vertices(b, &j, err) : fields_from_samples(b, &j, err);
+    double tb = gs__now();
+    job_free_solvers(&j);
+    if (rc == GS_OK) rc = fit_node(b, &j, i, err);
+    if (rc == GS_OK) rc = compact_arena(b, nd, i, err);
+    job_free(&j);
+    *t_fields += tb - ta;
+    *t_fits += gs__now() - tb;
     return rc;
 }
 
@@ -797,6 +862,8 @@ static int check_options(const gs_build_options *o, gs_error *err)
         return gs__fail(err, GS_EARG, "sample_spacing %g out of range [0.01, 100]", o->sample_spacing);
     if (o->max_samples && (o->max_samples < 8 || o->max_samples > (1u << 24)))
         return gs__fail(err, GS_EARG, "max_samples %u out of range (0 or [8, 2^24])", o->max_samples);
+    if (o->field_memory_mib > (1u << 20))
+        return gs__fail(err, GS_EARG, "field_memory_mib %u is absurd", o->field_memory_mib);
     if (o->threads > 1024) return gs__fail(err, GS_EARG, "threads %u is absurd", o->threads);
     return GS_OK;
 }
@@ -859,21 +926,42 @@ int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt_in, gs_db **out
         if (tree->nodes[i].n_curves)
             b.work_total += (double)tree->nodes[i].n_faces * tree->nodes[i].n_curves;
     double t_fields = 0, t_fits = 0;
+    /* Large nodes one at a time, threads inside each (sources, vertices);
+     * then the small ones in parallel, one thread each. The result is the
+     * same either way (chunks of sources do not depend on threads). */
     for (uint32_t i = 0; i < tree->n_nodes && rc == GS_OK; ++i) {
         const gs_tree_node *nd = &tree->nodes[i];
-        if (nd->n_curves == 0) continue;
-        node_job j;
-        double ta = gs__now();
-        rc = job_prepare(&b, nd, &j, err);
-        if (rc == GS_OK)
-            rc = opt->vertex_sources ? fields_from_vertices(&b, &j, err) : fields_from_samples(&b, &j, err);
-        double tb = gs__now();
-        if (rc == GS_OK) rc = fit_node(&b, &j, i, err);
-        t_fields += tb - ta;
-        t_fits += gs__now() - tb;
-        job_free(&j);
+        if (nd->n_curves == 0 || (b.nthreads > 1 && nd->n_verts < SMALL_NODE)) continue;
+        rc = process_node(&b, i, b.nthreads, &t_fields, &t_fits, err);
         b.work_done += (double)nd->n_faces * nd->n_curves;
         progress(&b, "fields", b.work_total > 0 ? b.work_done / b.work_total : 1);
+    }
+    if (rc == GS_OK && b.nthreads > 1) {
+        double ta = gs__now(), sf = 0, sfit = 0;
+#pragma omp parallel num_threads(b.nthreads) reduction(+ : sf, sfit)
+        {
+            gs_error e;
+            int my = GS_OK;
+#pragma omp for schedule(dynamic, 1)
+            for (uint32_t i = 0; i < tree->n_nodes; ++i) {
+                const gs_tree_node *nd = &tree->nodes[i];
+                if (my || nd->n_curves == 0 || nd->n_verts >= SMALL_NODE) continue;
+                my = process_node(&b, i, 1, &sf, &sfit, &e);
+                double w;
+#pragma omp critical(gs_build_stats)
+                w = b.work_done += (double)nd->n_faces * nd->n_curves;
+                if (omp_get_thread_num() == 0) progress(&b, "fields", b.work_total > 0 ? w / b.work_total : 1);
+            }
+#pragma omp critical
+            if (my && rc == GS_OK) {
+                rc = my;
+                if (err) *err = e;
+            }
+        }
+        /* wall time of this phase, shared by the threads' field / fit split */
+        double wall = gs__now() - ta;
+        t_fields += sf + sfit > 0 ? wall * sf / (sf + sfit) : 0;
+        t_fits += sf + sfit > 0 ? wall * sfit / (sf + sfit) : 0;
     }
     leaf_tables lt;
     memset(&lt, 0, sizeof lt);
