@@ -20,6 +20,7 @@ struct gs_fit_work {
     double *ra, *rb;     /* their right-hand sides, Q^T applied               */
     double *val;         /* scratch: fitted values at the rows                */
     double *va, *vb;     /* reflection data of qa / qb (see householder)      */
+    double *wt;          /* row weights 1/d                                    */
 };
 
 /* One candidate fit (coefficients on normalised distances). */
@@ -41,7 +42,7 @@ void gs_fit_work_free(gs_fit_work *w)
     if (!w)
         return;
     free(w->t), free(w->y), free(w->basis), free(w->qa), free(w->qb);
-    free(w->ra), free(w->rb), free(w->val), free(w->va), free(w->vb);
+    free(w->ra), free(w->rb), free(w->val), free(w->va), free(w->vb), free(w->wt);
     free(w);
 }
 
@@ -66,9 +67,10 @@ int gs_fit_work_create(uint32_t max_samples, const gs_fit_options *o, gs_fit_wor
         w->ra = gs__malloc(cap, sizeof(double)), w->rb = gs__malloc(cap, sizeof(double));
         w->val = gs__malloc(cap, sizeof(double));
         w->va = gs__malloc(2 * cap, sizeof(double)), w->vb = gs__malloc(2 * cap, sizeof(double));
+        w->wt = gs__malloc(cap, sizeof(double));
     }
     if (!w || !w->t || !w->y || !w->basis || !w->qa || !w->qb || !w->ra || !w->rb || !w->val || !w->va ||
-        !w->vb) {
+        !w->vb || !w->wt) {
         gs_fit_work_free(w);
         return gs__fail(err, GS_ENOMEM, "gs_fit_work_create: out of memory");
     }
@@ -108,22 +110,33 @@ static uint32_t prepare_rows(gs_fit_work *w, const double *u, const double *d, u
     return n + 1;
 }
 
-/* Basis columns, and the two row-weighted systems (d: 1/d, d^2: 1/d^2). */
-static void build_systems(gs_fit_work *w, uint32_t rows, uint32_t cols)
+/* Row weights and right-hand sides of the two weighted systems (d: 1/d,
+ * d^2: 1/d^2); the weights 1/d go to wt for the columns. */
+static void build_rhs(gs_fit_work *w, uint32_t rows)
 {
     for (uint32_t r = 0; r < rows; r++) {
-        double t = w->t[r], t0 = 1.0, t1 = t;
         double wa = 1.0 / fmax(w->y[r], GS_FIT_DFLOOR), wb = wa * wa;
-        for (uint32_t j = 0; j < cols; j++) {
-            double tj = j == 0 ? 1.0 : (j == 1 ? t : 2.0 * t * t1 - t0);
-            if (j >= 2)
-                t0 = t1, t1 = tj;
-            w->basis[(size_t)j * rows + r] = tj;
-            w->qa[(size_t)j * rows + r] = tj * wa;
-            w->qb[(size_t)j * rows + r] = tj * wb;
-        }
+        w->wt[r] = wa;
         w->ra[r] = w->y[r] * wa;
         w->rb[r] = w->y[r] * w->y[r] * wb;
+    }
+}
+
+/* Basis columns [from, to) (Chebyshev recurrence down each column) and the
+ * same columns of the two weighted systems; built when degree escalation
+ * first needs them. Uses the weights build_rhs left in wt. */
+static void build_columns(gs_fit_work *w, uint32_t rows, uint32_t from, uint32_t to)
+{
+    for (uint32_t j = from; j < to; j++) {
+        double *bj = w->basis + (size_t)j * rows;
+        const double *b1 = bj - rows, *b0 = bj - 2 * (size_t)rows;
+        for (uint32_t r = 0; r < rows; r++) {
+            double tj = j == 0 ? 1.0 : (j == 1 ? w->t[r] : 2.0 * w->t[r] * b1[r] - b0[r]);
+            double wa = w->wt[r];
+            bj[r] = tj;
+            w->qa[(size_t)j * rows + r] = tj * wa;
+            w->qb[(size_t)j * rows + r] = tj * (wa * wa);
+        }
     }
 }
 
@@ -213,7 +226,9 @@ static void escalate(gs_fit_work *w, uint32_t rows, uint32_t n, uint32_t mlo, ui
     cand ca, cb;
     best->mean = INFINITY;
     uint32_t done = 0; /* columns factored */
+    build_columns(w, rows, 0, mlo);
     for (uint32_t m = mlo; m <= mhi; m++) {
+        build_columns(w, rows, m, m + 1);
         householder(w->qa, w->ra, w->va, rows, done, m + 1);
         householder(w->qb, w->rb, w->vb, rows, done, m + 1);
         done = m + 1;
@@ -264,7 +279,7 @@ int gs_fit_distance(gs_fit_work *w, const double *u, const double *d, uint32_t n
     uint32_t rows = prepare_rows(w, u, d, n, closed, dmax, &shift);
     uint32_t mhi = w->opt.m_max < n - 1 ? w->opt.m_max : n - 1;
     uint32_t mlo = w->opt.m_min < mhi ? w->opt.m_min : mhi;
-    build_systems(w, rows, mhi + 1);
+    build_rhs(w, rows);
     escalate(w, rows, n, mlo, mhi, &best);
     return store_result(&best, dmax, shift, closed, res, err);
 }
