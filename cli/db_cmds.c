@@ -22,7 +22,7 @@ const char usage_build[] =
     "  exact fields). --sampled: store\n"
     "  the sampled values (SEPsam) instead of polynomials. --spacing: separator\n"
     "  sample spacing in mean edge lengths (0.5). --max-samples: longer curves\n"
-    "  are thinned to this many samples (256; 0 = no cap). --field-memory: MiB\n"
+    "  are thinned to this many samples (96; 0 = no cap). --field-memory: MiB\n"
     "  for one block of distance fields (384; two live at a time). --leaf-exact: also store the\n"
     "  exact distances between the vertices of each leaf (paper sec. 3.1, matrix\n"
     "  D; at most vmax numbers per vertex) instead of answering same-leaf queries\n"

@@ -277,7 +277,7 @@ typedef struct gs_build_options {
     uint32_t max_samples;    /* samples per curve at most: longer curves are   */
                              /*   thinned to this many, evenly by arc length;  */
                              /*   bounds the fields per separator; 0: no cap   */
-                             /*   [256]                                        */
+                             /*   [96]                                         */
     uint32_t field_memory_mib; /* memory for one block of distance fields, in  */
                              /*   MiB: a node's fields are computed block by   */
                              /*   block and folded into its samples (float),   */

@@ -31,7 +31,7 @@ void gs_build_options_default(gs_build_options *o)
     o->leaf_exact = 0;
     o->seed = 1;
     o->sample_spacing = 0.5;
-    o->max_samples = 256;
+    o->max_samples = 96;
     o->field_memory_mib = 384;
 }
 
@@ -327,9 +327,10 @@ static int fields_from_vertices(builder *b, node_job *j, gs_error *err)
     if (blk == 0) blk = 1;
     size_t ncol = 3 * (size_t)blk;
     corner_block cb[2];
-    uint32_t *todo_col = gs__malloc(ncol, sizeof *todo_col);
+    uint32_t *todo_col = gs__malloc(ncol, sizeof *todo_col), *scol = gs__malloc(ncol, sizeof *scol);
+    double *scross = gs__malloc(blk, sizeof *scross);
     gs_source *vs = gs__malloc(ncol, sizeof *vs);
-    int rc = todo_col && vs ? GS_OK : GS_ENOMEM;
+    int rc = todo_col && scol && scross && vs ? GS_OK : GS_ENOMEM;
     for (int q = 0; q < 2; ++q) {
         cb[q].n = 0;
         cb[q].corner = gs__malloc(ncol, sizeof *cb[q].corner);
@@ -367,23 +368,33 @@ static int fields_from_vertices(builder *b, node_job *j, gs_error *err)
         }
         rc = solve_block(b, j, vs, nt, todo_col, cur->F, err);
         if (rc) break;
+        /* per sample: its corners' columns and sum_{q<r} l_q l_r |v_q - v_r|^2 */
+        for (uint32_t k = k0; k < k0 + nk; ++k) {
+            const double *l = j->src[k].bary;
+            const uint32_t *c = pt->tri + 3 * (size_t)j->src[k].face;
+            double p[3][3], cross = 0;
+            for (int q = 0; q < 3; ++q) {
+                scol[3 * (size_t)(k - k0) + q] = cur->col[find_u32(cur->corner, nu, c[q])];
+                memcpy(p[q], pt->xyz + 3 * (size_t)c[q], sizeof p[q]);
+            }
+            for (int q = 0; q < 3; ++q)
+                for (int r = q + 1; r < 3; ++r) {
+                    double dx = p[q][0] - p[r][0], dy = p[q][1] - p[r][1], dz = p[q][2] - p[r][2];
+                    cross += l[q] * l[r] * (dx * dx + dy * dy + dz * dz);
+                }
+            scross[k - k0] = cross;
+        }
 #pragma omp parallel for num_threads(j->nthreads) schedule(static)
         for (uint32_t i = 0; i < nown; ++i) {
             for (uint32_t k = k0; k < k0 + nk; ++k) {
                 const double *l = j->src[k].bary;
-                const uint32_t *c = pt->tri + 3 * (size_t)j->src[k].face;
-                double d[3], p[3][3];
-                for (int q = 0; q < 3; ++q) {
-                    d[q] = cur->F[(size_t)cur->col[find_u32(cur->corner, nu, c[q])] * nown + i];
-                    memcpy(p[q], pt->xyz + 3 * (size_t)c[q], sizeof p[q]);
-                }
+                const uint32_t *col = scol + 3 * (size_t)(k - k0);
                 double v = 0;
-                for (int q = 0; q < 3; ++q) v += l[q] * d[q] * d[q];
-                for (int q = 0; q < 3; ++q)
-                    for (int r = q + 1; r < 3; ++r) {
-                        double dx = p[q][0] - p[r][0], dy = p[q][1] - p[r][1], dz = p[q][2] - p[r][2];
-                        v -= l[q] * l[r] * (dx * dx + dy * dy + dz * dz);
-                    }
+                for (int q = 0; q < 3; ++q) {
+                    double d = cur->F[(size_t)col[q] * nown + i];
+                    v += l[q] * d * d;
+                }
+                v -= scross[k - k0];
                 j->D[(size_t)i * ns + k] = (float)(isfinite(v) ? sqrt(v > 0 ? v : 0) : INFINITY);
             }
         }
@@ -394,6 +405,8 @@ static int fields_from_vertices(builder *b, node_job *j, gs_error *err)
         free(cb[q].F);
     }
     free(todo_col);
+    free(scol);
+    free(scross);
     free(vs);
     return rc;
 }

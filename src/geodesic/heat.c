@@ -51,6 +51,7 @@ typedef struct heat_state {
     double *ilen;       /* 3*nf lengths                                     */
     double *cot;        /* 3*nf cotangent of the angle at corner h          */
     double *area;       /* nf                                               */
+    double *dgeo;       /* 12*nf: divergence geometry per face              */
     double *mass;       /* nv lumped mass                                   */
     uint32_t *comp;     /* nv component id, GS_NONE if unreferenced         */
     uint32_t n_comp;
@@ -259,6 +260,34 @@ static gs_sparse_factor *factor_system(const heat_state *s, const uint32_t *map,
     return F;
 }
 
+/* Per face, from a 2D layout of the intrinsic face (p0 = (0,0), p1 on the
+ * x axis, p2 above): the edges opposite each corner rotated by +90 degrees
+ * (grad u = sum_i u_i * those / (2 area), only its direction is used) and
+ * each corner's divergence weights 0.5 (cot_k (p_j - p_i) + cot_j (p_k -
+ * p_i)). Computed once, used by every solve: 12 doubles per face. */
+static void build_divergence_geometry(heat_state *s)
+{
+    for (uint32_t f = 0; f < s->nf; ++f) {
+        double *q = s->dgeo + 12 * (size_t)f;
+        memset(q, 0, 12 * sizeof *q);
+        if (!(s->area[f] > 0)) continue;
+        const double *l = s->ilen + 3 * (size_t)f; /* l[0]=|p0p1| l[1]=|p1p2| l[2]=|p2p0| */
+        double p[3][2];
+        p[0][0] = 0, p[0][1] = 0;
+        p[1][0] = l[0], p[1][1] = 0;
+        p[2][0] = (l[0] * l[0] + l[2] * l[2] - l[1] * l[1]) / (2 * l[0]);
+        p[2][1] = 2 * s->area[f] / l[0];
+        const double *ct = s->cot + 3 * (size_t)f;
+        for (int i = 0; i < 3; ++i) {
+            int j = (i + 1) % 3, k = (i + 2) % 3;
+            q[2 * i] = -(p[k][1] - p[j][1]);
+            q[2 * i + 1] = p[k][0] - p[j][0];
+            q[6 + 2 * i] = 0.5 * (ct[k] * (p[j][0] - p[i][0]) + ct[j] * (p[k][0] - p[i][0]));
+            q[7 + 2 * i] = 0.5 * (ct[k] * (p[j][1] - p[i][1]) + ct[j] * (p[k][1] - p[i][1]));
+        }
+    }
+}
+
 static void heat_destroy(void *state)
 {
     heat_state *s = state;
@@ -266,7 +295,7 @@ static void heat_destroy(void *state)
     gs_sparse_factor_free(s->heat_n);
     gs_sparse_factor_free(s->heat_d);
     gs_sparse_factor_free(s->poisson);
-    free(s->itri), free(s->iopp), free(s->ilen), free(s->cot), free(s->area);
+    free(s->itri), free(s->iopp), free(s->ilen), free(s->cot), free(s->area), free(s->dgeo);
     free(s->mass), free(s->comp), free(s->map_n), free(s->map_d), free(s->map_p);
     free(s->b), free(s->x), free(s->u), free(s->div), free(s->phi), free(s->cmin);
     free(s->kb), free(s->ku), free(s->kx);
@@ -286,6 +315,7 @@ static int heat_create(const gs_topo *t, void **state, gs_error *err)
     s->ilen = gs__malloc(nh + 1, sizeof *s->ilen);
     s->cot = gs__malloc(nh + 1, sizeof *s->cot);
     s->area = gs__malloc(t->nf + 1, sizeof *s->area);
+    s->dgeo = gs__malloc(12 * (size_t)t->nf + 1, sizeof *s->dgeo);
     s->mass = gs__malloc(nv, sizeof *s->mass);
     s->comp = gs__malloc(nv, sizeof *s->comp);
     s->map_n = gs__malloc(nv, sizeof *s->map_n);
@@ -297,7 +327,7 @@ static int heat_create(const gs_topo *t, void **state, gs_error *err)
     s->div = gs__malloc(nv, sizeof(double));
     s->phi = gs__malloc(nv, sizeof(double));
     s->cmin = gs__malloc(nv, sizeof(double));
-    if (!s->itri || !s->iopp || !s->ilen || !s->cot || !s->area || !s->mass || !s->comp ||
+    if (!s->itri || !s->iopp || !s->ilen || !s->cot || !s->area || !s->dgeo || !s->mass || !s->comp ||
         !s->map_n || !s->map_d || !s->map_p || !s->b || !s->x || !s->u || !s->div ||
         !s->phi || !s->cmin) {
         heat_destroy(s);
@@ -317,6 +347,7 @@ static int heat_create(const gs_topo *t, void **state, gs_error *err)
         return rc;
     }
     build_geometry(s);
+    build_divergence_geometry(s);
 
     /* connected components (vertices sharing a face), union-find in comp */
     for (uint32_t v = 0; v < s->nv; ++v) s->comp[v] = v;
@@ -403,39 +434,25 @@ static int heat_flow(heat_state *s, gs_sparse_factor *F, const uint32_t *map, co
     return GS_OK;
 }
 
-/* Integrated divergence of X = -grad u / |grad u| at every vertex, using a
- * 2D layout of each intrinsic face. */
+/* Integrated divergence of X = -grad u / |grad u| at every vertex (the
+ * face geometry of build_divergence_geometry). The gradient is scaled by
+ * its largest component before normalising, so that tiny values far from
+ * the source (heat decays fast) keep their direction. */
 static void divergence(const heat_state *s, const double *u, double *div)
 {
     memset(div, 0, s->nv * sizeof *div);
     for (uint32_t f = 0; f < s->nf; ++f) {
         if (!(s->area[f] > 0)) continue;
         const uint32_t *vi = s->itri + 3 * (size_t)f;
-        const double *l = s->ilen + 3 * (size_t)f; /* l[0]=|p0p1| l[1]=|p1p2| l[2]=|p2p0| */
-        double p[3][2];
-        p[0][0] = 0, p[0][1] = 0;
-        p[1][0] = l[0], p[1][1] = 0;
-        p[2][0] = (l[0] * l[0] + l[2] * l[2] - l[1] * l[1]) / (2 * l[0]);
-        p[2][1] = 2 * s->area[f] / l[0];
-        double g[2] = {0, 0};
-        for (int i = 0; i < 3; ++i) {
-            /* edge opposite corner i, counter-clockwise, rotated by +90 deg */
-            const double *a = p[(i + 1) % 3], *b = p[(i + 2) % 3];
-            double ex = b[0] - a[0], ey = b[1] - a[1];
-            double ui = u[vi[i]];
-            g[0] += ui * -ey;
-            g[1] += ui * ex;
-        }
-        double n = hypot(g[0], g[1]);
-        if (!(n > 0) || !isfinite(n)) continue;
-        double X[2] = {-g[0] / n, -g[1] / n};
-        const double *ct = s->cot + 3 * (size_t)f;
-        for (int i = 0; i < 3; ++i) {
-            int j = (i + 1) % 3, k = (i + 2) % 3;
-            double e1 = (p[j][0] - p[i][0]) * X[0] + (p[j][1] - p[i][1]) * X[1];
-            double e2 = (p[k][0] - p[i][0]) * X[0] + (p[k][1] - p[i][1]) * X[1];
-            div[vi[i]] += 0.5 * (ct[k] * e1 + ct[j] * e2);
-        }
+        const double *q = s->dgeo + 12 * (size_t)f;
+        double u0 = u[vi[0]], u1 = u[vi[1]], u2 = u[vi[2]];
+        double g0 = u0 * q[0] + u1 * q[2] + u2 * q[4];
+        double g1 = u0 * q[1] + u1 * q[3] + u2 * q[5];
+        double m = fmax(fabs(g0), fabs(g1));
+        if (!(m > 0) || !isfinite(m)) continue;
+        g0 /= m, g1 /= m;
+        double n = sqrt(g0 * g0 + g1 * g1), X0 = -g0 / n, X1 = -g1 / n;
+        for (int i = 0; i < 3; ++i) div[vi[i]] += q[6 + 2 * i] * X0 + q[7 + 2 * i] * X1;
     }
 }
 
