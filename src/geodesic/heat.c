@@ -435,25 +435,44 @@ static int heat_flow(heat_state *s, gs_sparse_factor *F, const uint32_t *map, co
 }
 
 /* Integrated divergence of X = -grad u / |grad u| at every vertex (the
- * face geometry of build_divergence_geometry). The gradient is scaled by
- * its largest component before normalising, so that tiny values far from
- * the source (heat decays fast) keep their direction. */
-static void divergence(const heat_state *s, const double *u, double *div)
+ * face geometry of build_divergence_geometry), for k fields at once stored
+ * vertex-major (u[v * k + c] is field c at vertex v; div likewise): each
+ * face's geometry is read once for all k. The gradient is scaled by its
+ * largest component before normalising, so that tiny values far from the
+ * source (heat decays fast) keep their direction. */
+static void divergence(const heat_state *s, const double *u, uint32_t k, double *div)
 {
-    memset(div, 0, s->nv * sizeof *div);
+    memset(div, 0, (size_t)s->nv * k * sizeof *div);
     for (uint32_t f = 0; f < s->nf; ++f) {
         if (!(s->area[f] > 0)) continue;
         const uint32_t *vi = s->itri + 3 * (size_t)f;
         const double *q = s->dgeo + 12 * (size_t)f;
-        double u0 = u[vi[0]], u1 = u[vi[1]], u2 = u[vi[2]];
-        double g0 = u0 * q[0] + u1 * q[2] + u2 * q[4];
-        double g1 = u0 * q[1] + u1 * q[3] + u2 * q[5];
-        double m = fmax(fabs(g0), fabs(g1));
-        if (!(m > 0) || !isfinite(m)) continue;
-        g0 /= m, g1 /= m;
-        double n = sqrt(g0 * g0 + g1 * g1), X0 = -g0 / n, X1 = -g1 / n;
-        for (int i = 0; i < 3; ++i) div[vi[i]] += q[6 + 2 * i] * X0 + q[7 + 2 * i] * X1;
+        size_t a = (size_t)vi[0] * k, b = (size_t)vi[1] * k, c = (size_t)vi[2] * k;
+        for (uint32_t i = 0; i < k; ++i) {
+            double u0 = u[a + i], u1 = u[b + i], u2 = u[c + i];
+            double g0 = u0 * q[0] + u1 * q[2] + u2 * q[4];
+            double g1 = u0 * q[1] + u1 * q[3] + u2 * q[5];
+            double m = fmax(fabs(g0), fabs(g1));
+            if (!(m > 0) || !isfinite(m)) continue;
+            g0 /= m, g1 /= m;
+            double n = sqrt(g0 * g0 + g1 * g1), X0 = -g0 / n, X1 = -g1 / n;
+            div[a + i] += q[6] * X0 + q[7] * X1;
+            div[b + i] += q[8] * X0 + q[9] * X1;
+            div[c + i] += q[10] * X0 + q[11] * X1;
+        }
     }
+}
+
+/* out[v * k + c] = in[c * nv + v] (column-major -> vertex-major) or back. */
+static void transpose(const double *in, double *out, size_t nv, uint32_t k, int to_vertex_major)
+{
+    for (size_t v = 0; v < nv; ++v)
+        for (uint32_t c = 0; c < k; ++c) {
+            if (to_vertex_major)
+                out[v * k + c] = in[c * nv + v];
+            else
+                out[c * nv + v] = in[v * k + c];
+        }
 }
 
 /* dist = phi shifted per component so that its smallest value over the
@@ -511,7 +530,7 @@ static int heat_solve(void *state, const gs_source *src, uint32_t n_src, double 
         for (uint32_t v = 0; v < nv && !rc; ++v) s->u[v] = 0.5 * (s->u[v] + s->phi[v]);
     }
     if (rc) return rc;
-    divergence(s, s->u, s->div);
+    divergence(s, s->u, 1, s->div);
     /* L phi = -div on the free vertices of map_p (pins stay 0) */
     rc = heat_flow(s, s->poisson, s->map_p, s->div, s->phi, err);
     if (rc) return rc;
@@ -578,8 +597,11 @@ static int heat_solve_each(void *state, const gs_source *src, uint32_t n_src, do
             for (size_t v = 0; v < nv * k && !rc; ++v) s->ku[v] = 0.5 * (s->ku[v] + s->kx[v]);
         }
         if (rc) return rc;
-        for (uint32_t c = 0; c < k; ++c) divergence(s, s->ku + c * nv, s->kb + c * nv);
-        rc = heat_flow_many(s, s->poisson, s->map_p, s->kb, s->kx, k, err);
+        /* divergence on vertex-major copies: kx = u, kb = div, ku = div */
+        transpose(s->ku, s->kx, nv, k, 1);
+        divergence(s, s->kx, k, s->kb);
+        transpose(s->kb, s->ku, nv, k, 0);
+        rc = heat_flow_many(s, s->poisson, s->map_p, s->ku, s->kx, k, err);
         if (rc) return rc;
         for (uint32_t c = 0; c < k; ++c) {
             double *phi = s->kx + c * nv;
