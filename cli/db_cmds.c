@@ -10,7 +10,7 @@
 const char usage_build[] =
     "usage: geosep build MESH -o DB [--method exact|graph|fmm|heat] [--vmax N] [--mmax N] [--tol F]\n"
     "                    [--threads N] [--vertex-sources|--sample-sources] [--sampled] [--seed N]\n"
-    "                    [--spacing F] [--heat-time M] [--fmm-start R]\n"
+    "                    [--spacing F] [--max-samples N] [--field-memory MIB] [--heat-time M] [--fmm-start R]\n"
     "                    [--leaf-exact] [--quiet]\n"
     "  Build a query database: nested bisection tree (leaves of at most --vmax\n"
     "  vertices, default 30), distance fields from every separator sample inside\n"
@@ -22,7 +22,9 @@ const char usage_build[] =
     "  fmm and heat); --sample-sources: from the samples (the default for\n"
     "  exact fields). --sampled: store\n"
     "  the sampled values (SEPsam) instead of polynomials. --spacing: separator\n"
-    "  sample spacing in mean edge lengths (0.5). --leaf-exact: also store the\n"
+    "  sample spacing in mean edge lengths (0.5). --max-samples: longer curves\n"
+    "  are thinned to this many samples (96; 0 = no cap). --field-memory: MiB\n"
+    "  for one block of distance fields (384; two live at a time). --leaf-exact: also store the\n"
     "  exact distances between the vertices of each leaf (paper sec. 3.1, matrix\n"
     "  D; at most vmax numbers per vertex) instead of answering same-leaf queries\n"
     "  with the Euclidean distance. --threads 0 = all cores. --heat-time and\n"
@@ -94,6 +96,10 @@ static int build_option(gs_build_options *o, const char **out, int *quiet, int a
         return parse_u32(v, &o->mmax) ? fail(EXIT_USAGE, "build: --mmax '%s' is not a count", v) : 0;
     if ((v = opt_value(argc, argv, i, "--threads")))
         return parse_u32(v, &o->threads) ? fail(EXIT_USAGE, "build: --threads '%s' is not a count", v) : 0;
+    if ((v = opt_value(argc, argv, i, "--max-samples")))
+        return parse_u32(v, &o->max_samples) ? fail(EXIT_USAGE, "build: --max-samples '%s' is not a count", v) : 0;
+    if ((v = opt_value(argc, argv, i, "--field-memory")))
+        return parse_u32(v, &o->field_memory_mib) ? fail(EXIT_USAGE, "build: --field-memory '%s' is not a count", v) : 0;
     if ((v = opt_value(argc, argv, i, "--seed")))
         return parse_u32(v, &o->seed) ? fail(EXIT_USAGE, "build: --seed '%s' is not a count", v) : 0;
     if ((v = opt_value(argc, argv, i, "--spacing")))

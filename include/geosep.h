@@ -295,6 +295,18 @@ typedef struct gs_build_options {
     double sample_spacing;   /* separator sample spacing / mean edge length    */
                              /*   [0.5]                                        */
     gs_solver_options solver;/* parameters of fmm and heat [defaults]          */
+    uint32_t max_samples;    /* samples per curve at most: longer curves are   */
+                             /*   thinned to this many, evenly by arc length;  */
+                             /*   bounds the fields per separator; 0: no cap   */
+                             /*   [96]                                         */
+    uint32_t field_memory_mib; /* memory for one block of distance fields, in  */
+                             /*   MiB: a node's fields are computed block by   */
+                             /*   block and folded into its samples (float),   */
+                             /*   never all at once; two blocks live at a time */
+                             /*   (at least 16 fields each). Peak memory is    */
+                             /*   about 2 x this + n_owned x n_samples x 4     */
+                             /*   bytes for the largest node + the factors     */
+                             /*   (heat) + the database [384]                  */
     gs_progress_fn progress; /* may be NULL                                    */
     void *progress_user;
 } gs_build_options;

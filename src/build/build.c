@@ -31,6 +31,34 @@ void gs_build_options_default(gs_build_options *o)
     o->seed = 1;
     o->sample_spacing = 0.5;
     gs_solver_options_default(&o->solver);
+    o->max_samples = 96;
+    o->field_memory_mib = 384;
+}
+
+/* Thin every curve of more than cap samples to cap samples, in place: the
+ * samples nearest to cap targets at regular arc length (a path keeps both
+ * ends). A distance function is fitted with degree <= mmax, so a long curve
+ * gains nothing from thousands of samples, while each one costs a field
+ * (or three corner fields) over the whole patch. */
+static void thin_samples(gs_tree *t, uint32_t cap)
+{
+    for (uint32_t c = 0; c < t->n_curves && cap; ++c) {
+        gs_sep_curve *cv = &t->curves[c];
+        uint32_t n = cv->n_samples;
+        if (n <= cap) continue;
+        gs_sep_sample *sm = t->samples + cv->sample_start;
+        double step = cv->length / (cv->closed ? cap : cap - 1);
+        uint32_t prev = 0;
+        for (uint32_t k = 1; k < cap; ++k) {
+            uint32_t i = prev + 1, last = n - (cap - k); /* room for the rest */
+            double target = k * step;
+            while (i < last && fabs(sm[i + 1].s - target) <= fabs(sm[i].s - target)) ++i;
+            if (!cv->closed && k == cap - 1) i = n - 1;
+            sm[k] = sm[i];
+            prev = i;
+        }
+        cv->n_samples = cap;
+    }
 }
 
 /* Per-vertex function slots: vertex x owns funs[fun_start[x] ..) and each
@@ -87,12 +115,31 @@ typedef struct node_job {
     uint32_t n_samples;       /* over all curves of the node              */
     uint32_t *sample_first;   /* per curve: first column                  */
     uint32_t *owned_local;    /* owned vertex -> patch-local id           */
-    double *D;                /* n_owned x n_samples distances (row = x)  */
+    float *D;                 /* n_owned x n_samples distances (row = x)  */
     gs_source *src;           /* one per sample (patch-local)             */
+    /* per thread, created on first use: a solver and CHUNK fields */
+    uint32_t nthreads;
+    gs_solver **solver;
+    double **buf;
 } node_job;
+
+/* The solvers (factorisations for heat) and field buffers: freed as soon as
+ * the node's fields are done. */
+static void job_free_solvers(node_job *j)
+{
+    for (uint32_t t = 0; t < j->nthreads; ++t) {
+        if (j->solver) gs_solver_free(j->solver[t]);
+        if (j->buf) free(j->buf[t]);
+    }
+    free(j->solver);
+    free(j->buf);
+    j->solver = NULL;
+    j->buf = NULL;
+}
 
 static void job_free(node_job *j)
 {
+    job_free_solvers(j);
     gs_patch_free(j->patch);
     free(j->sample_first);
     free(j->owned_local);
@@ -101,11 +148,15 @@ static void job_free(node_job *j)
     memset(j, 0, sizeof *j);
 }
 
-static int job_prepare(builder *b, const gs_tree_node *nd, node_job *j, gs_error *err)
+static int job_prepare(builder *b, const gs_tree_node *nd, uint32_t nthreads, node_job *j, gs_error *err)
 {
     const gs_tree *t = b->tree;
     memset(j, 0, sizeof *j);
     j->node = nd;
+    j->nthreads = nthreads;
+    j->solver = gs__calloc(nthreads, sizeof *j->solver);
+    j->buf = gs__calloc(nthreads, sizeof *j->buf);
+    if (!j->solver || !j->buf) return gs__fail(err, GS_ENOMEM, "out of memory preparing node");
     int rc = gs_patch_create(b->mesh, t->faces + nd->face_start, nd->n_faces, &j->patch, err);
     if (rc) return rc;
     face_pos *fp = gs__malloc(nd->n_faces, sizeof *fp);
@@ -154,44 +205,86 @@ static int job_prepare(builder *b, const gs_tree_node *nd, node_job *j, gs_error
     return GS_OK;
 }
 
-/* Solve a field from each source inside the node's patch, in parallel (one
- * solver per thread), and store source k's distances to the owned vertices
- * as column k of M (row-major, n_owned x ncols). */
-static int solve_columns(builder *b, node_job *j, const gs_source *src, uint32_t nsrc, double *M,
-                         uint32_t ncols, gs_error *err)
+/* Nodes with fewer owned vertices are processed in parallel, one thread
+ * each; larger ones one at a time with all threads. */
+enum { SMALL_NODE = 4096 };
+
+/* Fields are solved in chunks of CHUNK sources (one batched solve for the
+ * heat method). Chunks are fixed by the source order alone, never by the
+ * thread count, so the result does not depend on it. */
+enum { CHUNK = 16 };
+
+/* Sources per block for a node with nown owned vertices: a block of fields
+ * (n_block x n_owned doubles, per_source per source) fits in
+ * field_memory_mib; at least a chunk. */
+static uint32_t block_sources(const builder *b, uint32_t nown, uint32_t per_source)
+{
+    size_t bytes = (size_t)(b->opt->field_memory_mib ? b->opt->field_memory_mib : 384) << 20;
+    size_t k = bytes / ((size_t)(nown ? nown : 1) * per_source * sizeof(double));
+    k = k / CHUNK * CHUNK;
+    return k < CHUNK ? CHUNK : (k > (1u << 20) ? (1u << 20) : (uint32_t)k);
+}
+
+/* Solve one field per source src[0..n) (patch-local) with the node's
+ * per-thread solvers and store source k's distances to the owned vertices
+ * in F[col[k] * nown ..) (col NULL: column k). */
+static int solve_block(builder *b, node_job *j, const gs_source *src, uint32_t n, const uint32_t *col, double *F,
+                       gs_error *err)
 {
     uint32_t nl = gs_patch_num_vertices(j->patch), nown = j->node->n_verts;
+    uint32_t nchunks = (n + CHUNK - 1) / CHUNK;
     int rc = GS_OK;
-#pragma omp parallel num_threads(b->nthreads)
+#pragma omp parallel num_threads(j->nthreads)
     {
-        gs_solver *s = NULL;
+        uint32_t tid = (uint32_t)omp_get_thread_num();
         gs_error e;
-        double *dist = gs__malloc(nl, sizeof *dist);
-        int my = dist ? gs_solver_create_ex(j->patch, b->opt->method, &b->opt->solver, &s, &e) : GS_ENOMEM;
-        if (!dist) gs__fail(&e, GS_ENOMEM, "out of memory");
+        int my = GS_OK;
 #pragma omp for schedule(dynamic, 1)
-        for (uint32_t k = 0; k < nsrc; ++k) {
+        for (uint32_t q = 0; q < nchunks; ++q) {
             if (my) continue;
-            my = gs_solver_solve(s, &src[k], 1, 0, dist, &e);
+            if (!j->solver[tid]) my = gs_solver_create_ex(j->patch, b->opt->method, &b->opt->solver, &j->solver[tid], &e);
+            if (!my && !j->buf[tid] && !(j->buf[tid] = gs__malloc((size_t)CHUNK * nl + 1, sizeof(double))))
+                my = gs__fail(&e, GS_ENOMEM, "out of memory for %u fields of %u vertices", CHUNK, nl);
             if (my) continue;
-            for (uint32_t i = 0; i < nown; ++i) M[(size_t)i * ncols + k] = dist[j->owned_local[i]];
+            uint32_t k0 = q * CHUNK, k = n - k0 < CHUNK ? n - k0 : CHUNK;
+            my = gs__solver_solve_each(j->solver[tid], src + k0, k, j->buf[tid], &e);
+            if (my) continue;
+            for (uint32_t c = 0; c < k; ++c) {
+                const double *dist = j->buf[tid] + (size_t)c * nl;
+                double *out = F + (size_t)(col ? col[k0 + c] : k0 + c) * nown;
+                for (uint32_t i = 0; i < nown; ++i) out[i] = dist[j->owned_local[i]];
+            }
         }
 #pragma omp critical
         if (my && rc == GS_OK) {
             rc = my;
             if (err) *err = e;
         }
-        gs_solver_free(s);
-        free(dist);
     }
-    b->n_fields += nsrc;
+#pragma omp atomic
+    b->n_fields += n;
     return rc;
 }
 
-/* Fields from every sample (sample sources). Column k of D. */
+/* Fields from every sample (sample sources): column k of D, block by block. */
 static int fields_from_samples(builder *b, node_job *j, gs_error *err)
 {
-    return solve_columns(b, j, j->src, j->n_samples, j->D, j->n_samples, err);
+    uint32_t nown = j->node->n_verts, ns = j->n_samples;
+    uint32_t blk = block_sources(b, nown, 1);
+    if (blk > ns) blk = ns;
+    double *F = gs__malloc((size_t)blk * nown + 1, sizeof *F);
+    if (!F) return gs__fail(err, GS_ENOMEM, "out of memory: %u vertices x %u fields", nown, blk);
+    int rc = GS_OK;
+    for (uint32_t k0 = 0; k0 < ns && rc == GS_OK; k0 += blk) {
+        uint32_t k = ns - k0 < blk ? ns - k0 : blk;
+        rc = solve_block(b, j, j->src + k0, k, NULL, F, err);
+        if (rc) break;
+#pragma omp parallel for num_threads(j->nthreads) schedule(static)
+        for (uint32_t i = 0; i < nown; ++i)
+            for (uint32_t c = 0; c < k; ++c) j->D[(size_t)i * ns + k0 + c] = (float)F[(size_t)c * nown + i];
+    }
+    free(F);
+    return rc;
 }
 
 /* The paper's variant: fields from the corners of the sample faces, then
@@ -215,61 +308,106 @@ static uint32_t find_u32(const uint32_t *a, uint32_t n, uint32_t v)
     return lo;
 }
 
+/* One block of corner fields: the sorted distinct corners of some samples,
+ * and each one's column in F (nown doubles per column). */
+typedef struct corner_block {
+    uint32_t n, *corner, *col;
+    double *F;
+} corner_block;
+
+/* The corner fields are computed block by block of samples (consecutive
+ * samples share corners: those of the previous block are copied, not
+ * solved again), each block folded into D before the next one. */
 static int fields_from_vertices(builder *b, node_job *j, gs_error *err)
 {
     const gs_topo *pt = j->patch->topo;
     uint32_t nown = j->node->n_verts, ns = j->n_samples;
-    uint32_t *corners = gs__malloc(3 * (size_t)ns, sizeof *corners);
-    if (!corners) return gs__fail(err, GS_ENOMEM, "out of memory");
-    for (uint32_t k = 0; k < ns; ++k)
-        for (int i = 0; i < 3; ++i) corners[3 * (size_t)k + i] = pt->tri[3 * (size_t)j->src[k].face + i];
-    uint32_t *uniq = gs__malloc(3 * (size_t)ns, sizeof *uniq);
-    if (!uniq) {
-        free(corners);
-        return gs__fail(err, GS_ENOMEM, "out of memory");
+    uint32_t blk = block_sources(b, nown, 3);
+    if (blk > ns) blk = ns;
+    if (blk == 0) blk = 1;
+    size_t ncol = 3 * (size_t)blk;
+    corner_block cb[2];
+    uint32_t *todo_col = gs__malloc(ncol, sizeof *todo_col), *scol = gs__malloc(ncol, sizeof *scol);
+    double *scross = gs__malloc(blk, sizeof *scross);
+    gs_source *vs = gs__malloc(ncol, sizeof *vs);
+    int rc = todo_col && scol && scross && vs ? GS_OK : GS_ENOMEM;
+    for (int q = 0; q < 2; ++q) {
+        cb[q].n = 0;
+        cb[q].corner = gs__malloc(ncol, sizeof *cb[q].corner);
+        cb[q].col = gs__malloc(ncol, sizeof *cb[q].col);
+        cb[q].F = gs__malloc(ncol * nown + 1, sizeof *cb[q].F);
+        if (!cb[q].corner || !cb[q].col || !cb[q].F) rc = GS_ENOMEM;
     }
-    memcpy(uniq, corners, 3 * (size_t)ns * sizeof *uniq);
-    qsort(uniq, 3 * (size_t)ns, sizeof *uniq, cmp_u32);
-    uint32_t nu = 0;
-    for (uint32_t i = 0; i < 3 * ns; ++i)
-        if (i == 0 || uniq[i] != uniq[i - 1]) uniq[nu++] = uniq[i];
-    double *V = gs__malloc((size_t)nown * nu, sizeof *V); /* row x, column corner */
-    if (!V) {
-        free(corners);
-        free(uniq);
-        return gs__fail(err, GS_ENOMEM, "out of memory: %u vertices x %u corner fields", nown, nu);
-    }
-    gs_source *vs = gs__malloc(nu, sizeof *vs);
-    int rc = vs ? GS_OK : gs__fail(err, GS_ENOMEM, "out of memory");
-    for (uint32_t k = 0; vs && k < nu; ++k) vs[k] = gs_source_vertex(uniq[k]);
-    if (rc == GS_OK) rc = solve_columns(b, j, vs, nu, V, nu, err);
-    free(vs);
-    if (rc == GS_OK) {
-#pragma omp parallel for num_threads(b->nthreads) schedule(static)
-        for (uint32_t i = 0; i < nown; ++i) {
-            const double *row = V + (size_t)i * nu;
-            for (uint32_t k = 0; k < ns; ++k) {
-                const double *l = j->src[k].bary;
-                const uint32_t *c = corners + 3 * (size_t)k;
-                double d[3], p[3][3];
-                for (int q = 0; q < 3; ++q) {
-                    d[q] = row[find_u32(uniq, nu, c[q])];
-                    memcpy(p[q], pt->xyz + 3 * (size_t)c[q], sizeof p[q]);
+    if (rc) gs__fail(err, rc, "out of memory: %u vertices x %zu corner fields", nown, 2 * ncol);
+    for (uint32_t k0 = 0; k0 < ns && rc == GS_OK; k0 += blk) {
+        uint32_t nk = ns - k0 < blk ? ns - k0 : blk;
+        corner_block *cur = &cb[(k0 / blk) & 1], *prev = &cb[((k0 / blk) & 1) ^ 1];
+        uint32_t nc = 0;
+        for (uint32_t k = k0; k < k0 + nk; ++k)
+            for (int i = 0; i < 3; ++i) cur->corner[nc++] = pt->tri[3 * (size_t)j->src[k].face + i];
+        qsort(cur->corner, nc, sizeof *cur->corner, cmp_u32);
+        uint32_t nu = 0;
+        for (uint32_t i = 0; i < nc; ++i)
+            if (i == 0 || cur->corner[i] != cur->corner[i - 1]) cur->corner[nu++] = cur->corner[i];
+        cur->n = nu;
+        /* columns: corners to solve first (in corner order), then copies */
+        uint32_t nt = 0, next = 0;
+        for (uint32_t u = 0; u < nu; ++u) {
+            uint32_t p = find_u32(prev->corner, prev->n, cur->corner[u]);
+            if (p < prev->n && prev->corner[p] == cur->corner[u]) continue;
+            vs[nt] = gs_source_vertex(cur->corner[u]);
+            todo_col[nt++] = cur->col[u] = next++;
+        }
+        for (uint32_t u = 0; u < nu; ++u) {
+            uint32_t p = find_u32(prev->corner, prev->n, cur->corner[u]);
+            if (p < prev->n && prev->corner[p] == cur->corner[u]) {
+                cur->col[u] = next++;
+                memcpy(cur->F + (size_t)cur->col[u] * nown, prev->F + (size_t)prev->col[p] * nown,
+                       nown * sizeof *cur->F);
+            }
+        }
+        rc = solve_block(b, j, vs, nt, todo_col, cur->F, err);
+        if (rc) break;
+        /* per sample: its corners' columns and sum_{q<r} l_q l_r |v_q - v_r|^2 */
+        for (uint32_t k = k0; k < k0 + nk; ++k) {
+            const double *l = j->src[k].bary;
+            const uint32_t *c = pt->tri + 3 * (size_t)j->src[k].face;
+            double p[3][3], cross = 0;
+            for (int q = 0; q < 3; ++q) {
+                scol[3 * (size_t)(k - k0) + q] = cur->col[find_u32(cur->corner, nu, c[q])];
+                memcpy(p[q], pt->xyz + 3 * (size_t)c[q], sizeof p[q]);
+            }
+            for (int q = 0; q < 3; ++q)
+                for (int r = q + 1; r < 3; ++r) {
+                    double dx = p[q][0] - p[r][0], dy = p[q][1] - p[r][1], dz = p[q][2] - p[r][2];
+                    cross += l[q] * l[r] * (dx * dx + dy * dy + dz * dz);
                 }
+            scross[k - k0] = cross;
+        }
+#pragma omp parallel for num_threads(j->nthreads) schedule(static)
+        for (uint32_t i = 0; i < nown; ++i) {
+            for (uint32_t k = k0; k < k0 + nk; ++k) {
+                const double *l = j->src[k].bary;
+                const uint32_t *col = scol + 3 * (size_t)(k - k0);
                 double v = 0;
-                for (int q = 0; q < 3; ++q) v += l[q] * d[q] * d[q];
-                for (int q = 0; q < 3; ++q)
-                    for (int r = q + 1; r < 3; ++r) {
-                        double dx = p[q][0] - p[r][0], dy = p[q][1] - p[r][1], dz = p[q][2] - p[r][2];
-                        v -= l[q] * l[r] * (dx * dx + dy * dy + dz * dz);
-                    }
-                j->D[(size_t)i * ns + k] = isfinite(v) ? sqrt(v > 0 ? v : 0) : INFINITY;
+                for (int q = 0; q < 3; ++q) {
+                    double d = cur->F[(size_t)col[q] * nown + i];
+                    v += l[q] * d * d;
+                }
+                v -= scross[k - k0];
+                j->D[(size_t)i * ns + k] = (float)(isfinite(v) ? sqrt(v > 0 ? v : 0) : INFINITY);
             }
         }
     }
-    free(corners);
-    free(uniq);
-    free(V);
+    for (int q = 0; q < 2; ++q) {
+        free(cb[q].corner);
+        free(cb[q].col);
+        free(cb[q].F);
+    }
+    free(todo_col);
+    free(scol);
+    free(scross);
+    free(vs);
     return rc;
 }
 
@@ -306,7 +444,7 @@ static int fit_node(builder *b, node_job *j, uint32_t node_id, gs_error *err)
     int rc = GS_OK;
     uint64_t n_fun = 0, n_mixed = 0, n_over = 0;
     double deg_sum = 0, err_sum = 0;
-#pragma omp parallel num_threads(b->nthreads) reduction(+ : n_fun, n_mixed, deg_sum, n_over, err_sum)
+#pragma omp parallel num_threads(j->nthreads) reduction(+ : n_fun, n_mixed, deg_sum, n_over, err_sum)
     {
         gs_fit_work *w = NULL;
         gs_error e;
@@ -324,7 +462,7 @@ static int fit_node(builder *b, node_job *j, uint32_t node_id, gs_error *err)
             for (uint32_t c = 0; c < nc && !my; ++c) {
                 const gs_sep_curve *cv = &t->curves[nd->curve_start + c];
                 uint32_t n = cv->n_samples;
-                const double *row = j->D + (size_t)i * ns + j->sample_first[c];
+                const float *row = j->D + (size_t)i * ns + j->sample_first[c];
                 double mx = 0, mn = INFINITY;
                 uint32_t n_inf = 0;
                 for (uint32_t k = 0; k < n; ++k) {
@@ -374,11 +512,63 @@ static int fit_node(builder *b, node_job *j, uint32_t node_id, gs_error *err)
         free(d);
     }
     free(u_all);
-    b->n_functions += n_fun;
-    b->n_mixed += n_mixed;
-    b->degree_sum += deg_sum;
-    b->n_over_tol += n_over;
-    b->fit_err_sum += err_sum;
+#pragma omp critical(gs_build_stats)
+    {
+        b->n_functions += n_fun;
+        b->n_mixed += n_mixed;
+        b->degree_sum += deg_sum;
+        b->n_over_tol += n_over;
+        b->fit_err_sum += err_sum;
+    }
+    return rc;
+}
+
+/* Shrink node_id's arena to the coefficients its functions use (the fits
+ * reserve room for degree mmax) and repoint them. */
+static int compact_arena(builder *b, const gs_tree_node *nd, uint32_t node_id, gs_error *err)
+{
+    const gs_tree *t = b->tree;
+    size_t used = 0;
+    for (uint32_t i = 0; i < nd->n_verts; ++i) {
+        const gs_fun *f = &b->funs[b->fun_start[t->verts[nd->vert_start + i]] + nd->curve_prefix];
+        for (uint32_t c = 0; c < nd->n_curves; ++c)
+            if (f[c].coef) used += f[c].degree + 1;
+    }
+    double *arena = gs__malloc(used + 1, sizeof *arena);
+    if (!arena) return gs__fail(err, GS_ENOMEM, "out of memory for node %u's functions", node_id);
+    size_t k = 0;
+    for (uint32_t i = 0; i < nd->n_verts; ++i) {
+        gs_fun *f = &b->funs[b->fun_start[t->verts[nd->vert_start + i]] + nd->curve_prefix];
+        for (uint32_t c = 0; c < nd->n_curves; ++c) {
+            if (!f[c].coef) continue;
+            memcpy(arena + k, f[c].coef, (f[c].degree + 1) * sizeof *arena);
+            f[c].coef = arena + k;
+            k += f[c].degree + 1;
+        }
+    }
+    free(b->arenas[node_id]);
+    b->arenas[node_id] = arena;
+    return GS_OK;
+}
+
+/* Fields, fits and compaction of node i with nthreads threads; adds the
+ * seconds spent to *t_fields and *t_fits. */
+static int process_node(builder *b, uint32_t i, uint32_t nthreads, double *t_fields, double *t_fits,
+                        gs_error *err)
+{
+    const gs_tree_node *nd = &b->tree->nodes[i];
+    node_job j;
+    double ta = gs__now();
+    int rc = job_prepare(b, nd, nthreads, &j, err);
+    if (rc == GS_OK)
+        rc = b->opt->vertex_sources ? fields_from_vertices(b, &j, err) : fields_from_samples(b, &j, err);
+    double tb = gs__now();
+    job_free_solvers(&j);
+    if (rc == GS_OK) rc = fit_node(b, &j, i, err);
+    if (rc == GS_OK) rc = compact_arena(b, nd, i, err);
+    job_free(&j);
+    *t_fields += tb - ta;
+    *t_fits += gs__now() - tb;
     return rc;
 }
 
@@ -666,7 +856,7 @@ static int assemble(builder *b, const leaf_tables *lt, gs_db **out, gs_error *er
     c.vertex_sources = (uint32_t)b->opt->vertex_sources;
     c.sample_spacing = b->opt->sample_spacing;
     c.seed = b->opt->seed;
-    c.max_samples = 0;
+    c.max_samples = b->opt->max_samples;
     c.heat_time = b->opt->solver.heat_time;
     c.fmm_exact_start = b->opt->solver.fmm_exact_start;
     c.sampled = (uint32_t)b->opt->sampled;
@@ -688,6 +878,10 @@ static int check_options(const gs_build_options *o, gs_error *err)
     if (!(o->tol > 0 && o->tol < 1)) return gs__fail(err, GS_EARG, "tol %g out of range (0, 1)", o->tol);
     if (!(o->sample_spacing >= 0.01 && o->sample_spacing <= 100))
         return gs__fail(err, GS_EARG, "sample_spacing %g out of range [0.01, 100]", o->sample_spacing);
+    if (o->max_samples && (o->max_samples < 8 || o->max_samples > (1u << 24)))
+        return gs__fail(err, GS_EARG, "max_samples %u out of range (0 or [8, 2^24])", o->max_samples);
+    if (o->field_memory_mib > (1u << 20))
+        return gs__fail(err, GS_EARG, "field_memory_mib %u is absurd", o->field_memory_mib);
     if (o->threads > 1024) return gs__fail(err, GS_EARG, "threads %u is absurd", o->threads);
     if (!(isfinite(o->solver.heat_time) && o->solver.heat_time > 0))
         return gs__fail(err, GS_EARG, "solver.heat_time %g must be finite and > 0", o->solver.heat_time);
@@ -728,6 +922,7 @@ int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt_in, gs_db **out
     progress(&b, "tree", 0);
     rc = gs_tree_build(mesh, &to, &tree, err);
     if (rc) return rc;
+    thin_samples(tree, opt->max_samples);
     b.tree = tree;
     double t1 = gs__now();
     progress(&b, "tree", 1);
@@ -753,21 +948,42 @@ int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt_in, gs_db **out
         if (tree->nodes[i].n_curves)
             b.work_total += (double)tree->nodes[i].n_faces * tree->nodes[i].n_curves;
     double t_fields = 0, t_fits = 0;
+    /* Large nodes one at a time, threads inside each (sources, vertices);
+     * then the small ones in parallel, one thread each. The result is the
+     * same either way (chunks of sources do not depend on threads). */
     for (uint32_t i = 0; i < tree->n_nodes && rc == GS_OK; ++i) {
         const gs_tree_node *nd = &tree->nodes[i];
-        if (nd->n_curves == 0) continue;
-        node_job j;
-        double ta = gs__now();
-        rc = job_prepare(&b, nd, &j, err);
-        if (rc == GS_OK)
-            rc = opt->vertex_sources ? fields_from_vertices(&b, &j, err) : fields_from_samples(&b, &j, err);
-        double tb = gs__now();
-        if (rc == GS_OK) rc = fit_node(&b, &j, i, err);
-        t_fields += tb - ta;
-        t_fits += gs__now() - tb;
-        job_free(&j);
+        if (nd->n_curves == 0 || (b.nthreads > 1 && nd->n_verts < SMALL_NODE)) continue;
+        rc = process_node(&b, i, b.nthreads, &t_fields, &t_fits, err);
         b.work_done += (double)nd->n_faces * nd->n_curves;
         progress(&b, "fields", b.work_total > 0 ? b.work_done / b.work_total : 1);
+    }
+    if (rc == GS_OK && b.nthreads > 1) {
+        double ta = gs__now(), sf = 0, sfit = 0;
+#pragma omp parallel num_threads(b.nthreads) reduction(+ : sf, sfit)
+        {
+            gs_error e;
+            int my = GS_OK;
+#pragma omp for schedule(dynamic, 1)
+            for (uint32_t i = 0; i < tree->n_nodes; ++i) {
+                const gs_tree_node *nd = &tree->nodes[i];
+                if (my || nd->n_curves == 0 || nd->n_verts >= SMALL_NODE) continue;
+                my = process_node(&b, i, 1, &sf, &sfit, &e);
+                double w;
+#pragma omp critical(gs_build_stats)
+                w = b.work_done += (double)nd->n_faces * nd->n_curves;
+                if (omp_get_thread_num() == 0) progress(&b, "fields", b.work_total > 0 ? w / b.work_total : 1);
+            }
+#pragma omp critical
+            if (my && rc == GS_OK) {
+                rc = my;
+                if (err) *err = e;
+            }
+        }
+        /* wall time of this phase, shared by the threads' field / fit split */
+        double wall = gs__now() - ta;
+        t_fields += sf + sfit > 0 ? wall * sf / (sf + sfit) : 0;
+        t_fits += sf + sfit > 0 ? wall * sfit / (sf + sfit) : 0;
     }
     leaf_tables lt;
     memset(&lt, 0, sizeof lt);

@@ -19,6 +19,8 @@ struct gs_fit_work {
     double *qa, *qb;     /* the weighted d and d^2 systems, factorised (QR)   */
     double *ra, *rb;     /* their right-hand sides, Q^T applied               */
     double *val;         /* scratch: fitted values at the rows                */
+    double *va, *vb;     /* reflection data of qa / qb (see householder)      */
+    double *wt;          /* row weights 1/d                                    */
 };
 
 /* One candidate fit (coefficients on normalised distances). */
@@ -48,7 +50,7 @@ void gs_fit_work_free(gs_fit_work *w)
     if (!w)
         return;
     free(w->t), free(w->y), free(w->basis), free(w->qa), free(w->qb);
-    free(w->ra), free(w->rb), free(w->val);
+    free(w->ra), free(w->rb), free(w->val), free(w->va), free(w->vb), free(w->wt);
     free(w);
 }
 
@@ -72,8 +74,11 @@ int gs_fit_work_create(uint32_t max_samples, const gs_fit_options *o, gs_fit_wor
         w->qa = gs__malloc(cap * cols, sizeof(double)), w->qb = gs__malloc(cap * cols, sizeof(double));
         w->ra = gs__malloc(cap, sizeof(double)), w->rb = gs__malloc(cap, sizeof(double));
         w->val = gs__malloc(cap, sizeof(double));
+        w->va = gs__malloc(2 * cap, sizeof(double)), w->vb = gs__malloc(2 * cap, sizeof(double));
+        w->wt = gs__malloc(cap, sizeof(double));
     }
-    if (!w || !w->t || !w->y || !w->basis || !w->qa || !w->qb || !w->ra || !w->rb || !w->val) {
+    if (!w || !w->t || !w->y || !w->basis || !w->qa || !w->qb || !w->ra || !w->rb || !w->val || !w->va ||
+        !w->vb || !w->wt) {
         gs_fit_work_free(w);
         return gs__fail(err, GS_ENOMEM, "gs_fit_work_create: out of memory");
     }
@@ -113,47 +118,76 @@ static uint32_t prepare_rows(gs_fit_work *w, const double *u, const double *d, u
     return n + 1;
 }
 
-/* Basis columns, and the two row-weighted systems (d: 1/d, d^2: 1/d^2). */
-static void build_systems(gs_fit_work *w, uint32_t rows, uint32_t cols)
+/* Row weights and right-hand sides of the two weighted systems (d: 1/d,
+ * d^2: 1/d^2); the weights 1/d go to wt for the columns. */
+static void build_rhs(gs_fit_work *w, uint32_t rows)
 {
     for (uint32_t r = 0; r < rows; r++) {
-        double t = w->t[r], t0 = 1.0, t1 = t;
         double wa = 1.0 / fmax(w->y[r], GS_FIT_DFLOOR), wb = wa * wa;
-        for (uint32_t j = 0; j < cols; j++) {
-            double tj = j == 0 ? 1.0 : (j == 1 ? t : 2.0 * t * t1 - t0);
-            if (j >= 2)
-                t0 = t1, t1 = tj;
-            w->basis[(size_t)j * rows + r] = tj;
-            w->qa[(size_t)j * rows + r] = tj * wa;
-            w->qb[(size_t)j * rows + r] = tj * wb;
-        }
+        w->wt[r] = wa;
         w->ra[r] = w->y[r] * wa;
         w->rb[r] = w->y[r] * w->y[r] * wb;
     }
 }
 
-/* In-place Householder QR of the rows x cols column-major A; the reflections
- * are applied to y. R is left in the upper triangle. */
-static void householder(double *a, double *y, uint32_t rows, uint32_t cols)
+/* Basis columns [from, to) (Chebyshev recurrence down each column) and the
+ * same columns of the two weighted systems; built when degree escalation
+ * first needs them. Uses the weights build_rhs left in wt. */
+static void build_columns(gs_fit_work *w, uint32_t rows, uint32_t from, uint32_t to)
 {
-    for (uint32_t j = 0; j < cols && j < rows; j++) {
-        double *aj = a + (size_t)j * rows, nrm = 0.0;
+    for (uint32_t j = from; j < to; j++) {
+        double *bj = w->basis + (size_t)j * rows;
+        const double *b1 = bj - rows, *b0 = bj - 2 * (size_t)rows;
+        for (uint32_t r = 0; r < rows; r++) {
+            double tj = j == 0 ? 1.0 : (j == 1 ? w->t[r] : 2.0 * w->t[r] * b1[r] - b0[r]);
+            double wa = w->wt[r];
+            bj[r] = tj;
+            w->qa[(size_t)j * rows + r] = tj * wa;
+            w->qb[(size_t)j * rows + r] = tj * (wa * wa);
+        }
+    }
+}
+
+/* In-place Householder QR of the rows x cols column-major A, one column at
+ * a time (left-looking): extend from `from` factored columns to `to`. Each
+ * new column receives the earlier reflections in order, then its own, which
+ * is also applied to y; R is left in the upper triangle, reflection j's
+ * first entry in vd[j] (0: none). The operations on every column are those
+ * of the usual right-looking order, so the result is the same to the bit,
+ * but degree escalation only pays for the columns it uses. */
+static void householder(double *a, double *y, double *vd, uint32_t rows, uint32_t from, uint32_t to)
+{
+    for (uint32_t j = from; j < to && j < rows; j++) {
+        double *aj = a + (size_t)j * rows;
+        for (uint32_t p = 0; p < j; p++) { /* earlier reflections, in order */
+            if (vd[p] == 0.0) continue;
+            const double *ap = a + (size_t)p * rows;
+            double dot = vd[p] * aj[p];
+            for (uint32_t i = p + 1; i < rows; i++)
+                dot += ap[i] * aj[i];
+            double f = 2.0 * dot / vd[rows + p];
+            aj[p] -= f * vd[p];
+            for (uint32_t i = p + 1; i < rows; i++)
+                aj[i] -= f * ap[i];
+        }
+        double nrm = 0.0;
         for (uint32_t i = j; i < rows; i++)
             nrm += aj[i] * aj[i];
         nrm = sqrt(nrm);
+        vd[j] = 0.0;
         if (nrm == 0.0)
             continue;
         double alpha = aj[j] > 0.0 ? -nrm : nrm;
         double vv = 2.0 * nrm * (nrm + fabs(aj[j]));
         aj[j] -= alpha;
-        for (uint32_t k = j + 1; k <= cols; k++) {
-            double *ak = k < cols ? a + (size_t)k * rows : y, dot = 0.0;
-            for (uint32_t i = j; i < rows; i++)
-                dot += aj[i] * ak[i];
-            double f = 2.0 * dot / vv;
-            for (uint32_t i = j; i < rows; i++)
-                ak[i] -= f * aj[i];
-        }
+        double dot = 0.0;
+        for (uint32_t i = j; i < rows; i++)
+            dot += aj[i] * y[i];
+        double f = 2.0 * dot / vv;
+        for (uint32_t i = j; i < rows; i++)
+            y[i] -= f * aj[i];
+        vd[j] = aj[j];
+        vd[rows + j] = vv;
         aj[j] = alpha;
     }
 }
@@ -199,7 +233,13 @@ static void escalate(gs_fit_work *w, uint32_t rows, uint32_t n, uint32_t mlo, ui
 {
     cand ca, cb;
     best->mean = INFINITY;
+    uint32_t done = 0; /* columns factored */
+    build_columns(w, rows, 0, mlo);
     for (uint32_t m = mlo; m <= mhi; m++) {
+        build_columns(w, rows, m, m + 1);
+        householder(w->qa, w->ra, w->va, rows, done, m + 1);
+        householder(w->qb, w->rb, w->vb, rows, done, m + 1);
+        done = m + 1;
         ca.m = cb.m = m, ca.sq = 0, cb.sq = 1;
         solve_degree(w->qa, w->ra, rows, m, ca.c);
         solve_degree(w->qb, w->rb, rows, m, cb.c);
@@ -247,9 +287,7 @@ int gs_fit_distance(gs_fit_work *w, const double *u, const double *d, uint32_t n
     uint32_t rows = prepare_rows(w, u, d, n, closed, dmax, &shift);
     uint32_t mhi = w->opt.m_max < n - 1 ? w->opt.m_max : n - 1;
     uint32_t mlo = w->opt.m_min < mhi ? w->opt.m_min : mhi;
-    build_systems(w, rows, mhi + 1);
-    householder(w->qa, w->ra, rows, mhi + 1);
-    householder(w->qb, w->rb, rows, mhi + 1);
+    build_rhs(w, rows);
     escalate(w, rows, n, mlo, mhi, &best);
     return store_result(&best, dmax, shift, closed, res, err);
 }

@@ -23,12 +23,24 @@ typedef struct gs_method_ops {
     /* fill dist[0..nv) ; max_distance is +INFINITY when unbounded */
     int (*solve)(void *state, const gs_source *src, uint32_t n_src, double max_distance,
                  double *dist, gs_solve_stats *stats, gs_error *err);
+    /* optional (NULL: n single solves): one field per source, dist row i
+     * (nv doubles) for source i; for methods that solve several at once
+     * faster (the heat method's batched linear solves) */
+    int (*solve_each)(void *state, const gs_source *src, uint32_t n_src, double *dist,
+                      gs_solve_stats *stats, gs_error *err);
 } gs_method_ops;
 
 extern const gs_method_ops gs_exact_ops; /* exact.c  */
 extern const gs_method_ops gs_graph_ops; /* graph.c  */
 extern const gs_method_ops gs_fmm_ops;   /* fmm.c    */
 extern const gs_method_ops gs_heat_ops;  /* heat.c   */
+
+/* One field per source: dist receives n rows of gs_patch_num_vertices()
+ * doubles, row i the field of sources[i] alone (unbounded). Same results
+ * as n calls of gs_solver_solve, up to rounding for methods with a batched
+ * solve (heat). Sources are validated like gs_solver_solve's. */
+int gs__solver_solve_each(gs_solver *solver, const gs_source *sources, uint32_t n, double *dist,
+                          gs_error *err);
 
 /* Position of a source point: p = sum_i bary[i] * corner_i. */
 void gs_source_position(const gs_topo *t, const gs_source *s, double p[3]);

@@ -52,6 +52,7 @@ typedef struct heat_state {
     double *ilen;       /* 3*nf lengths                                     */
     double *cot;        /* 3*nf cotangent of the angle at corner h          */
     double *area;       /* nf                                               */
+    double *dgeo;       /* 12*nf: divergence geometry per face              */
     double *mass;       /* nv lumped mass                                   */
     uint32_t *comp;     /* nv component id, GS_NONE if unreferenced         */
     uint32_t n_comp;
@@ -62,6 +63,9 @@ typedef struct heat_state {
     gs_sparse_factor *heat_n, *heat_d, *poisson;
     /* work arrays (nv each) */
     double *b, *x, *u, *div, *phi, *cmin;
+    /* batch work arrays (solve_each): kcap columns of nv each */
+    double *kb, *ku, *kx;
+    uint32_t kcap;
     uint64_t n_flips;
 } heat_state;
 
@@ -257,6 +261,34 @@ static gs_sparse_factor *factor_system(const heat_state *s, const uint32_t *map,
     return F;
 }
 
+/* Per face, from a 2D layout of the intrinsic face (p0 = (0,0), p1 on the
+ * x axis, p2 above): the edges opposite each corner rotated by +90 degrees
+ * (grad u = sum_i u_i * those / (2 area), only its direction is used) and
+ * each corner's divergence weights 0.5 (cot_k (p_j - p_i) + cot_j (p_k -
+ * p_i)). Computed once, used by every solve: 12 doubles per face. */
+static void build_divergence_geometry(heat_state *s)
+{
+    for (uint32_t f = 0; f < s->nf; ++f) {
+        double *q = s->dgeo + 12 * (size_t)f;
+        memset(q, 0, 12 * sizeof *q);
+        if (!(s->area[f] > 0)) continue;
+        const double *l = s->ilen + 3 * (size_t)f; /* l[0]=|p0p1| l[1]=|p1p2| l[2]=|p2p0| */
+        double p[3][2];
+        p[0][0] = 0, p[0][1] = 0;
+        p[1][0] = l[0], p[1][1] = 0;
+        p[2][0] = (l[0] * l[0] + l[2] * l[2] - l[1] * l[1]) / (2 * l[0]);
+        p[2][1] = 2 * s->area[f] / l[0];
+        const double *ct = s->cot + 3 * (size_t)f;
+        for (int i = 0; i < 3; ++i) {
+            int j = (i + 1) % 3, k = (i + 2) % 3;
+            q[2 * i] = -(p[k][1] - p[j][1]);
+            q[2 * i + 1] = p[k][0] - p[j][0];
+            q[6 + 2 * i] = 0.5 * (ct[k] * (p[j][0] - p[i][0]) + ct[j] * (p[k][0] - p[i][0]));
+            q[7 + 2 * i] = 0.5 * (ct[k] * (p[j][1] - p[i][1]) + ct[j] * (p[k][1] - p[i][1]));
+        }
+    }
+}
+
 static void heat_destroy(void *state)
 {
     heat_state *s = state;
@@ -264,9 +296,10 @@ static void heat_destroy(void *state)
     gs_sparse_factor_free(s->heat_n);
     gs_sparse_factor_free(s->heat_d);
     gs_sparse_factor_free(s->poisson);
-    free(s->itri), free(s->iopp), free(s->ilen), free(s->cot), free(s->area);
+    free(s->itri), free(s->iopp), free(s->ilen), free(s->cot), free(s->area), free(s->dgeo);
     free(s->mass), free(s->comp), free(s->map_n), free(s->map_d), free(s->map_p);
     free(s->b), free(s->x), free(s->u), free(s->div), free(s->phi), free(s->cmin);
+    free(s->kb), free(s->ku), free(s->kx);
     free(s);
 }
 
@@ -283,6 +316,7 @@ static int heat_create(const gs_topo *t, const gs_solver_options *opt, void **st
     s->ilen = gs__malloc(nh + 1, sizeof *s->ilen);
     s->cot = gs__malloc(nh + 1, sizeof *s->cot);
     s->area = gs__malloc(t->nf + 1, sizeof *s->area);
+    s->dgeo = gs__malloc(12 * (size_t)t->nf + 1, sizeof *s->dgeo);
     s->mass = gs__malloc(nv, sizeof *s->mass);
     s->comp = gs__malloc(nv, sizeof *s->comp);
     s->map_n = gs__malloc(nv, sizeof *s->map_n);
@@ -294,7 +328,7 @@ static int heat_create(const gs_topo *t, const gs_solver_options *opt, void **st
     s->div = gs__malloc(nv, sizeof(double));
     s->phi = gs__malloc(nv, sizeof(double));
     s->cmin = gs__malloc(nv, sizeof(double));
-    if (!s->itri || !s->iopp || !s->ilen || !s->cot || !s->area || !s->mass || !s->comp ||
+    if (!s->itri || !s->iopp || !s->ilen || !s->cot || !s->area || !s->dgeo || !s->mass || !s->comp ||
         !s->map_n || !s->map_d || !s->map_p || !s->b || !s->x || !s->u || !s->div ||
         !s->phi || !s->cmin) {
         heat_destroy(s);
@@ -314,6 +348,7 @@ static int heat_create(const gs_topo *t, const gs_solver_options *opt, void **st
         return rc;
     }
     build_geometry(s);
+    build_divergence_geometry(s);
 
     /* connected components (vertices sharing a face), union-find in comp */
     for (uint32_t v = 0; v < s->nv; ++v) s->comp[v] = v;
@@ -400,40 +435,78 @@ static int heat_flow(heat_state *s, gs_sparse_factor *F, const uint32_t *map, co
     return GS_OK;
 }
 
-/* Integrated divergence of X = -grad u / |grad u| at every vertex, using a
- * 2D layout of each intrinsic face. */
-static void divergence(heat_state *s)
+/* Integrated divergence of X = -grad u / |grad u| at every vertex (the
+ * face geometry of build_divergence_geometry), for k fields at once stored
+ * vertex-major (u[v * k + c] is field c at vertex v; div likewise): each
+ * face's geometry is read once for all k. The gradient is scaled by its
+ * largest component before normalising, so that tiny values far from the
+ * source (heat decays fast) keep their direction. */
+static void divergence(const heat_state *s, const double *u, uint32_t k, double *div)
 {
-    memset(s->div, 0, s->nv * sizeof *s->div);
+    memset(div, 0, (size_t)s->nv * k * sizeof *div);
     for (uint32_t f = 0; f < s->nf; ++f) {
         if (!(s->area[f] > 0)) continue;
         const uint32_t *vi = s->itri + 3 * (size_t)f;
-        const double *l = s->ilen + 3 * (size_t)f; /* l[0]=|p0p1| l[1]=|p1p2| l[2]=|p2p0| */
-        double p[3][2];
-        p[0][0] = 0, p[0][1] = 0;
-        p[1][0] = l[0], p[1][1] = 0;
-        p[2][0] = (l[0] * l[0] + l[2] * l[2] - l[1] * l[1]) / (2 * l[0]);
-        p[2][1] = 2 * s->area[f] / l[0];
-        double g[2] = {0, 0};
-        for (int i = 0; i < 3; ++i) {
-            /* edge opposite corner i, counter-clockwise, rotated by +90 deg */
-            const double *a = p[(i + 1) % 3], *b = p[(i + 2) % 3];
-            double ex = b[0] - a[0], ey = b[1] - a[1];
-            double ui = s->u[vi[i]];
-            g[0] += ui * -ey;
-            g[1] += ui * ex;
-        }
-        double n = hypot(g[0], g[1]);
-        if (!(n > 0) || !isfinite(n)) continue;
-        double X[2] = {-g[0] / n, -g[1] / n};
-        const double *ct = s->cot + 3 * (size_t)f;
-        for (int i = 0; i < 3; ++i) {
-            int j = (i + 1) % 3, k = (i + 2) % 3;
-            double e1 = (p[j][0] - p[i][0]) * X[0] + (p[j][1] - p[i][1]) * X[1];
-            double e2 = (p[k][0] - p[i][0]) * X[0] + (p[k][1] - p[i][1]) * X[1];
-            s->div[vi[i]] += 0.5 * (ct[k] * e1 + ct[j] * e2);
+        const double *q = s->dgeo + 12 * (size_t)f;
+        size_t a = (size_t)vi[0] * k, b = (size_t)vi[1] * k, c = (size_t)vi[2] * k;
+        for (uint32_t i = 0; i < k; ++i) {
+            double u0 = u[a + i], u1 = u[b + i], u2 = u[c + i];
+            double g0 = u0 * q[0] + u1 * q[2] + u2 * q[4];
+            double g1 = u0 * q[1] + u1 * q[3] + u2 * q[5];
+            double m = fmax(fabs(g0), fabs(g1));
+            if (!(m > 0) || !isfinite(m)) continue;
+            g0 /= m, g1 /= m;
+            double n = sqrt(g0 * g0 + g1 * g1), X0 = -g0 / n, X1 = -g1 / n;
+            div[a + i] += q[6] * X0 + q[7] * X1;
+            div[b + i] += q[8] * X0 + q[9] * X1;
+            div[c + i] += q[10] * X0 + q[11] * X1;
         }
     }
+}
+
+/* out[v * k + c] = in[c * nv + v] (column-major -> vertex-major) or back. */
+static void transpose(const double *in, double *out, size_t nv, uint32_t k, int to_vertex_major)
+{
+    for (size_t v = 0; v < nv; ++v)
+        for (uint32_t c = 0; c < k; ++c) {
+            if (to_vertex_major)
+                out[v * k + c] = in[c * nv + v];
+            else
+                out[c * nv + v] = in[v * k + c];
+        }
+}
+
+/* dist = phi shifted per component so that its smallest value over the
+ * sources it holds is 0 (see the header); cmin is scratch. */
+static void shift_components(heat_state *s, const double *phi, const gs_source *src, uint32_t n_src,
+                             double *dist)
+{
+    const gs_topo *t = s->t;
+    uint32_t nv = s->nv;
+    /* shift each component: min over its sources is 0 */
+    for (uint32_t c = 0; c < s->n_comp; ++c) s->cmin[c] = INFINITY;
+    for (uint32_t i = 0; i < n_src; ++i) {
+        double val;
+        uint32_t c;
+        if (src[i].face == GS_NONE) {
+            val = phi[src[i].vertex];
+            c = s->comp[src[i].vertex];
+        } else {
+            const uint32_t *fv = t->tri + 3 * (size_t)src[i].face;
+            val = 0;
+            for (int k = 0; k < 3; ++k) val += src[i].bary[k] * phi[fv[k]];
+            c = s->comp[fv[0]];
+        }
+        if (c != GS_NONE && val < s->cmin[c]) s->cmin[c] = val;
+    }
+    for (uint32_t v = 0; v < nv; ++v) {
+        uint32_t c = s->comp[v];
+        double d = (c == GS_NONE || !isfinite(s->cmin[c])) ? INFINITY : phi[v] - s->cmin[c];
+        if (!(d > 0)) d = isnan(d) ? INFINITY : 0.0;
+        dist[v] = d;
+    }
+    for (uint32_t i = 0; i < n_src; ++i)
+        if (src[i].face == GS_NONE) dist[src[i].vertex] = 0.0;
 }
 
 static int heat_solve(void *state, const gs_source *src, uint32_t n_src, double max_d,
@@ -458,37 +531,87 @@ static int heat_solve(void *state, const gs_source *src, uint32_t n_src, double 
         for (uint32_t v = 0; v < nv && !rc; ++v) s->u[v] = 0.5 * (s->u[v] + s->phi[v]);
     }
     if (rc) return rc;
-    divergence(s);
+    divergence(s, s->u, 1, s->div);
     /* L phi = -div on the free vertices of map_p (pins stay 0) */
     rc = heat_flow(s, s->poisson, s->map_p, s->div, s->phi, err);
     if (rc) return rc;
     for (uint32_t v = 0; v < nv; ++v) s->phi[v] = -s->phi[v];
-    /* shift each component: min over its sources is 0 */
-    for (uint32_t c = 0; c < s->n_comp; ++c) s->cmin[c] = INFINITY;
-    for (uint32_t i = 0; i < n_src; ++i) {
-        double val;
-        uint32_t c;
-        if (src[i].face == GS_NONE) {
-            val = s->phi[src[i].vertex];
-            c = s->comp[src[i].vertex];
-        } else {
-            const uint32_t *fv = t->tri + 3 * (size_t)src[i].face;
-            val = 0;
-            for (int k = 0; k < 3; ++k) val += src[i].bary[k] * s->phi[fv[k]];
-            c = s->comp[fv[0]];
-        }
-        if (c != GS_NONE && val < s->cmin[c]) s->cmin[c] = val;
-    }
-    for (uint32_t v = 0; v < nv; ++v) {
-        uint32_t c = s->comp[v];
-        double d = (c == GS_NONE || !isfinite(s->cmin[c])) ? INFINITY : s->phi[v] - s->cmin[c];
-        if (!(d > 0)) d = isnan(d) ? INFINITY : 0.0;
-        dist[v] = d;
-    }
-    for (uint32_t i = 0; i < n_src; ++i)
-        if (src[i].face == GS_NONE) dist[src[i].vertex] = 0.0;
+    shift_components(s, s->phi, src, n_src, dist);
     stats->windows_propagated += nv; /* vertices solved for (no windows here) */
     return GS_OK;
 }
 
-const gs_method_ops gs_heat_ops = {"heat", heat_create, heat_destroy, heat_solve};
+/* k systems of factor_system at once: out (nv x k, column-major) = the
+ * solutions for the right-hand sides rhs (same layout; may alias out). */
+static int heat_flow_many(heat_state *s, gs_sparse_factor *F, const uint32_t *map, const double *rhs,
+                          double *out, uint32_t k, gs_error *err)
+{
+    size_t nv = s->nv;
+    for (uint32_t c = 0; c < k; ++c)
+        for (size_t v = 0; v < nv; ++v) out[c * nv + v] = map[v] != GS_NONE ? rhs[c * nv + v] : 0.0;
+    int rc = gs_sparse_factor_solve_many(F, out, out, k, err);
+    if (rc) return rc;
+    for (uint32_t c = 0; c < k; ++c)
+        for (size_t v = 0; v < nv; ++v)
+            if (map[v] == GS_NONE) out[c * nv + v] = 0.0;
+    return GS_OK;
+}
+
+/* Sources solved per batch: the triangular solves of a batch share each
+ * pass over the factor (level-3 BLAS instead of level 2). */
+enum { HEAT_BATCH = 16 };
+
+/* One field per source (dist row i, nv doubles, for source i): the same
+ * steps as heat_solve, each linear system solved for a batch of sources at
+ * once. Equal to n single solves up to rounding. */
+static int heat_solve_each(void *state, const gs_source *src, uint32_t n_src, double *dist,
+                           gs_solve_stats *stats, gs_error *err)
+{
+    heat_state *s = state;
+    const gs_topo *t = s->t;
+    size_t nv = s->nv;
+    uint32_t want = n_src < HEAT_BATCH ? n_src : HEAT_BATCH;
+    if (want > s->kcap) {
+        free(s->kb), free(s->ku), free(s->kx);
+        s->kcap = 0;
+        s->kb = gs__malloc(nv * want + 1, sizeof *s->kb);
+        s->ku = gs__malloc(nv * want + 1, sizeof *s->ku);
+        s->kx = gs__malloc(nv * want + 1, sizeof *s->kx);
+        if (!s->kb || !s->ku || !s->kx)
+            return gs__fail(err, GS_ENOMEM, "out of memory for a batch of %u heat fields", want);
+        s->kcap = want;
+    }
+    for (uint32_t i0 = 0; i0 < n_src; i0 += HEAT_BATCH) {
+        uint32_t k = n_src - i0 < HEAT_BATCH ? n_src - i0 : HEAT_BATCH;
+        memset(s->kb, 0, nv * k * sizeof *s->kb);
+        for (uint32_t c = 0; c < k; ++c) {
+            const gs_source *q = &src[i0 + c];
+            double *b = s->kb + c * nv;
+            if (q->face == GS_NONE)
+                b[q->vertex] += 1.0;
+            else
+                for (int i = 0; i < 3; ++i) b[t->tri[3 * (size_t)q->face + i]] += q->bary[i];
+        }
+        int rc = heat_flow_many(s, s->heat_n, s->map_n, s->kb, s->ku, k, err);
+        if (!rc && s->heat_d) {
+            rc = heat_flow_many(s, s->heat_d, s->map_d, s->kb, s->kx, k, err);
+            for (size_t v = 0; v < nv * k && !rc; ++v) s->ku[v] = 0.5 * (s->ku[v] + s->kx[v]);
+        }
+        if (rc) return rc;
+        /* divergence on vertex-major copies: kx = u, kb = div, ku = div */
+        transpose(s->ku, s->kx, nv, k, 1);
+        divergence(s, s->kx, k, s->kb);
+        transpose(s->kb, s->ku, nv, k, 0);
+        rc = heat_flow_many(s, s->poisson, s->map_p, s->ku, s->kx, k, err);
+        if (rc) return rc;
+        for (uint32_t c = 0; c < k; ++c) {
+            double *phi = s->kx + c * nv;
+            for (size_t v = 0; v < nv; ++v) phi[v] = -phi[v];
+            shift_components(s, phi, &src[i0 + c], 1, dist + (size_t)(i0 + c) * nv);
+        }
+    }
+    stats->windows_propagated += nv * n_src;
+    return GS_OK;
+}
+
+const gs_method_ops gs_heat_ops = {"heat", heat_create, heat_destroy, heat_solve, heat_solve_each};

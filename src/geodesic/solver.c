@@ -202,6 +202,35 @@ int gs_solver_solve(gs_solver *s, const gs_source *sources, uint32_t n, double m
     return rc;
 }
 
+int gs__solver_solve_each(gs_solver *s, const gs_source *sources, uint32_t n, double *dist, gs_error *err)
+{
+    if (!s || !dist || (n && !sources)) return gs__fail(err, GS_EARG, "gs__solver_solve_each: NULL argument");
+    if (!s->ops->solve_each) {
+        size_t nv = s->patch->topo->nv;
+        for (uint32_t i = 0; i < n; ++i) {
+            int rc = gs_solver_solve(s, &sources[i], 1, 0, dist + i * nv, err);
+            if (rc) return rc;
+        }
+        return GS_OK;
+    }
+    if (n > s->src_cap) {
+        gs_source *ns = gs__realloc(s->src, n, sizeof *ns);
+        if (!ns) return gs__fail(err, GS_ENOMEM, "out of memory");
+        s->src = ns;
+        s->src_cap = n;
+    }
+    const gs_topo *t = s->patch->topo;
+    for (uint32_t i = 0; i < n; ++i) {
+        int rc = normalise_source(t, &sources[i], i, &s->src[i], err);
+        if (rc) return rc;
+    }
+    memset(&s->stats, 0, sizeof s->stats);
+    double t0 = gs__now();
+    int rc = s->ops->solve_each(s->state, s->src, n, dist, &s->stats, err);
+    s->seconds = gs__now() - t0;
+    return rc;
+}
+
 void gs_solver_last_stats(const gs_solver *s, uint64_t *created, uint64_t *propagated,
                           double *seconds)
 {

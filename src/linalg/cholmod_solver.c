@@ -16,6 +16,7 @@ struct gs_sparse_factor {
     cholmod_common c;    /* one common per factor: no shared state       */
     cholmod_factor *L;
     cholmod_dense *B;    /* right-hand side, allocated once              */
+    cholmod_dense *Bk;   /* k right-hand sides (solve_many), grown once  */
     cholmod_dense *X, *Y, *E; /* solve2 workspace, reused across solves */
 };
 
@@ -25,6 +26,7 @@ void gs_sparse_factor_free(gs_sparse_factor *f)
     if (f->started) {
         cholmod_l_free_factor(&f->L, &f->c);
         cholmod_l_free_dense(&f->B, &f->c);
+        cholmod_l_free_dense(&f->Bk, &f->c);
         cholmod_l_free_dense(&f->X, &f->c);
         cholmod_l_free_dense(&f->Y, &f->c);
         cholmod_l_free_dense(&f->E, &f->c);
@@ -102,5 +104,22 @@ int gs_sparse_factor_solve(gs_sparse_factor *f, const double *b, double *x, gs_e
         return gs__fail(err, f->c.status == CHOLMOD_OUT_OF_MEMORY ? GS_ENOMEM : GS_EINTERNAL,
                         "sparse solve failed (CHOLMOD status %d)", f->c.status);
     memcpy(x, f->X->x, sizeof(double) * f->n);
+    return GS_OK;
+}
+
+int gs_sparse_factor_solve_many(gs_sparse_factor *f, const double *b, double *x, uint32_t k, gs_error *err)
+{
+    if (f->n == 0 || k == 0) return GS_OK;
+    if (k == 1) return gs_sparse_factor_solve(f, b, x, err);
+    if (!f->Bk || f->Bk->ncol != k) {
+        cholmod_l_free_dense(&f->Bk, &f->c);
+        f->Bk = cholmod_l_allocate_dense(f->n, k, f->n, CHOLMOD_REAL, &f->c);
+        if (!f->Bk) return gs__fail(err, GS_ENOMEM, "sparse solve: out of memory for %u right-hand sides", k);
+    }
+    memcpy(f->Bk->x, b, sizeof(double) * f->n * (size_t)k);
+    if (!cholmod_l_solve2(CHOLMOD_A, f->L, f->Bk, NULL, &f->X, NULL, &f->Y, &f->E, &f->c) || !f->X)
+        return gs__fail(err, f->c.status == CHOLMOD_OUT_OF_MEMORY ? GS_ENOMEM : GS_EINTERNAL,
+                        "sparse solve failed (CHOLMOD status %d)", f->c.status);
+    memcpy(x, f->X->x, sizeof(double) * f->n * (size_t)k);
     return GS_OK;
 }

@@ -1,0 +1,258 @@
+/* test_build_scale.c - building at scale (issue 4): the cap on samples per
+ * curve (max_samples) keeps the database accurate; fields computed in small
+ * blocks (field_memory_mib) give the same database as in one block; the
+ * large-node path (threads inside a node) and the small-node path (nodes in
+ * parallel) give the same file for 1 and 2 threads. */
+#include "check.h"
+#include "db/db_internal.h"
+#include "geodesic/geodesic_internal.h"
+#include "geosep.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+/* Mean / max of the section-5 mean relative error over k exact fields. */
+static double db_me(const gs_db *db, const gs_mesh *m, uint32_t k, double *max_me)
+{
+    uint32_t n = gs_mesh_num_vertices(m);
+    uint32_t *src = malloc(k * sizeof *src);
+    double *exact = malloc((size_t)n * sizeof *exact), *d = malloc((size_t)n * sizeof *d);
+    gs_error err;
+    CHECK(gs_mesh_random_vertices(m, k, 3, src, &err) == GS_OK);
+    gs_patch *p = NULL;
+    CHECK(gs_patch_create(m, NULL, 0, &p, &err) == GS_OK);
+    double me = 0;
+    *max_me = 0;
+    for (uint32_t j = 0; j < k; ++j) {
+        gs_source s = gs_source_vertex(src[j]);
+        CHECK(gs_distance_field(p, GS_METHOD_EXACT, &s, 1, 0, exact, &err) == GS_OK);
+        CHECK(gs_db_field(db, src[j], d, &err) == GS_OK);
+        gs_field_errors fe;
+        CHECK(gs_field_errors_compute(exact, d, n, src[j], &fe, &err) == GS_OK);
+        CHECK(fe.n_invalid == 0);
+        me += fe.me / k;
+        *max_me = fmax(*max_me, fe.me);
+    }
+    gs_patch_free(p);
+    free(src);
+    free(exact);
+    free(d);
+    return me;
+}
+
+static gs_db *build(const gs_mesh *m, const gs_build_options *o)
+{
+    gs_db *db = NULL;
+    gs_error err;
+    int rc = gs_db_build(m, o, &db, NULL, &err);
+    CHECK_MSG(rc == GS_OK, "%s", rc ? err.message : "");
+    return db;
+}
+
+/* The file bytes of a database (malloc'ed; *n receives the size). */
+static unsigned char *db_bytes(const gs_db *db, long *n)
+{
+    char path[] = "/tmp/geosep-scale-XXXXXX";
+    int fd = mkstemp(path);
+    *n = -1;
+    if (fd < 0) return NULL;
+    close(fd);
+    gs_error err;
+    unsigned char *data = NULL;
+    if (gs_db_save(db, path, &err) == GS_OK) {
+        FILE *f = fopen(path, "rb");
+        if (f) {
+            fseek(f, 0, SEEK_END);
+            *n = ftell(f);
+            fseek(f, 0, SEEK_SET);
+            data = malloc(*n > 0 ? (size_t)*n : 1);
+            if (fread(data, 1, (size_t)*n, f) != (size_t)*n) *n = -1;
+            fclose(f);
+        }
+    }
+    unlink(path);
+    return data;
+}
+
+static int same_file(const gs_db *a, const gs_db *b)
+{
+    long na, nb;
+    unsigned char *x = db_bytes(a, &na), *y = db_bytes(b, &nb);
+    int same = x && y && na > 0 && na == nb && memcmp(x, y, (size_t)na) == 0;
+    free(x);
+    free(y);
+    return same;
+}
+
+/* Thinning: every curve keeps at most max_samples samples, some were longer,
+ * and the database stays about as accurate as the uncapped one. */
+static void capped_samples(void)
+{
+    gs_mesh *m = NULL;
+    gs_error err;
+    CHECK(gs_mesh_generate("sphere:4", &m, &err) == GS_OK); /* 2562 vertices */
+    gs_build_options o;
+    gs_build_options_default(&o);
+    o.max_samples = 0;
+    gs_db *full = build(m, &o);
+    o.max_samples = 24;
+    gs_db *capped = build(m, &o);
+    uint32_t longest = 0, over = 0;
+    for (uint32_t c = 0; c < full->n_curves; ++c) {
+        if (full->curves[c].n_samples > longest) longest = full->curves[c].n_samples;
+        over += full->curves[c].n_samples > 24;
+    }
+    CHECK_MSG(over >= 3 && longest > 48, "%u curves over the cap, longest %u samples", over, longest);
+    CHECK(capped->n_curves == full->n_curves);
+    for (uint32_t c = 0; c < capped->n_curves; ++c) {
+        uint32_t want = full->curves[c].n_samples < 24 ? full->curves[c].n_samples : 24;
+        CHECK_MSG(capped->curves[c].n_samples == want, "curve %u: %u samples, want %u", c,
+                  capped->curves[c].n_samples, want);
+        CHECK(capped->curves[c].length == full->curves[c].length);
+    }
+    double mx_full, mx_capped;
+    double me_full = db_me(full, m, 8, &mx_full), me_capped = db_me(capped, m, 8, &mx_capped);
+    printf("sphere:4 exact: ME %.4f%% uncapped (longest curve %u samples), %.4f%% with 24 samples at most\n",
+           100 * me_full, longest, 100 * me_capped);
+    CHECK_MSG(me_full < 0.004 && me_capped < 0.004 && me_capped < 1.25 * me_full,
+              "ME %.5f uncapped, %.5f capped", me_full, me_capped);
+    gs_db_free(full);
+    gs_db_free(capped);
+    gs_mesh_free(m);
+}
+
+/* Fields in blocks of 16 sources (1 MiB) give the same database as in one
+ * block, for methods solving one source at a time (bit-identical) and for
+ * heat (batched solves: equal up to rounding). */
+static void blocks(void)
+{
+    gs_mesh *m = NULL;
+    gs_error err;
+    CHECK(gs_mesh_generate("torus:90,40", &m, &err) == GS_OK); /* 3600 vertices */
+    const gs_method methods[] = {GS_METHOD_FMM, GS_METHOD_GRAPH, GS_METHOD_HEAT};
+    for (int q = 0; q < 3; ++q)
+        for (int vs = 0; vs < 2; ++vs) {
+            gs_build_options o;
+            gs_build_options_default(&o);
+            o.method = methods[q];
+            o.vertex_sources = vs;
+            o.threads = 2;
+            gs_db *one = build(m, &o);
+            o.field_memory_mib = 1;
+            gs_db *many = build(m, &o);
+            if (methods[q] != GS_METHOD_HEAT) {
+                CHECK_MSG(same_file(one, many), "%s, %s sources: blocks change the database",
+                          gs_method_name(methods[q]), vs ? "vertex" : "sample");
+            } else {
+                double worst = 0;
+                for (uint32_t x = 0; x < gs_mesh_num_vertices(m); x += 7)
+                    for (uint32_t y = 1; y < gs_mesh_num_vertices(m); y += 131) {
+                        double a = gs_db_distance(one, x, y), b = gs_db_distance(many, x, y);
+                        worst = fmax(worst, fabs(a - b) / fmax(a, 1e-3));
+                    }
+                CHECK_MSG(worst < 1e-5, "heat, %s sources: blocks change distances by %g (relative)",
+                          vs ? "vertex" : "sample", worst);
+            }
+            gs_db_free(one);
+            gs_db_free(many);
+        }
+    gs_mesh_free(m);
+}
+
+/* 1 and 2 threads: the same file, on a mesh whose top nodes are large
+ * (threads inside a node) and whose lower nodes are small (in parallel). */
+static void threads(void)
+{
+    gs_mesh *m = NULL;
+    gs_error err;
+    CHECK(gs_mesh_generate("sphere:5", &m, &err) == GS_OK); /* 10242 vertices */
+    const gs_method methods[] = {GS_METHOD_HEAT, GS_METHOD_FMM};
+    for (int q = 0; q < 2; ++q) {
+        gs_build_options o;
+        gs_build_options_default(&o);
+        o.method = methods[q];
+        o.max_samples = 64;
+        o.threads = 1;
+        gs_db *a = build(m, &o);
+        o.threads = 2;
+        gs_db *b = build(m, &o);
+        CHECK_MSG(same_file(a, b), "%s: 1 and 2 threads give different files", gs_method_name(methods[q]));
+        gs_db_free(a);
+        gs_db_free(b);
+    }
+    gs_mesh_free(m);
+}
+
+/* One field per source in one call (heat: batched linear solves) equals
+ * one solve per source: to the bit for the methods without a batched solve,
+ * up to rounding for heat (a patch with a boundary: three systems). */
+static void solve_each(void)
+{
+    gs_mesh *m = NULL;
+    gs_error err;
+    CHECK(gs_mesh_generate("plate:1500", &m, &err) == GS_OK);
+    gs_patch *p = NULL;
+    CHECK(gs_patch_create(m, NULL, 0, &p, &err) == GS_OK);
+    uint32_t nv = gs_patch_num_vertices(p), n = 37; /* 16 + 16 + 5 */
+    gs_source *src = malloc(n * sizeof *src);
+    for (uint32_t i = 0; i < n; ++i)
+        src[i] = i % 3 ? gs_source_vertex((i * 7919u) % nv)
+                       : gs_source_point((i * 104729u) % gs_patch_num_faces(p), 0.2, 0.3, 0.5);
+    double *all = malloc((size_t)n * nv * sizeof *all), *one = malloc(nv * sizeof *one);
+    const gs_method methods[] = {GS_METHOD_HEAT, GS_METHOD_FMM, GS_METHOD_EXACT};
+    for (int q = 0; q < 3; ++q) {
+        gs_solver *s = NULL;
+        CHECK(gs_solver_create(p, methods[q], &s, &err) == GS_OK);
+        CHECK(gs__solver_solve_each(s, src, n, all, &err) == GS_OK);
+        double worst = 0;
+        for (uint32_t i = 0; i < n; ++i) {
+            CHECK(gs_solver_solve(s, &src[i], 1, 0, one, &err) == GS_OK);
+            for (uint32_t v = 0; v < nv; ++v) {
+                double a = all[(size_t)i * nv + v], b = one[v];
+                worst = fmax(worst, a == b ? 0 : fabs(a - b) / fmax(fabs(b), 1e-3));
+            }
+        }
+        if (methods[q] == GS_METHOD_HEAT)
+            CHECK_MSG(worst < 1e-9, "heat: batched and single solves differ by %g", worst);
+        else
+            CHECK_MSG(worst == 0, "%s: batched and single solves differ by %g", gs_method_name(methods[q]), worst);
+        gs_solver_free(s);
+    }
+    CHECK(gs__solver_solve_each(NULL, src, n, all, &err) == GS_EARG);
+    free(src);
+    free(all);
+    free(one);
+    gs_patch_free(p);
+    gs_mesh_free(m);
+}
+
+static void bad_options(void)
+{
+    gs_mesh *m = NULL;
+    gs_error err;
+    CHECK(gs_mesh_generate("grid:5,5", &m, &err) == GS_OK);
+    gs_build_options o;
+    gs_build_options_default(&o);
+    o.max_samples = 3;
+    gs_db *db = NULL;
+    CHECK(gs_db_build(m, &o, &db, NULL, &err) == GS_EARG && db == NULL);
+    CHECK(strstr(err.message, "max_samples") != NULL);
+    gs_build_options_default(&o);
+    o.field_memory_mib = 1u << 30;
+    CHECK(gs_db_build(m, &o, &db, NULL, &err) == GS_EARG && db == NULL);
+    CHECK(strstr(err.message, "field_memory_mib") != NULL);
+    gs_mesh_free(m);
+}
+
+int main(void)
+{
+    bad_options();
+    solve_each();
+    capped_samples();
+    blocks();
+    threads();
+    return gs_test_finish("test_build_scale");
+}
