@@ -99,6 +99,7 @@ struct gs_db {
     double *qbuf;
     uint64_t *qstart;         /* nv + 1                                    */
     uint32_t *qcoff;          /* n_curves                                  */
+    uint32_t *qclen;          /* n_curves: a record's size (doubles)       */
     uint64_t qsize;           /* doubles in qbuf                           */
 };
 

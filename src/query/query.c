@@ -95,11 +95,13 @@ static inline const double *cached_fun(const double *b, uint32_t k, gs_fun *f)
 }
 
 /* Start fetching the record of curve c in the block b of a vertex with nf
- * functions (the head and grid: the first lines). */
+ * functions: all its lines (head, grid and coefficients), so that the
+ * coefficients arrive while the grid is scanned. */
 static inline void prefetch_record(const gs_db *db, const double *b, uint32_t nf, uint32_t c)
 {
-    const char *r = (const char *)(b + 2 * (size_t)nf + db->qcoff[c]);
-    for (int i = 0; i < 6; ++i) __builtin_prefetch(r + 64 * i);
+    const char *r = (const char *)(b + 2 * (size_t)nf + db->qcoff[c]), *e = r + 8 * (size_t)db->qclen[c] - 1;
+    for (; r < e; r += 64) __builtin_prefetch(r);
+    __builtin_prefetch(e);
 }
 
 /* min over curve k of f_x + f_y; x < y (the order of the two functions
