@@ -201,9 +201,15 @@ static int candidate_sides(builder *b, gs_part_node *nd, uint32_t seed, int bise
  * of the mesh's area): one long curve needs a higher degree than two curves
  * of half its length together (it can exceed mmax), so long ones pay more.
  * Level-set candidates' scores are multiplied by level_bias. */
+/* Patches with more vertices try one METIS seed (both smoothings): the tree
+ * stage is sequential, and 8 candidates per node over a 1M-vertex mesh's top
+ * levels cost minutes. */
+#define FEW_CANDIDATES_ABOVE 200000u
+
 static int choose_cut(builder *b, gs_part_node *nd, gs_error *err)
 {
     uint32_t nseeds = b->opt->cut_seeds ? b->opt->cut_seeds : 1;
+    if (nd->nl > FEW_CANDIDATES_ABOVE) nseeds = 1;
     int nvar = b->opt->bisector && b->opt->level_iters ? 2 : 1;
     if (nseeds * nvar == 1) return candidate_sides(b, nd, b->opt->seed, 0, err);
     if (RESERVE(b->best_side, b->cap_best_side, nd->nl ? nd->nl : 1) ||
