@@ -28,7 +28,7 @@ static const char usage_info[] =
 static const char usage_generate[] =
     "usage: geosep generate SPEC -o OUT.obj\n"
     "  Write a generated mesh as OBJ. SPEC is one of:\n"
-    "    grid:NX,NY[,W,H]  peaks:N  plate:N  cylinder:NU,NV[,R,H]  cone:NU,NV[,R,H]\n"
+    "    grid:NX,NY[,W,H]  peaks:N[,W]  plate:N  cylinder:NU,NV[,R,H]  cone:NU,NV[,R,H]\n"
     "    cube:N[,S]  torus:NU,NV[,R,r]  sphere:N  two:N\n";
 
 static const char usage_solve[] =

@@ -83,6 +83,7 @@ static void test_counts(void)
         {"grid:5,4", 20, 24, 1, 1, 0, 30},
         {"grid:3,3,2,5", 9, 8, 1, 1, 0, 20},
         {"peaks:21", 441, 800, 1, 1, 0, 1},
+        {"peaks:21,20", 441, 800, 1, 1, 0, 10},
         {"plate:1000", 0, 0, 1, 4, 0, 25},
         {"plate:200", 0, 0, 1, 4, 0, 25},
         {"cylinder:16,5", 80, 128, 1, 2, 0, 30},
@@ -170,6 +171,24 @@ static void test_geometry(void)
         CHECK_NEAR(p[2], 8.0 / 3.0 * exp(-1.0), 1e-15);
         gs_mesh_free(m);
     }
+    /* peaks:21,20: the same heights on a 20 x 20 grid (x, y scaled by 20/6) */
+    gs_mesh *a = generate("peaks:21"), *b = generate("peaks:21,20");
+    if (a && b) {
+        const double *p = gs_mesh_positions(a), *q = gs_mesh_positions(b);
+        CHECK_NEAR(q[0], -10, 1e-14);
+        CHECK_NEAR(q[1], -10, 1e-14);
+        CHECK_NEAR(q[3 * 20], 10, 1e-14);
+        CHECK_NEAR(q[3 * (20 * 21 + 20) + 1], 10, 1e-14);
+        double worst = 0;
+        for (uint32_t v = 0; v < 441; ++v)
+            worst = fmax(worst, fabs(q[3 * v] - p[3 * v] * 20 / 6) + fabs(q[3 * v + 1] - p[3 * v + 1] * 20 / 6) +
+                                    fabs(q[3 * v + 2] - p[3 * v + 2]));
+        CHECK_MSG(worst <= 1e-13, "peaks:21,20 is not peaks:21 scaled in x and y (off by %g)", worst);
+        CHECK(gs_mesh_num_faces(a) == gs_mesh_num_faces(b));
+        CHECK(memcmp(gs_mesh_faces(a), gs_mesh_faces(b), 3 * gs_mesh_num_faces(a) * sizeof(uint32_t)) == 0);
+    }
+    gs_mesh_free(a);
+    gs_mesh_free(b);
     m = generate("cone:8,3,2,6"); /* top ring radius R/4 at z = H */
     if (m) {
         const double *p = gs_mesh_positions(m) + 3 * 16;
@@ -222,7 +241,7 @@ static void test_bad_specs(void)
         "grid:5,5,1,x", "grid:5,,5", "grid:5,5,", "grid:5.5,5", "grid:a,b", "grid:+5,5",
         "grid:5,5,nan,1", "grid:5,5,inf,1", "grid:5,5,1,1,1", " grid:5,5", "GRID:5,5", "blob:3",
         "grid:99999999999,5", "torus:10,10,1,2", "torus:10,10,1,1", "sphere:10", "cube:0",
-        "cube:2,0", "plate:10", "peaks:1", "two:1", "cylinder:2,5", "cone:5,1", "torus:5,2", "sphere:-1",
+        "cube:2,0", "plate:10", "peaks:1", "peaks:5,0", "peaks:5,-6", "peaks:5,6,6", "two:1", "cylinder:2,5", "cone:5,1", "torus:5,2", "sphere:-1",
         "grid:5 ,5", "grid:5,5,1e400,1",
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {

@@ -168,11 +168,20 @@ static int make_grid(gen *g, const gen_args *a, gs_error *err)
     return rc;
 }
 
+/* MATLAB's peaks(N) on [-3,3]^2; with a side W the same heights sit on a
+ * W x W grid centred on the origin (x and y scaled by W/6, z unchanged):
+ * peaks:50,49 is the mesh `surf(peaks(50))` draws, whose x and y are the
+ * column and row numbers 1..50. */
 static int make_peaks(gen *g, const gen_args *a, gs_error *err)
 {
     int rc = check_size((uint64_t)a->n[0] * a->n[0], 2 * (uint64_t)a->n[0] * a->n[0], a->spec, err);
-    if (!rc) grid_block(g, a->n[0], a->n[0], -3, -3, 6, 6, peaks_z);
-    return rc;
+    if (rc) return rc;
+    uint32_t base = g->nv;
+    grid_block(g, a->n[0], a->n[0], -3, -3, 6, 6, peaks_z);
+    double s = a->r[0] / 6; /* 1 for the default: the classic mesh, bit for bit */
+    if (!g->oom && s != 1)
+        for (uint32_t v = base; v < g->nv; ++v) g->xyz[3 * (size_t)v] *= s, g->xyz[3 * (size_t)v + 1] *= s;
+    return GS_OK;
 }
 
 static int make_two(gen *g, const gen_args *a, gs_error *err)
@@ -529,7 +538,7 @@ typedef struct gen_kind {
 
 static const gen_kind kinds[] = {
     {"grid", "grid:NX,NY[,W,H]", 2, {2, 2}, 1u << 24, 2, {1, 1}, make_grid},
-    {"peaks", "peaks:N", 1, {2, 0}, 1u << 24, 0, {0, 0}, make_peaks},
+    {"peaks", "peaks:N[,W]", 1, {2, 0}, 1u << 24, 1, {6, 0}, make_peaks},
     {"plate", "plate:N", 1, {50, 0}, GEN_MAX_VERTICES, 0, {0, 0}, make_plate},
     {"cylinder", "cylinder:NU,NV[,R,H]", 2, {3, 2}, 1u << 24, 2, {1, 1}, make_cylinder},
     {"cone", "cone:NU,NV[,R,H]", 2, {3, 2}, 1u << 24, 2, {1, 1}, make_cone},
@@ -541,7 +550,7 @@ static const gen_kind kinds[] = {
 #define N_KINDS (sizeof kinds / sizeof kinds[0])
 
 static const char accepted[] =
-    "accepted: grid:NX,NY[,W,H] peaks:N plate:N cylinder:NU,NV[,R,H] cone:NU,NV[,R,H] "
+    "accepted: grid:NX,NY[,W,H] peaks:N[,W] plate:N cylinder:NU,NV[,R,H] cone:NU,NV[,R,H] "
     "cube:N[,S] torus:NU,NV[,R,r] sphere:N two:N";
 
 /* Split s (after the colon) into comma-separated tokens; 0 on success. */
