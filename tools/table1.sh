@@ -4,7 +4,8 @@
 # against exact distances (section 5's ME and RMSE, averaged over the
 # sources), and evaluate LAND with as many landmarks as SEP stores numbers
 # per vertex. Generated meshes get exact fields from `geosep solve` (100
-# sources, seed 1); shared meshes use ../shared/groundtruth.
+# sources, seed 1); shared meshes use ../shared/groundtruth. Peaks-surf is
+# Peaks on the grid surf(peaks(50)) draws (x, y = 1..50; README).
 # Usage: tools/table1.sh [--quick] [--threads N] [extra build options...]
 set -euo pipefail
 top=$(cd "$(dirname "$0")/.." && pwd)
@@ -43,7 +44,7 @@ add_row() { # name mesh gt
   echo "${rows[-1]}"
 }
 
-for spec in "Square grid:30,30" "Holes plate:1400" "Peaks peaks:50"; do
+for spec in "Square grid:30,30" "Holes plate:1400" "Peaks peaks:50" "Peaks-surf peaks:50,49"; do
   name=${spec% *}; s=${spec#* }
   "$g" generate "$s" -o "$out/$name.obj"
   [ -f "$out/$name.gt" ] || "$g" solve "$out/$name.obj" --format gt --random $k --seed 1 -o "$out/$name.gt"
