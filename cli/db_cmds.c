@@ -55,7 +55,7 @@ const char usage_land[] =
 
 typedef struct bar {
     int tty;
-    double t0;
+    double t0, stage_t0; /* build start, current stage's start */
     const char *stage;
     int last_pct;
 } bar;
@@ -65,12 +65,15 @@ static void on_progress(void *user, const char *stage, double f)
     bar *b = user;
     if (!b->tty) return;
     int pct = (int)(f * 100);
-    if (b->stage == stage && pct == b->last_pct) return;
+    int same = b->stage && !strcmp(b->stage, stage);
+    if (same && pct == b->last_pct) return;
+    if (!same) b->stage_t0 = now();
     b->stage = stage;
     b->last_pct = pct;
-    double el = now() - b->t0;
+    double el = now() - b->t0, st = now() - b->stage_t0;
     char eta[32] = "";
-    if (f > 0.02 && f < 1) snprintf(eta, sizeof eta, " ~%.0f s left", el * (1 - f) / f);
+    /* the time left in this stage, from its own rate so far */
+    if (f > 0.02 && f < 1) snprintf(eta, sizeof eta, " ~%.0f s left", st * (1 - f) / f);
     int w = 30, k = (int)(f * w);
     fprintf(stderr, "\r%-7s [%.*s%*s] %3d%% %6.1f s%-16s", stage, k, "##############################",
             w - k, "", pct, el, eta);
@@ -145,7 +148,7 @@ int cmd_build(int argc, char **argv)
     gs_mesh *m = NULL;
     int rc = load_mesh(mesh_path, &m);
     if (rc) return rc;
-    bar b = {isatty(2) && !quiet, now(), NULL, -1};
+    bar b = {isatty(2) && !quiet, now(), now(), NULL, -1};
     o.progress = on_progress;
     o.progress_user = &b;
     gs_db *db = NULL;

@@ -405,6 +405,12 @@ static int same_tree(const gs_tree *a, const gs_tree *b)
         memcmp(a->nodes, b->nodes, a->n_nodes * sizeof *a->nodes) ||
         memcmp(a->verts, b->verts, a->n_verts * sizeof *a->verts))
         return 0;
+    for (uint32_t i = 0; i < a->n_curves; ++i) {
+        const gs_sep_curve *x = &a->curves[i], *y = &b->curves[i];
+        if (x->node != y->node || x->closed != y->closed || x->n_samples != y->n_samples ||
+            x->length != y->length || x->n_cross != y->n_cross)
+            return 0;
+    }
     for (uint32_t i = 0; i < a->n_samples; ++i) {
         const gs_sep_sample *x = &a->samples[i], *y = &b->samples[i];
         if (x->face != y->face || x->s != y->s || memcmp(x->bary, y->bary, sizeof x->bary)) return 0;
@@ -420,6 +426,7 @@ static void run(const char *name, gs_mesh *m, double paper_av, uint32_t paper_ma
 {
     gs_tree_options opt;
     gs_tree_options_default(&opt);
+    opt.threads = 1;
     if (g_strip) {
         opt.level_iters = 0;
         opt.smooth_iters = 4;
@@ -441,7 +448,10 @@ static void run(const char *name, gs_mesh *m, double paper_av, uint32_t paper_ma
     check_patches(&c);
     check_curves(&c, scale);
     gs_tree *t2 = NULL;
+    /* the same tree again, with the candidate cuts spread over threads */
+    opt.threads = 3;
     CHECK(gs_tree_build(m, &opt, &t2, NULL) == GS_OK && t2 && same_tree(t, t2));
+    opt.threads = 1;
     gs_tree_free(t2);
     char paper[32] = "";
     if (paper_av > 0) snprintf(paper, sizeof paper, "%.1f/%u", paper_av, paper_max);
@@ -540,6 +550,10 @@ static void check_arguments(void)
     gs_tree_options_default(&o);
     o.vmax = 0;
     CHECK(gs_tree_build(m, &o, &t, &err) == GS_EARG);
+    o.vmax = 30;
+    o.threads = 5000;
+    CHECK(gs_tree_build(m, &o, &t, &err) == GS_EARG && strstr(err.message, "threads"));
+    o.threads = 0;
     o.vmax = 30; /* 25 vertices: a single leaf */
     CHECK(gs_tree_build(m, &o, &t, &err) == GS_OK && t->n_nodes == 1 && t->n_leaves == 1);
     gs_tree_free(t);

@@ -83,6 +83,11 @@ static void progress(builder *b, const char *stage, double frac)
     if (b->opt->progress) b->opt->progress(b->opt->progress_user, stage, frac);
 }
 
+static void tree_progress(void *user, double frac)
+{
+    progress(user, "tree", frac);
+}
+
 /* mesh face -> position in a node's face list, by binary search over a
  * sorted copy of (face, position) pairs. */
 typedef struct face_pos {
@@ -918,6 +923,9 @@ int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt_in, gs_db **out
     to.vmax = opt->vmax;
     to.seed = opt->seed;
     to.sample_spacing = opt->sample_spacing;
+    to.threads = b.nthreads;
+    to.progress = tree_progress;
+    to.progress_user = &b;
     gs_tree *tree = NULL;
     progress(&b, "tree", 0);
     rc = gs_tree_build(mesh, &to, &tree, err);

@@ -180,8 +180,13 @@ static int split_by_metis(gs_part_node *nd, const owned_graph *g, uint32_t seed,
     METIS_SetDefaultOptions(options);
     options[METIS_OPTION_SEED] = (idx_t)(seed & 0x7fffffff);
     options[METIS_OPTION_NUMBERING] = 0;
-    int r = METIS_PartGraphRecursive(&nv, &ncon, g->xadj, g->adj, NULL, NULL, g->wgt,
-                                     &nparts, NULL, NULL, options, &objval, part);
+    int r;
+    /* METIS keeps its random generator in global state (GKlib), seeded at
+     * the start of each call: calls from the tree's threads take turns, so
+     * each one's result depends on its seed only. */
+#pragma omp critical(gs_metis)
+    r = METIS_PartGraphRecursive(&nv, &ncon, g->xadj, g->adj, NULL, NULL, g->wgt, &nparts, NULL,
+                                 NULL, options, &objval, part);
     if (r != METIS_OK) {
         free(part);
         return gs__fail(err, r == METIS_ERROR_MEMORY ? GS_ENOMEM : GS_EINTERNAL,

@@ -5,6 +5,7 @@
 #include "partition_internal.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -22,6 +23,9 @@ void gs_tree_options_default(gs_tree_options *o)
     o->bisector = 1;
     o->level_bias = 1.25;
     o->long_curve = 2.0;
+    o->threads = 0;
+    o->progress = NULL;
+    o->progress_user = NULL;
 }
 
 void gs_tree_free(gs_tree *t)
@@ -46,9 +50,9 @@ typedef struct builder {
     double mean_edge;
     uint32_t *vloc, *floc;     /* mesh-sized maps, GS_NONE outside a node */
     uint32_t *lv, *lf, *tmp;   /* node scratch (grown as needed)          */
-    uint8_t *side, *best_side;
-    double *phi, *best_phi;    /* best_*: the best candidate cut so far    */
-    size_t cap_lv, cap_lf, cap_tmp, cap_side, cap_phi, cap_best_side, cap_best_phi;
+    uint8_t *side;
+    double *phi;
+    size_t cap_lv, cap_lf, cap_tmp, cap_side, cap_phi;
     double long_curve;         /* L of choose_cut (0: plain lengths)      */
 } builder;
 
@@ -64,8 +68,6 @@ static void builder_free(builder *b)
     free(b->tmp);
     free(b->side);
     free(b->phi);
-    free(b->best_side);
-    free(b->best_phi);
 }
 
 #define RESERVE(ptr, cap, need) gs__part_reserve((void **)&(ptr), &(cap), (need), sizeof *(ptr))
@@ -206,43 +208,110 @@ static int candidate_sides(builder *b, gs_part_node *nd, uint32_t seed, int bise
  * levels cost minutes. */
 #define FEW_CANDIDATES_ABOVE 200000u
 
+/* Per thread of choose_cut: its own sides, phi and curve output, and the
+ * best candidate it has seen (lowest score, then lowest index). */
+typedef struct cut_slot {
+    uint8_t *side, *best_side;
+    double *phi, *best_phi;
+    gs_part_out out;
+    double best;
+    uint32_t best_k, fail_k;
+    int best_valid, rc;
+    gs_error err;
+} cut_slot;
+
+static void cut_slot_free(cut_slot *s)
+{
+    free(s->side);
+    free(s->best_side);
+    free(s->phi);
+    free(s->best_phi);
+    free(s->out.curves);
+    free(s->out.samples);
+    free(s->out.cross);
+}
+
+/* Candidate k (seed index k / nvar; the bisector variant first) in slot s. */
+static void try_candidate(builder *b, const gs_part_node *nd, uint32_t k, int nvar, cut_slot *s)
+{
+    gs_part_node c = *nd;
+    c.side = s->side;
+    c.phi = s->phi;
+    int bis = nvar == 2 ? 1 - (int)(k % 2) : 0;
+    s->out.n_curves = s->out.n_samples = s->out.n_cross = 0;
+    int rc = candidate_sides(b, &c, b->opt->seed + k / (uint32_t)nvar, bis, &s->err);
+    if (rc == GS_OK) rc = gs__part_curves(&c, b->opt, b->mean_edge, &s->out, &s->err);
+    if (rc) {
+        if (s->rc == GS_OK || k < s->fail_k) s->rc = rc, s->fail_k = k;
+        return;
+    }
+    double len = 0;
+    for (size_t i = 0; i < s->out.n_curves; ++i) {
+        double l = s->out.curves[i].length;
+        len += b->long_curve > 0 ? l * (1 + l / b->long_curve) : l;
+    }
+    if (!bis) len *= b->opt->level_bias;
+    if (len < s->best || (len == s->best && k < s->best_k)) {
+        s->best = len;
+        s->best_k = k;
+        memcpy(s->best_side, c.side, nd->nl * sizeof *c.side);
+        memcpy(s->best_phi, c.phi, nd->nl * sizeof *c.phi);
+        s->best_valid = c.phi_valid;
+    }
+}
+
 static int choose_cut(builder *b, gs_part_node *nd, gs_error *err)
 {
     uint32_t nseeds = b->opt->cut_seeds ? b->opt->cut_seeds : 1;
     if (nd->nl > FEW_CANDIDATES_ABOVE) nseeds = 1;
     int nvar = b->opt->bisector && b->opt->level_iters ? 2 : 1;
-    if (nseeds * nvar == 1) return candidate_sides(b, nd, b->opt->seed, 0, err);
-    if (RESERVE(b->best_side, b->cap_best_side, nd->nl ? nd->nl : 1) ||
-        RESERVE(b->best_phi, b->cap_best_phi, nd->nl ? nd->nl : 1))
-        return gs__fail(err, GS_ENOMEM, "out of memory building the tree");
-    double best = INFINITY;
-    int best_valid = 0;
-    gs_part_out *o = &b->out;
-    for (uint32_t k = 0; k < nseeds; ++k)
-        for (int v = 0; v < nvar; ++v) {
-            size_t c0 = o->n_curves, s0 = o->n_samples, x0 = o->n_cross;
-            int bis = nvar == 2 ? 1 - v : 0;
-            int rc = candidate_sides(b, nd, b->opt->seed + k, bis, err);
-            if (rc == GS_OK) rc = gs__part_curves(nd, b->opt, b->mean_edge, o, err);
-            if (rc) return rc;
-            double len = 0;
-            for (size_t c = c0; c < o->n_curves; ++c) {
-                double l = o->curves[c].length;
-                len += b->long_curve > 0 ? l * (1 + l / b->long_curve) : l;
-            }
-            if (!bis) len *= b->opt->level_bias;
-            if (len < best) {
-                best = len;
-                memcpy(b->best_side, nd->side, nd->nl * sizeof *nd->side);
-                memcpy(b->best_phi, nd->phi, nd->nl * sizeof *nd->phi);
-                best_valid = nd->phi_valid;
-            }
-            o->n_curves = c0, o->n_samples = s0, o->n_cross = x0;
+    uint32_t ncand = nseeds * (uint32_t)nvar;
+    if (ncand == 1) return candidate_sides(b, nd, b->opt->seed, 0, err);
+    /* Candidates are independent: each thread tries some in its own slot
+     * (METIS calls are serialised in split.c). The winner is the lowest
+     * (score, index), so the tree does not depend on the thread count. */
+    uint32_t nt = b->opt->threads ? b->opt->threads : (uint32_t)omp_get_max_threads();
+    if (nt > ncand) nt = ncand;
+    if (nt < 1) nt = 1;
+    size_t nl = nd->nl ? nd->nl : 1;
+    cut_slot *slot = gs__calloc(nt, sizeof *slot);
+    int rc = slot ? GS_OK : GS_ENOMEM;
+    for (uint32_t t = 0; rc == GS_OK && t < nt; ++t) {
+        slot[t].side = gs__malloc(nl, sizeof *slot[t].side);
+        slot[t].best_side = gs__malloc(nl, sizeof *slot[t].best_side);
+        slot[t].phi = gs__malloc(nl, sizeof *slot[t].phi);
+        slot[t].best_phi = gs__malloc(nl, sizeof *slot[t].best_phi);
+        slot[t].best = INFINITY;
+        slot[t].best_k = slot[t].fail_k = UINT32_MAX;
+        if (!slot[t].side || !slot[t].best_side || !slot[t].phi || !slot[t].best_phi) rc = GS_ENOMEM;
+    }
+    if (rc == GS_OK) {
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
+        for (uint32_t k = 0; k < ncand; ++k) try_candidate(b, nd, k, nvar, &slot[omp_get_thread_num()]);
+        uint32_t win = UINT32_MAX, fail = UINT32_MAX;
+        for (uint32_t t = 0; t < nt; ++t) {
+            if (slot[t].rc && (fail == UINT32_MAX || slot[t].fail_k < slot[fail].fail_k)) fail = t;
+            if (slot[t].best_k != UINT32_MAX &&
+                (win == UINT32_MAX || slot[t].best < slot[win].best ||
+                 (slot[t].best == slot[win].best && slot[t].best_k < slot[win].best_k)))
+                win = t;
         }
-    memcpy(nd->side, b->best_side, nd->nl * sizeof *nd->side);
-    memcpy(nd->phi, b->best_phi, nd->nl * sizeof *nd->phi);
-    nd->phi_valid = best_valid;
-    return GS_OK;
+        if (fail != UINT32_MAX) {
+            rc = slot[fail].rc;
+            if (err) *err = slot[fail].err;
+        } else if (win == UINT32_MAX) {
+            rc = gs__fail(err, GS_EINTERNAL, "no candidate cut for tree node %u", nd->id);
+        } else {
+            memcpy(nd->side, slot[win].best_side, nd->nl * sizeof *nd->side);
+            memcpy(nd->phi, slot[win].best_phi, nd->nl * sizeof *nd->phi);
+            nd->phi_valid = slot[win].best_valid;
+        }
+    } else {
+        rc = gs__fail(err, GS_ENOMEM, "out of memory building the tree");
+    }
+    for (uint32_t t = 0; slot && t < nt; ++t) cut_slot_free(&slot[t]);
+    free(slot);
+    return rc;
 }
 
 static int split_node(builder *b, uint32_t id, gs_error *err)
@@ -314,6 +383,8 @@ int gs_tree_build(const gs_mesh *mesh, const gs_tree_options *opt, gs_tree **out
         return gs__fail(err, GS_EARG, "gs_tree_build: level_bias %g out of range", opt->level_bias);
     if (!(opt->long_curve >= 0) || opt->long_curve > 1e6)
         return gs__fail(err, GS_EARG, "gs_tree_build: long_curve %g out of range", opt->long_curve);
+    if (opt->threads > 1024)
+        return gs__fail(err, GS_EARG, "gs_tree_build: threads %u out of range", opt->threads);
     if (opt->cut_seeds > 1024)
         return gs__fail(err, GS_EARG, "gs_tree_build: cut_seeds %u out of range", opt->cut_seeds);
     if (!(opt->sample_spacing > 0) || opt->sample_spacing > 1e6)
@@ -325,7 +396,21 @@ int gs_tree_build(const gs_mesh *mesh, const gs_tree_options *opt, gs_tree **out
     int rc = b.t ? init_root(&b) : GS_ENOMEM;
     if (rc) rc = gs__fail(err, rc, "out of memory building the tree");
     if (rc == GS_OK) b.long_curve = opt->long_curve * b.mean_edge * sqrt((double)b.t->n_verts);
-    for (uint32_t i = 0; rc == GS_OK && i < b.t->n_nodes; ++i) rc = split_node(&b, i, err);
+    /* progress: each level of the tree handles about every vertex once, and
+     * there are about log2(n / vmax) levels */
+    double work_total = 0, work_done = 0;
+    if (rc == GS_OK && opt->progress) {
+        double levels = ceil(log2(fmax(2.0, (double)b.t->n_verts / opt->vmax)));
+        work_total = (double)b.t->n_verts * fmax(1.0, levels);
+        opt->progress(opt->progress_user, 0);
+    }
+    for (uint32_t i = 0; rc == GS_OK && i < b.t->n_nodes; ++i) {
+        rc = split_node(&b, i, err);
+        if (opt->progress && b.t->nodes[i].child[0] != GS_NONE) {
+            work_done += b.t->nodes[i].n_verts;
+            opt->progress(opt->progress_user, fmin(0.99, work_done / work_total));
+        }
+    }
     if (rc == GS_OK && (rc = take_output(&b)) != GS_OK)
         rc = gs__fail(err, rc, "tree too large (%zu samples)", b.out.n_samples);
     if (rc == GS_OK) finish_stats(b.t);

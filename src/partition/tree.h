@@ -92,6 +92,11 @@ typedef struct gs_tree_options {
     double long_curve;      /* length scale of the candidates' score, in    */
                             /*   mean edges x sqrt(vertices) (2; 0: plain   */
                             /*   total length; see tree.c choose_cut)       */
+    uint32_t threads;       /* threads over a node's candidate cuts (0: the */
+                            /*   OpenMP default); the tree is the same for  */
+                            /*   any count                                   */
+    void (*progress)(void *user, double fraction); /* after each split node */
+    void *progress_user;    /*   (fraction of the estimated work), or NULL  */
 } gs_tree_options;
 
 void gs_tree_options_default(gs_tree_options *o);
