@@ -47,9 +47,9 @@ static const char usage_solve[] =
     "  drawn as the shared ground truth draws them (splitmix64, --seed, default\n"
     "  0), separately, and write all fields to OUT.gt. Files are written\n"
     "  atomically. --heat-time M: heat method time step t = M h^2 (h: mean edge\n"
-    "  length; default 1). --fmm-start R: fast marching starts from exact\n"
-    "  distances within R mean edge lengths of the sources (default 4; 0: the\n"
-    "  plain march from the source vertices).\n";
+    "  length weighted by triangle area; default 1). --fmm-start R: fast\n"
+    "  marching starts from exact distances within R mean edge lengths of the\n"
+    "  sources (default 4; 0: the plain march from the source vertices).\n";
 
 static void print_usage(FILE *f)
 {

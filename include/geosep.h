@@ -229,7 +229,8 @@ int gs_solver_create(const gs_patch *patch, gs_method method, gs_solver **out,
 /* Parameters of the approximate methods (ignored by the others). */
 typedef struct gs_solver_options {
     double heat_time;       /* heat: t = heat_time * h^2, h the patch's mean   */
-                            /*   edge length [1: Crane et al.'s t = h^2]        */
+                            /*   edge length weighted by triangle area         */
+                            /*   [1: Crane et al.'s t = h^2]                    */
     double fmm_exact_start; /* fmm: vertices within this many mean edge lengths */
                             /*   of the sources get exact distances, and the   */
                             /*   march starts from them; 0: the plain march    */

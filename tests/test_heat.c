@@ -70,7 +70,9 @@ static void test_grid(void)
     double e21 = grid_error(21), e41 = grid_error(41), e81 = grid_error(81);
     printf("grid: mean relative error vs Euclidean: 21x21 %.4f%%, 41x41 %.4f%%, 81x81 %.4f%%\n",
            100 * e21, 100 * e41, 100 * e81);
-    CHECK_MSG(e41 < 0.03, "grid 41: %g", e41);
+    /* the plain heat method (direction of grad u, no start ball): 2.23%,
+     * 1.71%, 1.43% */
+    CHECK_MSG(e41 < 0.015, "grid 41: %g", e41);
     CHECK_MSG(e81 < e21, "no improvement with refinement: %g vs %g", e81, e21);
 }
 
@@ -256,11 +258,109 @@ static void test_points_multi_reuse(void)
     gs_mesh_free(m);
 }
 
-static void test_bunny(void)
+/* Additivity, what a SEP database needs (it answers d(x,y) as d(s,x) +
+ * d(s,y) through a separator point s): for pairs a, b of random vertices
+ * and the vertex v nearest the middle of their exact geodesic, the mean of
+ * |h(a,b) - h(v,a) - h(v,b) - (d(a,b) - d(v,a) - d(v,b))| / d(a,b) over the
+ * pairs, heat fields h, exact distances d (v is near, not on, the
+ * geodesic: the exact sum is a little longer). */
+static double additivity(const char *spec, uint32_t n_pairs)
 {
-    const char *mp = gs_test_shared_path("meshes/bunny-5k.obj");
+    gs_mesh *m = NULL;
+    gs_patch *p = NULL;
+    gs_error err;
+    CHECK(gs_mesh_generate(spec, &m, &err) == GS_OK);
+    CHECK(gs_patch_create(m, NULL, 0, &p, &err) == GS_OK);
+    uint32_t n = gs_mesh_num_vertices(m), *ids = malloc(sizeof(uint32_t) * 2 * n_pairs);
+    CHECK(gs_mesh_random_vertices(m, 2 * n_pairs, 11, ids, &err) == GS_OK);
+    gs_solver *sh = NULL, *se = NULL;
+    CHECK(gs_solver_create(p, GS_METHOD_HEAT, &sh, &err) == GS_OK);
+    CHECK(gs_solver_create(p, GS_METHOD_EXACT, &se, &err) == GS_OK);
+    double *ea = malloc(sizeof(double) * n), *eb = malloc(sizeof(double) * n),
+           *ha = malloc(sizeof(double) * n), *hv = malloc(sizeof(double) * n);
+    double sum = 0;
+    uint32_t cnt = 0;
+    for (uint32_t i = 0; i < n_pairs; ++i) {
+        gs_source a = gs_source_vertex(ids[2 * i]), b = gs_source_vertex(ids[2 * i + 1]);
+        CHECK(gs_solver_solve(se, &a, 1, INFINITY, ea, &err) == GS_OK);
+        CHECK(gs_solver_solve(se, &b, 1, INFINITY, eb, &err) == GS_OK);
+        double d = ea[b.vertex], best = INFINITY;
+        if (!(d > 0)) continue;
+        uint32_t v = 0;
+        for (uint32_t x = 0; x < n; ++x) {
+            double q = ea[x] + eb[x] + fabs(ea[x] - eb[x]); /* on the geodesic, in its middle */
+            if (q < best) best = q, v = x;
+        }
+        gs_source sv = gs_source_vertex(v);
+        CHECK(gs_solver_solve(sh, &a, 1, INFINITY, ha, &err) == GS_OK);
+        CHECK(gs_solver_solve(sh, &sv, 1, INFINITY, hv, &err) == GS_OK);
+        /* minus the exact value (v is a vertex, near but off the geodesic) */
+        sum += fabs(ha[b.vertex] - hv[a.vertex] - hv[b.vertex] - (d - ea[v] - eb[v])) / d;
+        cnt++;
+    }
+    CHECK(cnt > n_pairs / 2);
+    free(ea), free(eb), free(ha), free(hv), free(ids);
+    gs_solver_free(sh);
+    gs_solver_free(se);
+    gs_patch_free(p);
+    gs_mesh_free(m);
+    return cnt ? sum / cnt : INFINITY;
+}
+
+static void test_additivity(void)
+{
+    double g = additivity("grid:41,41", 24), sp = additivity("sphere:4", 24);
+    printf("additivity defect, v mid-geodesic: grid:41,41 %.3f%%, sphere:4 %.3f%%\n", 100 * g,
+           100 * sp);
+    /* the plain heat method (direction of grad u, no start ball) measured
+     * 1.55% and 0.59% here */
+    CHECK_MSG(g < 0.006, "grid additivity %g", g);
+    CHECK_MSG(sp < 0.002, "sphere additivity %g", sp);
+}
+
+/* Far from the source: heat decays like exp(-r / sqrt(t)) and underflows
+ * to 0 about 860 edges away at t = h^2 (where the plain method has no
+ * direction and its distances stop growing: 858 all along the rest of
+ * this strip); the heat flow at 4t reaches twice as far. Along a
+ * 1,499-edge strip (grid:1500,3, spacing 1) from one end, every vertex of
+ * the first row within half an edge of its distance. */
+static void test_far(void)
+{
+    gs_mesh *m = NULL;
+    gs_patch *p = NULL;
+    gs_error err;
+    CHECK(gs_mesh_generate("grid:1500,3,1499,2", &m, &err) == GS_OK);
+    CHECK(gs_patch_create(m, NULL, 0, &p, &err) == GS_OK);
+    uint32_t n = gs_mesh_num_vertices(m);
+    const double *x = gs_mesh_positions(m);
+    double *d = malloc(sizeof(double) * n), worst = 0;
+    gs_source src = gs_source_vertex(0);
+    CHECK(x[0] == 0 && x[1] == 0);
+    CHECK(gs_distance_field(p, GS_METHOD_HEAT, &src, 1, INFINITY, d, &err) == GS_OK);
+    CHECK(all_valid(d, n));
+    uint32_t cnt = 0;
+    for (uint32_t v = 0; v < n; ++v) {
+        if (x[3 * v + 1] != 0) continue;
+        worst = fmax(worst, fabs(d[v] - x[3 * v]));
+        cnt++;
+    }
+    printf("strip of 1,499 edges: worst error %.3f edges over %u vertices\n", worst, cnt);
+    CHECK(cnt == 1500);
+    CHECK_MSG(worst < 0.5, "far from the source: %g", worst);
+    free(d);
+    gs_patch_free(p);
+    gs_mesh_free(m);
+}
+
+/* Heat against the shared exact ground truth of mesh name (section 5's ME,
+ * averaged over its sources) below max_me. */
+static void test_shared(const char *name, double max_me)
+{
+    char path[256];
+    snprintf(path, sizeof path, "meshes/%s.obj", name);
+    const char *mp = gs_test_shared_path(path);
     if (!mp) {
-        printf("bunny-5k: skipped (shared meshes/bunny-5k.obj not found)\n");
+        printf("%s: skipped (shared %s not found)\n", name, path);
         return;
     }
     gs_mesh *m = NULL;
@@ -268,9 +368,10 @@ static void test_bunny(void)
     gs_gt *gt = NULL;
     gs_error err;
     CHECK(gs_mesh_load(mp, GS_FORMAT_AUTO, &m, &err) == GS_OK);
-    const char *gp = gs_test_shared_path("groundtruth/bunny-5k.gt");
+    snprintf(path, sizeof path, "groundtruth/%s.gt", name);
+    const char *gp = gs_test_shared_path(path);
     if (!m || !gp || gs_gt_read(gp, &gt, &err) != GS_OK) {
-        printf("bunny-5k: skipped (ground truth groundtruth/bunny-5k.gt not readable)\n");
+        printf("%s: skipped (ground truth %s not readable)\n", name, path);
         gs_mesh_free(m);
         return;
     }
@@ -296,11 +397,11 @@ static void test_bunny(void)
         rmse += fe.rmse / gt->n_sources;
         mx = fmax(mx, fe.max);
     }
-    printf("bunny-5k heat vs ground truth (%u sources): ME %.3f%%  RMSE %.3f%%  max %.2f%%\n",
+    printf("%s heat vs ground truth (%u sources): ME %.3f%%  RMSE %.3f%%  max %.2f%%\n", name,
            gt->n_sources, 100 * me, 100 * rmse, 100 * mx);
-    printf("bunny-5k heat: create (intrinsic Delaunay + factorisations) %.1f ms, solve %.2f ms "
-           "per source\n", 1e3 * t_create, 1e3 * t_solve / gt->n_sources);
-    CHECK_MSG(me < 0.06, "bunny-5k ME %g", me);
+    printf("%s heat: create (intrinsic Delaunay + factorisations) %.1f ms, solve %.2f ms "
+           "per source\n", name, 1e3 * t_create, 1e3 * t_solve / gt->n_sources);
+    CHECK_MSG(me < max_me, "%s ME %g", name, me);
     free(d);
     gs_solver_free(sh);
     gs_gt_free(gt);
@@ -318,6 +419,11 @@ int main(void)
     test_slivers();
     test_degenerate();
     test_points_multi_reuse();
-    test_bunny();
+    test_additivity();
+    test_far();
+    /* the plain heat method (direction of grad u, no start ball, t from the
+     * plain mean edge length): 2.10% and 1.89% */
+    test_shared("bunny-5k", 0.013);
+    test_shared("rocker-arm", 0.016);
     return gs_test_finish("test_heat");
 }
