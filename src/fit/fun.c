@@ -908,6 +908,34 @@ static void newton_candidate(const gs_fun *a, const gs_fun *b, double u, double 
     }
 }
 
+/* The minimum of the sum near a sharp dip at u, for loops (whose pairs
+ * with a dip went to the robust minimiser before): the slope of the sum
+ * changes sign inside [u - w, u + w] (w = 1.5 cells) unless the minimum
+ * lies outside; Newton on the slope, kept inside the shrinking bracket
+ * (bisection when it would leave it), to |step| <= 1e-10. The sum near a
+ * dip is a hyperbola-like kink plus a slope: Newton alone from u creeps. */
+#define DIP_BRACKET_ITERS 40
+static void dip_bracket(const gs_fun *a, const gs_fun *b, double u, double h, double *best, double *bu, int *exact)
+{
+    double lo = u - 1.5 * h, hi = u + 1.5 * h, a1, a2, b1, b2;
+    double vl = fun_at3(a, lo, &a1, &a2) + fun_at3(b, lo, &b1, &b2), sl = a1 + b1;
+    if (vl < *best) *best = vl, *bu = gs_fun_wrap(lo), *exact = 0;
+    double vh = fun_at3(a, hi, &a1, &a2) + fun_at3(b, hi, &b1, &b2), sh = a1 + b1;
+    if (vh < *best) *best = vh, *bu = gs_fun_wrap(hi), *exact = 0;
+    if (!(sl < 0.0 && sh > 0.0)) return; /* no minimum inside: the grid's cells hold it */
+    double x = u;
+    for (int it = 0; it < DIP_BRACKET_ITERS; ++it) {
+        double v = fun_at3(a, x, &a1, &a2) + fun_at3(b, x, &b1, &b2), s1 = a1 + b1, s2 = a2 + b2;
+        if (v < *best) *best = v, *bu = gs_fun_wrap(x), *exact = 0;
+        if (s1 == 0.0) return;
+        if (s1 < 0.0) lo = x; else hi = x;
+        double y = s2 > 0.0 ? x - s1 / s2 : 0.5 * (lo + hi);
+        if (!(y > lo && y < hi)) y = 0.5 * (lo + hi);
+        if (fabs(y - x) <= 1e-10 || hi - lo <= 1e-10) return;
+        x = y;
+    }
+}
+
 /* s = ga + gb on the g grid points; returns min s (NaN if some s is NaN). */
 static float grid_sum(const float *ga, const float *gb, uint32_t g, float *s)
 {
@@ -996,26 +1024,28 @@ void gs_fun_dip_find(const gs_fun *f, gs_fun_dip *d)
     d->hi = u + (r2 > t0 ? r2 - t0 : 0.0);
 }
 
-/* The sum at an edge of a's zero set, just inside. */
-static void dip_edge(const gs_fun *a, const gs_fun *b, double e, double u, int closed, double *best, double *bu,
-                     int *exact)
+/* The sum at x (a point of a's zero set). */
+static void dip_edge(const gs_fun *a, const gs_fun *b, double x, int closed, double *best, double *bu, int *exact)
 {
-    double x = e + (u - e) * DIP_INSIDE;
     x = closed ? gs_fun_wrap(x) : clamp1(x);
     double v = pair_value(a, b, x);
     if (v < *best) *best = v, *bu = x, *exact = 1;
 }
 
-/* Candidates of a sharp function's dip: Newton from its own minimiser, and
- * the edges of its zero set, where the sum of a clamped fit and a smooth
- * function has its kink. */
+/* Candidates of a sharp function's dip: near its own minimiser (Newton, or
+ * for loops a bracketed search), and both edges of its zero set (a little
+ * inside), where the sum of a clamped fit and a smooth function has its
+ * kink. */
 static void dip_candidates(const gs_fun *a, const gs_fun *b, const gs_fun_dip *d, double h, int closed,
                            double *best, double *bu, int *exact)
 {
     if (!d || d->u != d->u || !is_sharp(a)) return;
-    newton_candidate(a, b, d->u, h, closed, NEWTON_STEPS, best, bu, exact);
-    if (d->lo < d->u) dip_edge(a, b, d->lo, d->u, closed, best, bu, exact);
-    if (d->hi > d->u) dip_edge(a, b, d->hi, d->u, closed, best, bu, exact);
+    if (closed) dip_bracket(a, b, d->u, h, best, bu, exact);
+    else newton_candidate(a, b, d->u, h, closed, NEWTON_STEPS, best, bu, exact);
+    double pull = 0.5 * (d->hi - d->lo) * DIP_INSIDE;
+    if (!(pull > 0.0)) return;
+    dip_edge(a, b, d->lo + pull, closed, best, bu, exact);
+    dip_edge(a, b, d->hi - pull, closed, best, bu, exact);
 }
 
 /* Whether f's seam (a loop's fit may jump there) may hold the minimum of
@@ -1048,9 +1078,8 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
      * other discrete local minimum when the grid cannot tell it from j1 */
     uint32_t j1 = GS_NONE_U32, j2 = GS_NONE_U32;
     float thr = mn * 1.02f;
-    /* loops: a sharp dip or a seam that may hold the minimum go to the
-     * robust minimiser (a quarter of the loop pairs on bunny-5k) */
-    if (closed && ((da && da->u == da->u) || (db && db->u == db->u) || seam_low(a, gb, g, thr) || seam_low(b, ga, g, thr)))
+    /* loops: a seam that may hold the minimum goes to the robust minimiser */
+    if (closed && (seam_low(a, gb, g, thr) || seam_low(b, ga, g, thr)))
         return gs_fun_pair_min(a, b, u_at);
     uint32_t low[GS_FUN_GRID_MAX], nl = grid_below(s, g, thr, low);
     for (uint32_t i = 0; i < nl && j1 == GS_NONE_U32; ++i)
@@ -1061,6 +1090,7 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
         if (j != j1 && (j2 == GS_NONE_U32 || s[j] < s[j2]) && grid_local_min(s, g, j, closed)) j2 = j;
     }
     double h = closed ? 2.0 / g : 2.0 / (g - 1), best = INFINITY, bu = 0.0;
+    int dipped = closed && ((da && da->u == da->u) || (db && db->u == db->u));
     int exact = 1;
     for (int c = 0; c < 2; ++c) {
         uint32_t jb = c ? j2 : j1;
@@ -1083,7 +1113,7 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
                 u0 = closed ? gs_fun_wrap(u0) : clamp1(u0);
             }
         }
-        newton_candidate(a, b, u0, h, closed, 0, &best, &bu, &exact);
+        newton_candidate(a, b, u0, h, closed, dipped ? NEWTON_STEPS : 0, &best, &bu, &exact);
     }
     /* a vertex close to the curve gives its function a sharp dip, which the
      * grid may step over: the dip's own minimiser is a candidate too */

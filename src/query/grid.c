@@ -84,8 +84,10 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     e->rec = (uint32_t)off;
     gs_fun_dip dip = {NAN, NAN, NAN};
     if (g) gs_fun_dip_find(&f, &dip);
-    /* offsets as floats: pulled in by a little more than their rounding */
-    float head[3] = {(float)dip.u, (float)((dip.lo - dip.u) * (1 - 1e-6)), (float)((dip.hi - dip.u) * (1 - 1e-6))};
+    /* offsets as floats from u as a float (so that the edges do not move
+     * by u's rounding), pulled in by a little more than their own */
+    float uf = (float)dip.u;
+    float head[3] = {uf, (float)((dip.lo - uf) * (1 - 1e-6)), (float)((dip.hi - uf) * (1 - 1e-6))};
     if (dip.u != dip.u) head[1] = head[2] = 0.0f;
     rec[0] = f.shift;
     memcpy(rec + 1, head, 4);
