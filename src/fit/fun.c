@@ -908,32 +908,45 @@ static void newton_candidate(const gs_fun *a, const gs_fun *b, double u, double 
     }
 }
 
-/* The minimum of the sum near a sharp dip at u, for loops (whose pairs
- * with a dip went to the robust minimiser before): the slope of the sum
- * changes sign inside [u - w, u + w] (w = 1.5 cells) unless the minimum
- * lies outside; Newton on the slope, kept inside the shrinking bracket
- * (bisection when it would leave it), to |step| <= 1e-10. The sum near a
- * dip is a hyperbola-like kink plus a slope: Newton alone from u creeps. */
-#define DIP_BRACKET_ITERS 40
-static void dip_bracket(const gs_fun *a, const gs_fun *b, double u, double h, double *best, double *bu, int *exact)
+/* The minimum of the sum over a window [lo, hi] of a loop (u may leave
+ * [-1,1): the functions wrap it) where the grid's parabola cannot be
+ * trusted: near a sharp dip (a hyperbola-like kink plus a slope) or beside
+ * a seam (the fit jumps there). Values and slopes at WINDOW_PTS points; the
+ * lowest one's neighbour in the downhill direction brackets the minimum
+ * (the slope changes sign), where Newton on the slope, kept inside the
+ * shrinking bracket (bisection when it would leave it), runs to |step| <=
+ * 1e-10. Returns 0 when the samples bracket nothing clearly (the caller
+ * then uses the robust minimiser), 1 otherwise (the window's minimum is
+ * then a candidate, or lies at an end that slopes outward). */
+#define WINDOW_PTS 5
+#define BRACKET_ITERS 40
+static int window_min(const gs_fun *a, const gs_fun *b, double lo, double hi, double *best, double *bu,
+                      int *exact)
 {
-    double lo = u - 1.5 * h, hi = u + 1.5 * h, a1, a2, b1, b2;
-    double vl = fun_at3(a, lo, &a1, &a2) + fun_at3(b, lo, &b1, &b2), sl = a1 + b1;
-    if (vl < *best) *best = vl, *bu = gs_fun_wrap(lo), *exact = 0;
-    double vh = fun_at3(a, hi, &a1, &a2) + fun_at3(b, hi, &b1, &b2), sh = a1 + b1;
-    if (vh < *best) *best = vh, *bu = gs_fun_wrap(hi), *exact = 0;
-    if (!(sl < 0.0 && sh > 0.0)) return; /* no minimum inside: the grid's cells hold it */
-    double x = u;
-    for (int it = 0; it < DIP_BRACKET_ITERS; ++it) {
-        double v = fun_at3(a, x, &a1, &a2) + fun_at3(b, x, &b1, &b2), s1 = a1 + b1, s2 = a2 + b2;
-        if (v < *best) *best = v, *bu = gs_fun_wrap(x), *exact = 0;
-        if (s1 == 0.0) return;
-        if (s1 < 0.0) lo = x; else hi = x;
-        double y = s2 > 0.0 ? x - s1 / s2 : 0.5 * (lo + hi);
-        if (!(y > lo && y < hi)) y = 0.5 * (lo + hi);
-        if (fabs(y - x) <= 1e-10 || hi - lo <= 1e-10) return;
-        x = y;
+    double x[WINDOW_PTS], v[WINDOW_PTS], d[WINDOW_PTS], a1, a2, b1, b2;
+    int i = 0;
+    for (int k = 0; k < WINDOW_PTS; ++k) {
+        x[k] = lo + (hi - lo) * k / (WINDOW_PTS - 1);
+        v[k] = fun_at3(a, x[k], &a1, &a2) + fun_at3(b, x[k], &b1, &b2), d[k] = a1 + b1;
+        if (v[k] < v[i]) i = k;
     }
+    if (v[i] < *best) *best = v[i], *bu = gs_fun_wrap(x[i]), *exact = 0;
+    if (d[i] == 0.0 || (i == 0 && d[i] > 0.0) || (i == WINDOW_PTS - 1 && d[i] < 0.0)) return 1;
+    int l = d[i] < 0.0 ? i : i - 1, r = l + 1;
+    if (!(d[l] < 0.0 && d[r] > 0.0)) return 0;
+    double xl = x[l], xr = x[r], t = xl - d[l] * (xr - xl) / (d[r] - d[l]); /* secant start */
+    for (int it = 0; it < BRACKET_ITERS; ++it) {
+        double w = fun_at3(a, t, &a1, &a2) + fun_at3(b, t, &b1, &b2), s1 = a1 + b1, s2 = a2 + b2;
+        if (w < *best) *best = w, *bu = gs_fun_wrap(t), *exact = 0;
+        if (s1 == 0.0) return 1;
+        if (s1 < 0.0) xl = t;
+        else xr = t;
+        double y = s2 > 0.0 ? t - s1 / s2 : 0.5 * (xl + xr);
+        if (!(y > xl && y < xr)) y = 0.5 * (xl + xr);
+        if (fabs(y - t) <= 1e-10 || xr - xl <= 1e-10) return 1;
+        t = y;
+    }
+    return 1;
 }
 
 /* s = ga + gb on the g grid points; returns min s (NaN if some s is NaN). */
@@ -1033,19 +1046,21 @@ static void dip_edge(const gs_fun *a, const gs_fun *b, double x, int closed, dou
 }
 
 /* Candidates of a sharp function's dip: near its own minimiser (Newton, or
- * for loops a bracketed search), and both edges of its zero set (a little
- * inside), where the sum of a clamped fit and a smooth function has its
- * kink. */
-static void dip_candidates(const gs_fun *a, const gs_fun *b, const gs_fun_dip *d, double h, int closed,
-                           double *best, double *bu, int *exact)
+ * for loops the window of DIP_WINDOW cells either side), and both edges of
+ * its zero set (a little inside), where the sum of a clamped fit and a
+ * smooth function has its kink. Returns window_min's verdict. */
+#define DIP_WINDOW 1.5
+static int dip_candidates(const gs_fun *a, const gs_fun *b, const gs_fun_dip *d, double h, int closed,
+                          double *best, double *bu, int *exact)
 {
-    if (!d || d->u != d->u || !is_sharp(a)) return;
-    if (closed) dip_bracket(a, b, d->u, h, best, bu, exact);
-    else newton_candidate(a, b, d->u, h, closed, NEWTON_STEPS, best, bu, exact);
+    if (!d || d->u != d->u || !is_sharp(a)) return 1;
+    if (!closed) newton_candidate(a, b, d->u, h, closed, NEWTON_STEPS, best, bu, exact);
+    else if (!window_min(a, b, d->u - DIP_WINDOW * h, d->u + DIP_WINDOW * h, best, bu, exact)) return 0;
     double pull = 0.5 * (d->hi - d->lo) * DIP_INSIDE;
-    if (!(pull > 0.0)) return;
+    if (!(pull > 0.0)) return 1;
     dip_edge(a, b, d->lo + pull, closed, best, bu, exact);
     dip_edge(a, b, d->hi - pull, closed, best, bu, exact);
+    return 1;
 }
 
 /* Whether f's seam (a loop's fit may jump there) may hold the minimum of
@@ -1064,6 +1079,19 @@ static int seam_low(const gs_fun *f, const float *go, uint32_t g, float thr)
     return (v1 < vm ? v1 : vm) + o <= thr * (1.0 + 1e-6);
 }
 
+/* Both sides of f's seam (at u_s, where f's t = wrap(u - shift) passes
+ * from 1 to -1): windows of SEAM_WINDOW cells on either side, ending
+ * SEAM_EPS short of it, each searched by window_min (the one-sided limits
+ * are their inner ends). They cover every grid cell beside the seam. */
+#define SEAM_WINDOW 2.5
+#define SEAM_EPS 1e-12
+static int seam_windows(const gs_fun *f, const gs_fun *o, double h, double *best, double *bu, int *exact)
+{
+    double us = gs_fun_wrap(f->shift - 1.0), w = SEAM_WINDOW * h;
+    return window_min(f, o, us - w, us - SEAM_EPS, best, bu, exact) &&
+           window_min(f, o, us + SEAM_EPS, us + w, best, bu, exact);
+}
+
 double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, const float *gb,
                             uint32_t g, const gs_fun_dip *da, const gs_fun_dip *db, double *u_at)
 {
@@ -1078,8 +1106,11 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
      * other discrete local minimum when the grid cannot tell it from j1 */
     uint32_t j1 = GS_NONE_U32, j2 = GS_NONE_U32;
     float thr = mn * 1.02f;
-    /* loops: a seam that may hold the minimum goes to the robust minimiser */
-    if (closed && (seam_low(a, gb, g, thr) || seam_low(b, ga, g, thr)))
+    /* loops: a seam that may hold the minimum (the fit jumps there) is
+     * searched on both sides below; two such seams close to each other go
+     * to the robust minimiser */
+    int sa = closed && seam_low(a, gb, g, thr), sb = closed && seam_low(b, ga, g, thr);
+    if (sa && sb && fabs(gs_fun_wrap(a->shift - b->shift + 1.0) - 1.0) < 4.0 * SEAM_WINDOW * 2.0 / g)
         return gs_fun_pair_min(a, b, u_at);
     uint32_t low[GS_FUN_GRID_MAX], nl = grid_below(s, g, thr, low);
     for (uint32_t i = 0; i < nl && j1 == GS_NONE_U32; ++i)
@@ -1090,13 +1121,17 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
         if (j != j1 && (j2 == GS_NONE_U32 || s[j] < s[j2]) && grid_local_min(s, g, j, closed)) j2 = j;
     }
     double h = closed ? 2.0 / g : 2.0 / (g - 1), best = INFINITY, bu = 0.0;
-    int dipped = closed && ((da && da->u == da->u) || (db && db->u == db->u));
+    /* loops whose pairs went to the robust minimiser before (a dip or a
+     * seam): Newton from the parabola's vertex too */
+    int dipped = closed && ((da && da->u == da->u) || (db && db->u == db->u) || sa || sb);
     int exact = 1;
     for (int c = 0; c < 2; ++c) {
         uint32_t jb = c ? j2 : j1;
         if (jb == GS_NONE_U32) continue;
         /* a loop's seam beside the minimum: the robust minimiser */
-        if (closed && (seam_near(a, jb, g) || seam_near(b, jb, g))) return gs_fun_pair_min(a, b, u_at);
+        int na = closed && seam_near(a, jb, g), nb = closed && seam_near(b, jb, g);
+        if ((na && !sa) || (nb && !sb)) return gs_fun_pair_min(a, b, u_at);
+        if (na || nb) continue; /* inside a seam's window */
         double u0 = grid_u(jb, g, closed);
         if (!closed && (jb == 0 || jb + 1 == g) && g >= 3) { /* a path's end: the end, or inside its cell */
             uint32_t m = jb ? g - 2 : 1;
@@ -1117,8 +1152,10 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
     }
     /* a vertex close to the curve gives its function a sharp dip, which the
      * grid may step over: the dip's own minimiser is a candidate too */
-    dip_candidates(a, b, da, h, closed, &best, &bu, &exact);
-    dip_candidates(b, a, db, h, closed, &best, &bu, &exact);
+    if (!dip_candidates(a, b, da, h, closed, &best, &bu, &exact) ||
+        !dip_candidates(b, a, db, h, closed, &best, &bu, &exact) || (sa && !seam_windows(a, b, h, &best, &bu, &exact)) ||
+        (sb && !seam_windows(b, a, h, &best, &bu, &exact)))
+        return gs_fun_pair_min(a, b, u_at);
     if (u_at) *u_at = bu;
     return exact && best < INFINITY ? best : pair_value(a, b, bu); /* the value as evaluated */
 }
