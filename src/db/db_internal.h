@@ -89,19 +89,30 @@ struct gs_db {
     const double *leaf_dist;
     /* Query cache (memory only, built at open, src/query/grid.c): one
      * contiguous block per vertex, so that a query touches few cache lines.
-     * Block of x at qbuf + qstart[x] (in doubles): nf = nodes[leaf[x]].
-     * curve_prefix entries (gs_qentry, root's curves first, as in the
+     * Block of x at qbuf + qvert[x].start (in doubles): nf = qvert[x].nf
+     * = nodes[leaf[x]].curve_prefix entries (gs_qentry, root's curves first, as in the
      * file), then the records (layout below): the record of x's function
      * on curve c at block + 2 nf + qcoff[c], an offset that does not depend
      * on x (records are sized per curve), so that a query can fetch the
-     * records it will likely need before it reads the entries. NULL when
-     * not built (queries then read the file's sections). */
+     * records it will likely need before it reads the entries: the root's
+     * records (they decide most random pairs) at block + 2 nf, right after
+     * the entries. NULL when not built (queries then read the file's
+     * sections). */
     double *qbuf;
-    uint64_t *qstart;         /* nv + 1                                    */
+    struct gs_qvert *qvert;   /* nv + 1: per vertex (one line miss, not 3) */
     uint32_t *qcoff;          /* n_curves                                  */
     uint32_t *qclen;          /* n_curves: a record's size (doubles)       */
+    uint32_t qhead;           /* the root's first record's size, 0: none   */
     uint64_t qsize;           /* doubles in qbuf                           */
 };
+
+/* Per vertex, what a query needs before the block: where it starts, the
+ * leaf (a copy of the file's) and nf. Sentinel qvert[nv]: start = the end. */
+typedef struct gs_qvert {
+    uint64_t start; /* in doubles from qbuf                                 */
+    uint32_t leaf;  /* leaf node, GS_NONE: no face                          */
+    uint32_t nf;    /* functions: nodes[leaf].curve_prefix (0 for GS_NONE)  */
+} gs_qvert;
 
 /* One function in a vertex's cache block: 16 bytes, like gs_db_fentry. */
 typedef struct gs_qentry {

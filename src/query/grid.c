@@ -105,31 +105,33 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
 void gs__db_grid_free(gs_db *db)
 {
     free(db->qbuf);
-    free(db->qstart);
+    free(db->qvert);
     free(db->qcoff);
     free(db->qclen);
     db->qbuf = NULL;
-    db->qstart = NULL;
+    db->qvert = NULL;
     db->qcoff = NULL;
     db->qclen = NULL;
     db->qsize = 0;
+    db->qhead = 0;
 }
 
 /* The cache's memory. Queries jump between vertex blocks at random: on
  * Linux, a cache of some megabytes is asked to live on 2 MiB pages (a TLB
- * miss per block otherwise; bunny-5k: 23 MB). The advice may be ignored. */
+ * miss per block otherwise; bunny-5k: 23 MB). The advice may be ignored.
+ * Rounded up to whole 64-byte lines (aligned_alloc wants a multiple). */
 #define HUGE_PAGE ((size_t)2 << 20)
-static double *cache_alloc(size_t bytes)
+static void *cache_alloc(size_t bytes)
 {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
     if (bytes >= HUGE_PAGE) {
         size_t n = (bytes + HUGE_PAGE - 1) / HUGE_PAGE * HUGE_PAGE;
-        double *p = aligned_alloc(HUGE_PAGE, n);
+        void *p = aligned_alloc(HUGE_PAGE, n);
         if (p) madvise(p, n, MADV_HUGEPAGE); /* before the first touch */
         return p;
     }
 #endif
-    return aligned_alloc(64, bytes);
+    return aligned_alloc(64, (bytes + 63) / 64 * 64);
 }
 
 /* Vertex blocks start on a 64-byte line. */
@@ -170,10 +172,10 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
         if (db->leaf[x] != GS_NONE && db->nodes[db->leaf[x]].depth >= MAX_PATH) return GS_OK;
     size_t nc = db->n_curves ? db->n_curves : 1;
     uint32_t *curve_grid = gs__calloc(nc, sizeof *curve_grid), *m1 = gs__calloc(nc, sizeof *m1);
-    db->qstart = gs__malloc((size_t)db->nv + 1, sizeof *db->qstart);
+    db->qvert = cache_alloc(((size_t)db->nv + 1) * sizeof *db->qvert);
     db->qcoff = gs__calloc(nc, sizeof *db->qcoff);
     db->qclen = gs__calloc(nc, sizeof *db->qclen);
-    int ok = curve_grid && m1 && db->qstart && db->qcoff && db->qclen;
+    int ok = curve_grid && m1 && db->qvert && db->qcoff && db->qclen;
     if (ok) {
         for (uint32_t x = 0; x < db->nv; ++x) visit(db, x, max_degree, curve_grid), visit(db, x, max_coefs, m1);
         for (uint32_t c = 0; c < db->n_curves; ++c) {
@@ -203,10 +205,14 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
             uint32_t c = p->curve_start + p->n_curves - 1;
             n = 2ull * db->nodes[l].curve_prefix + db->qcoff[c] + m1[c];
         }
-        db->qstart[x] = total;
+        db->qvert[x].start = total;
+        db->qvert[x].leaf = l;
+        db->qvert[x].nf = l == GS_NONE ? 0 : db->nodes[l].curve_prefix;
         total += (n + LINE_DOUBLES - 1) / LINE_DOUBLES * LINE_DOUBLES;
     }
-    db->qstart[db->nv] = total;
+    db->qvert[db->nv].start = total;
+    db->qvert[db->nv].leaf = GS_NONE;
+    db->qvert[db->nv].nf = 0;
     free(m1);
     size_t bytes = (total ? total : LINE_DOUBLES) * sizeof(double);
     if (total > SIZE_MAX / 16 || !(db->qbuf = cache_alloc(bytes))) {
@@ -216,11 +222,12 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
                         (unsigned long long)total * 8);
     }
     db->qsize = total;
+    db->qhead = db->n_nodes && db->nodes[0].n_curves ? db->qclen[db->nodes[0].curve_start] : 0;
 #pragma omp parallel for schedule(dynamic, 256)
     for (uint32_t x = 0; x < db->nv; ++x) {
         uint32_t l = db->leaf[x];
-        double *block = db->qbuf + db->qstart[x];
-        uint64_t n = db->qstart[x + 1] - db->qstart[x];
+        double *block = db->qbuf + db->qvert[x].start;
+        uint64_t n = db->qvert[x + 1].start - db->qvert[x].start;
         memset(block, 0, n * sizeof *block); /* padding and unused room */
         fill_ctx fc = {curve_grid, block, l == GS_NONE ? 0 : db->nodes[l].curve_prefix};
         visit(db, x, fill, &fc);

@@ -104,6 +104,18 @@ static inline void prefetch_record(const gs_db *db, const double *b, uint32_t nf
     __builtin_prefetch(e);
 }
 
+/* Start fetching the head of a vertex's block: its entries and the record
+ * of the root's first curve right after them (the root's curves are
+ * common to every pair of vertices in different leaves, and most random
+ * pairs get their distance from them), before the two leaves' lowest
+ * common ancestor is known. */
+static inline void prefetch_head(const gs_db *db, const gs_qvert *v)
+{
+    const char *r = (const char *)(db->qbuf + v->start), *e = r + 8 * (2 * (size_t)v->nf + db->qhead) - 1;
+    for (; r < e; r += 64) __builtin_prefetch(r);
+    __builtin_prefetch(e);
+}
+
 /* min over curve k of f_x + f_y; x < y (the order of the two functions
  * makes d(x,y) == d(y,x) bit for bit). */
 static double cached_pair(const double *bx, const double *by, uint32_t k)
@@ -121,11 +133,12 @@ static double cached_pair(const double *bx, const double *by, uint32_t k)
 /* eq. 4-5 with the quick reject, x < y. */
 static double cross_cached(const gs_db *db, uint32_t x, uint32_t y, uint32_t top)
 {
-    const double *bx = db->qbuf + db->qstart[x], *by = db->qbuf + db->qstart[y];
-    uint32_t nfx = db->nodes[db->leaf[x]].curve_prefix, nfy = db->nodes[db->leaf[y]].curve_prefix;
+    const double *bx = db->qbuf + db->qvert[x].start, *by = db->qbuf + db->qvert[y].start;
+    uint32_t nfx = db->qvert[x].nf, nfy = db->qvert[y].nf;
     /* the lowest common separator's curves hold the minimum most often:
-     * their records are on their way while the entries arrive */
-    for (uint32_t j = 0; j < db->nodes[top].n_curves && j < 2; ++j) {
+     * their records are on their way while the entries arrive (the root's
+     * first one since gs_db_distance) */
+    for (uint32_t j = top == 0; j < db->nodes[top].n_curves && j < 2; ++j) {
         uint32_t c = db->nodes[top].curve_start + j;
         prefetch_record(db, bx, nfx, c), prefetch_record(db, by, nfy, c);
     }
@@ -197,15 +210,19 @@ double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y)
 {
     if (!db || x >= db->nv || y >= db->nv) return NAN;
     if (x == y) return 0.0;
-    uint32_t lx = db->leaf[x], ly = db->leaf[y];
+    uint32_t lx, ly;
+    if (db->qbuf) {
+        const gs_qvert *vx = &db->qvert[x], *vy = &db->qvert[y];
+        lx = vx->leaf, ly = vy->leaf;
+        if (lx != ly && lx != GS_NONE && ly != GS_NONE) { /* both blocks' heads on their way */
+            prefetch_head(db, vx), prefetch_head(db, vy);
+            __builtin_prefetch(db->xyz + 3 * (size_t)x), __builtin_prefetch(db->xyz + 3 * (size_t)y);
+        }
+    } else {
+        lx = db->leaf[x], ly = db->leaf[y];
+    }
     if (lx == GS_NONE || ly == GS_NONE) return INFINITY;
     if (lx == ly) return same_leaf(db, lx, x, y);
-    if (db->qbuf) { /* start the two blocks' entries on their way */
-        const char *bx = (const char *)(db->qbuf + db->qstart[x]), *by = (const char *)(db->qbuf + db->qstart[y]);
-        __builtin_prefetch(bx), __builtin_prefetch(bx + 64), __builtin_prefetch(bx + 128);
-        __builtin_prefetch(by), __builtin_prefetch(by + 64), __builtin_prefetch(by + 128);
-        __builtin_prefetch(db->xyz + 3 * (size_t)x), __builtin_prefetch(db->xyz + 3 * (size_t)y);
-    }
     return cross_leaf(db, x, y, lowest_common_ancestor(db->nodes, lx, ly));
 }
 
