@@ -87,27 +87,33 @@ struct gs_db {
     const uint32_t *leaf_vstart, *leaf_local; /* NULL without leaf tables */
     const uint64_t *leaf_dstart;
     const double *leaf_dist;
-    /* Query cache (memory only, built at open, src/query/grid.c): one
-     * contiguous block per vertex, so that a query touches few cache lines.
-     * Block of x at qbuf + qvert[x].start (in doubles): nf = qvert[x].nf
-     * = nodes[leaf[x]].curve_prefix entries (gs_qentry, root's curves first, as in the
-     * file), then the records (layout below): the record of x's function
-     * on curve c at block + 2 nf + qcoff[c], an offset that does not depend
-     * on x (records are sized per curve), so that a query can fetch the
-     * records it will likely need before it reads the entries: the root's
-     * records (they decide most random pairs) at block + 2 nf, right after
-     * the entries. NULL when not built (queries then read the file's
+    /* Query cache (memory only, built at open, src/query/grid.c), so that
+     * a query touches few cache lines and waits for memory at most twice:
+     * - per vertex x a slot of qslot doubles at qroot + x qslot (an address
+     *   known from x alone): its header (gs_qvert: where its block starts,
+     *   its leaf, nf), the entries of the root's qnroot curves (gs_qentry)
+     *   and their records (layout below; curve c's at slot + 2 + 2 qnroot
+     *   + qcoff[c]). The root's curves are common to every pair of vertices
+     *   in different leaves, and decide about half of random pairs alone;
+     * - its block at qbuf + start: all nf = nodes[leaf].curve_prefix entries
+     *   (root's curves first, as in the file), then the records of the other
+     *   curves, curve c's at block + 2 nf + qcoff[c], an offset that does
+     *   not depend on x (records are sized per curve), so that a query can
+     *   fetch the records it will likely need before it reads the entries.
+     * An entry's rec counts from the slot for the root's curves, from the
+     * block otherwise. NULL when not built (queries then read the file's
      * sections). */
+    double *qroot;            /* (nv + 1) slots; slot nv: the end, header  */
     double *qbuf;
-    struct gs_qvert *qvert;   /* nv + 1: per vertex (one line miss, not 3) */
+    uint32_t qslot;           /* doubles per slot (a multiple of 8)        */
+    uint32_t qnroot;          /* the root's curves                         */
     uint32_t *qcoff;          /* n_curves                                  */
     uint32_t *qclen;          /* n_curves: a record's size (doubles)       */
-    uint32_t qhead;           /* the root's first record's size, 0: none   */
     uint64_t qsize;           /* doubles in qbuf                           */
 };
 
-/* Per vertex, what a query needs before the block: where it starts, the
- * leaf (a copy of the file's) and nf. Sentinel qvert[nv]: start = the end. */
+/* A slot's header: where the vertex's block starts, its leaf (a copy of
+ * the file's) and nf. */
 typedef struct gs_qvert {
     uint64_t start; /* in doubles from qbuf                                 */
     uint32_t leaf;  /* leaf node, GS_NONE: no face                          */

@@ -63,7 +63,7 @@ static void max_coefs(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
 
 typedef struct fill_ctx {
     const uint32_t *curve_grid;
-    double *block;
+    double *block, *slot;
     uint64_t nf;
 } fill_ctx;
 
@@ -74,14 +74,17 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     gs__db_fun(db, x, k, &f);
     gs_qentry *e = (gs_qentry *)fc->block + k;
     const gs_db_fentry *fe = &db->funs[db->vdir[x].first_function + k];
+    int root = k < db->qnroot; /* the root's curves: records in the slot */
     e->minval = fe->minval;
     e->meta = fe->meta;
     e->rec = 0;
+    if (root) ((gs_qentry *)(fc->slot + 2))[k] = *e;
     if (!f.coef) return; /* unreachable: never minimised */
     uint32_t g = fc->curve_grid[c];
-    uint64_t off = 2 * fc->nf + db->qcoff[c];
-    double *rec = fc->block + off;
+    uint64_t off = root ? 2 + 2ull * db->qnroot + db->qcoff[c] : 2 * fc->nf + db->qcoff[c];
+    double *rec = (root ? fc->slot : fc->block) + off;
     e->rec = (uint32_t)off;
+    if (root) ((gs_qentry *)(fc->slot + 2))[k].rec = (uint32_t)off;
     gs_fun_dip dip = {NAN, NAN, NAN};
     if (g) gs_fun_dip_find(&f, &dip);
     /* offsets as floats from u as a float (so that the edges do not move
@@ -105,15 +108,15 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
 void gs__db_grid_free(gs_db *db)
 {
     free(db->qbuf);
-    free(db->qvert);
+    free(db->qroot);
     free(db->qcoff);
     free(db->qclen);
     db->qbuf = NULL;
-    db->qvert = NULL;
+    db->qroot = NULL;
     db->qcoff = NULL;
     db->qclen = NULL;
     db->qsize = 0;
-    db->qhead = 0;
+    db->qslot = db->qnroot = 0;
 }
 
 /* The cache's memory. Queries jump between vertex blocks at random: on
@@ -137,32 +140,26 @@ static void *cache_alloc(size_t bytes)
 /* Vertex blocks start on a 64-byte line. */
 #define LINE_DOUBLES 8u
 
-/* The offsets qcoff (records of the curves of a node's proper ancestors
- * first, root's first, then the node's own in order); rsize: each curve's
- * record size. Returns 0 when some vertex's block would exceed 32-bit
- * offsets (no cache then). */
-static int curve_offsets(gs_db *db, const uint32_t *rsize)
+/* The offsets qcoff: the root's curves' records in the slot, in order;
+ * the other curves' in the block (records of the curves of a node's proper
+ * ancestors below the root first, root's children's first, then the
+ * node's own in order); rsize: each curve's record size. nend[a]: where
+ * the records of node a's own curves end in the block (0 for the root).
+ * Returns 0 when some vertex's block or slot would exceed 32-bit offsets
+ * (no cache then), -1 without memory. */
+static int curve_offsets(gs_db *db, const uint32_t *rsize, uint64_t *nend)
 {
-    uint64_t *noff = gs__malloc(db->n_nodes ? db->n_nodes : 1, sizeof *noff);
-    if (!noff) return -1;
     int ok = 1;
     for (uint32_t a = 0; a < db->n_nodes; ++a) { /* parents come first (validated) */
         const gs_db_node *n = &db->nodes[a];
-        uint64_t o = 0;
-        if (n->parent != GS_NONE) {
-            const gs_db_node *p = &db->nodes[n->parent];
-            o = noff[n->parent];
-            for (uint32_t j = 0; j < p->n_curves; ++j) o += rsize[p->curve_start + j];
-        }
-        noff[a] = o;
-        uint64_t co = o;
+        uint64_t co = n->parent != GS_NONE ? nend[n->parent] : 0;
         for (uint32_t j = 0; j < n->n_curves; ++j) {
             db->qcoff[n->curve_start + j] = (uint32_t)co;
             co += rsize[n->curve_start + j];
         }
-        if (co + 2ull * n->curve_prefix + 2ull * n->n_curves > UINT32_MAX) ok = 0;
+        nend[a] = a == 0 ? 0 : co;
+        if (co + 2ull * n->curve_prefix + 2ull * n->n_curves + 2 > UINT32_MAX) ok = 0;
     }
-    free(noff);
     return ok;
 }
 
@@ -172,10 +169,11 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
         if (db->leaf[x] != GS_NONE && db->nodes[db->leaf[x]].depth >= MAX_PATH) return GS_OK;
     size_t nc = db->n_curves ? db->n_curves : 1;
     uint32_t *curve_grid = gs__calloc(nc, sizeof *curve_grid), *m1 = gs__calloc(nc, sizeof *m1);
-    db->qvert = cache_alloc(((size_t)db->nv + 1) * sizeof *db->qvert);
+    uint64_t *nend = gs__malloc(db->n_nodes, sizeof *nend);
     db->qcoff = gs__calloc(nc, sizeof *db->qcoff);
     db->qclen = gs__calloc(nc, sizeof *db->qclen);
-    int ok = curve_grid && m1 && db->qvert && db->qcoff && db->qclen;
+    db->qnroot = db->nodes[0].n_curves;
+    int ok = curve_grid && m1 && nend && db->qcoff && db->qclen;
     if (ok) {
         for (uint32_t x = 0; x < db->nv; ++x) visit(db, x, max_degree, curve_grid), visit(db, x, max_coefs, m1);
         for (uint32_t c = 0; c < db->n_curves; ++c) {
@@ -184,52 +182,56 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
             m1[c] = (uint32_t)record_doubles(m1[c], curve_grid[c]); /* now: record size */
             db->qclen[c] = m1[c];
         }
-        int r = curve_offsets(db, m1);
+        int r = curve_offsets(db, m1, nend);
         if (r <= 0) {
-            free(curve_grid), free(m1);
+            free(curve_grid), free(m1), free(nend);
             gs__db_grid_free(db);
             return r < 0 ? gs__fail(err, GS_ENOMEM, "out of memory for the query cache") : GS_OK;
         }
     }
     if (!ok) {
-        free(curve_grid), free(m1);
+        free(curve_grid), free(m1), free(nend);
         gs__db_grid_free(db);
         return gs__fail(err, GS_ENOMEM, "out of memory for the query cache");
     }
+    uint64_t slot = 2 + 2ull * db->qnroot; /* header, root's entries, then their records */
+    for (uint32_t j = 0; j < db->qnroot; ++j) slot += m1[db->nodes[0].curve_start + j];
+    slot = (slot + LINE_DOUBLES - 1) / LINE_DOUBLES * LINE_DOUBLES;
     uint64_t total = 0;
-    for (uint32_t x = 0; x < db->nv; ++x) {
-        uint32_t l = db->leaf[x];
-        uint64_t n = 0;
-        if (l != GS_NONE && db->nodes[l].curve_prefix) { /* entries, then records up to the last curve's end */
-            const gs_db_node *p = &db->nodes[db->nodes[l].parent];
-            uint32_t c = p->curve_start + p->n_curves - 1;
-            n = 2ull * db->nodes[l].curve_prefix + db->qcoff[c] + m1[c];
+    int big = slot > UINT32_MAX || (db->nv + 1ull) * slot > SIZE_MAX / 16;
+    if (!big) db->qroot = cache_alloc((db->nv + 1ull) * slot * sizeof(double));
+    if (db->qroot) {
+        db->qslot = (uint32_t)slot;
+        for (uint32_t x = 0; x <= db->nv; ++x) {
+            uint32_t l = x < db->nv ? db->leaf[x] : GS_NONE;
+            uint64_t n = 0;
+            if (l != GS_NONE && db->nodes[l].curve_prefix) /* entries, then records up to the last one's end */
+                n = 2ull * db->nodes[l].curve_prefix + nend[db->nodes[l].parent];
+            gs_qvert *h = (gs_qvert *)(db->qroot + x * slot);
+            h->start = total;
+            h->leaf = l;
+            h->nf = l == GS_NONE ? 0 : db->nodes[l].curve_prefix;
+            total += (n + LINE_DOUBLES - 1) / LINE_DOUBLES * LINE_DOUBLES;
         }
-        db->qvert[x].start = total;
-        db->qvert[x].leaf = l;
-        db->qvert[x].nf = l == GS_NONE ? 0 : db->nodes[l].curve_prefix;
-        total += (n + LINE_DOUBLES - 1) / LINE_DOUBLES * LINE_DOUBLES;
     }
-    db->qvert[db->nv].start = total;
-    db->qvert[db->nv].leaf = GS_NONE;
-    db->qvert[db->nv].nf = 0;
-    free(m1);
+    free(m1), free(nend);
     size_t bytes = (total ? total : LINE_DOUBLES) * sizeof(double);
-    if (total > SIZE_MAX / 16 || !(db->qbuf = cache_alloc(bytes))) {
+    if (!db->qroot || total > SIZE_MAX / 16 || !(db->qbuf = cache_alloc(bytes))) {
         free(curve_grid);
         gs__db_grid_free(db);
-        return gs__fail(err, GS_ENOMEM, "out of memory for the query cache (%llu bytes)",
-                        (unsigned long long)total * 8);
+        return gs__fail(err, GS_ENOMEM, "out of memory for the query cache (%llu + %llu bytes)",
+                        (unsigned long long)total * 8, (unsigned long long)((db->nv + 1ull) * slot * 8));
     }
     db->qsize = total;
-    db->qhead = db->n_nodes && db->nodes[0].n_curves ? db->qclen[db->nodes[0].curve_start] : 0;
 #pragma omp parallel for schedule(dynamic, 256)
     for (uint32_t x = 0; x < db->nv; ++x) {
         uint32_t l = db->leaf[x];
-        double *block = db->qbuf + db->qvert[x].start;
-        uint64_t n = db->qvert[x + 1].start - db->qvert[x].start;
+        double *sl = db->qroot + (size_t)x * slot;
+        double *block = db->qbuf + ((gs_qvert *)sl)->start;
+        uint64_t n = ((gs_qvert *)(sl + slot))->start - ((gs_qvert *)sl)->start;
         memset(block, 0, n * sizeof *block); /* padding and unused room */
-        fill_ctx fc = {curve_grid, block, l == GS_NONE ? 0 : db->nodes[l].curve_prefix};
+        memset(sl + 2, 0, (slot - 2) * sizeof *sl);
+        fill_ctx fc = {curve_grid, block, sl, l == GS_NONE ? 0 : db->nodes[l].curve_prefix};
         visit(db, x, fill, &fc);
     }
     free(curve_grid);
