@@ -91,10 +91,12 @@ struct gs_db {
      * a query touches few cache lines and waits for memory at most twice:
      * - per vertex x a slot of qslot doubles at qroot + x qslot (an address
      *   known from x alone): its header (gs_qvert: where its block starts,
-     *   its leaf, nf), the entries of the root's qnroot curves (gs_qentry)
-     *   and their records (layout below; curve c's at slot + 2 + 2 qnroot
-     *   + qcoff[c]). The root's curves are common to every pair of vertices
-     *   in different leaves, and decide about half of random pairs alone;
+     *   its leaf, nf, ns, the leaf's ancestors), the entries of its first ns
+     *   functions, those of the curves of its ancestors down to depth
+     *   GS_QSLOT_DEPTH (gs_qentry, from slot + GS_QSLOT_HEAD, room for
+     *   qnroot), and their records (layout below; curve c's at slot +
+     *   GS_QSLOT_HEAD + 2 qnroot + qcoff[c]). Pairs whose lowest common
+     *   ancestor is that shallow (most random pairs) need nothing else;
      * - its block at qbuf + start: all nf = nodes[leaf].curve_prefix entries
      *   (root's curves first, as in the file), then the records of the other
      *   curves, curve c's at block + 2 nf + qcoff[c], an offset that does
@@ -106,18 +108,28 @@ struct gs_db {
     double *qroot;            /* (nv + 1) slots; slot nv: the end, header  */
     double *qbuf;
     uint32_t qslot;           /* doubles per slot (a multiple of 8)        */
-    uint32_t qnroot;          /* the root's curves                         */
+    uint32_t qnroot;          /* room for entries in a slot (the most ns)  */
     uint32_t *qcoff;          /* n_curves                                  */
     uint32_t *qclen;          /* n_curves: a record's size (doubles)       */
     uint64_t qsize;           /* doubles in qbuf                           */
 };
 
-/* A slot's header: where the vertex's block starts, its leaf (a copy of
- * the file's) and nf. */
+/* A slot's header (one 64-byte line): where the vertex's block starts,
+ * its leaf (a copy of the file's), nf, and the leaf's ancestors by depth
+ * down to depth GS_QANC - 1, so that the lowest common ancestor of two
+ * vertices comes from their headers without walking the tree. */
+#define GS_QANC 11
+#define GS_QSLOT_HEAD 8  /* doubles */
+#define GS_QSLOT_DEPTH 1 /* the slot holds the curves of depths 0..this  */
 typedef struct gs_qvert {
-    uint64_t start; /* in doubles from qbuf                                 */
-    uint32_t leaf;  /* leaf node, GS_NONE: no face                          */
-    uint32_t nf;    /* functions: nodes[leaf].curve_prefix (0 for GS_NONE)  */
+    uint64_t start;         /* in doubles from qbuf                         */
+    uint32_t leaf;          /* leaf node, GS_NONE: no face                  */
+    uint32_t nf;            /* functions: nodes[leaf].curve_prefix (0 for   */
+                            /*   GS_NONE)                                   */
+    uint32_t ns;            /* the first ns of them are in the slot         */
+    uint32_t anc[GS_QANC];  /* anc[d]: the leaf's ancestor at depth d (the  */
+                            /*   root at 0, the leaf at its own depth),     */
+                            /*   GS_NONE deeper                             */
 } gs_qvert;
 
 /* One function in a vertex's cache block: 16 bytes, like gs_db_fentry. */

@@ -64,7 +64,7 @@ static void max_coefs(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
 typedef struct fill_ctx {
     const uint32_t *curve_grid;
     double *block, *slot;
-    uint64_t nf;
+    uint64_t nf, ns;
 } fill_ctx;
 
 static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
@@ -74,17 +74,17 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     gs__db_fun(db, x, k, &f);
     gs_qentry *e = (gs_qentry *)fc->block + k;
     const gs_db_fentry *fe = &db->funs[db->vdir[x].first_function + k];
-    int root = k < db->qnroot; /* the root's curves: records in the slot */
+    int root = k < fc->ns; /* the shallow curves: records in the slot */
     e->minval = fe->minval;
     e->meta = fe->meta;
     e->rec = 0;
-    if (root) ((gs_qentry *)(fc->slot + 2))[k] = *e;
+    if (root) ((gs_qentry *)(fc->slot + GS_QSLOT_HEAD))[k] = *e;
     if (!f.coef) return; /* unreachable: never minimised */
     uint32_t g = fc->curve_grid[c];
-    uint64_t off = root ? 2 + 2ull * db->qnroot + db->qcoff[c] : 2 * fc->nf + db->qcoff[c];
+    uint64_t off = root ? GS_QSLOT_HEAD + 2ull * db->qnroot + db->qcoff[c] : 2 * fc->nf + db->qcoff[c];
     double *rec = (root ? fc->slot : fc->block) + off;
     e->rec = (uint32_t)off;
-    if (root) ((gs_qentry *)(fc->slot + 2))[k].rec = (uint32_t)off;
+    if (root) ((gs_qentry *)(fc->slot + GS_QSLOT_HEAD))[k].rec = (uint32_t)off;
     gs_fun_dip dip = {NAN, NAN, NAN};
     if (g) gs_fun_dip_find(&f, &dip);
     /* offsets as floats from u as a float (so that the edges do not move
@@ -140,27 +140,33 @@ static void *cache_alloc(size_t bytes)
 /* Vertex blocks start on a 64-byte line. */
 #define LINE_DOUBLES 8u
 
-/* The offsets qcoff: the root's curves' records in the slot, in order;
- * the other curves' in the block (records of the curves of a node's proper
- * ancestors below the root first, root's children's first, then the
- * node's own in order); rsize: each curve's record size. nend[a]: where
- * the records of node a's own curves end in the block (0 for the root).
- * Returns 0 when some vertex's block or slot would exceed 32-bit offsets
- * (no cache then), -1 without memory. */
+/* The offsets qcoff: the records of the curves of nodes down to depth
+ * GS_QSLOT_DEPTH in the slot, those of deeper nodes in the block (both in
+ * the order of a vertex's functions: the ancestors' first, then the node's
+ * own); rsize: each curve's record size. nend[a]: where the records of
+ * node a's own curves end, in the slot or in the block. Returns 0 when some
+ * vertex's block or slot would exceed 32-bit offsets (no cache then). */
 static int curve_offsets(gs_db *db, const uint32_t *rsize, uint64_t *nend)
 {
     int ok = 1;
     for (uint32_t a = 0; a < db->n_nodes; ++a) { /* parents come first (validated) */
         const gs_db_node *n = &db->nodes[a];
-        uint64_t co = n->parent != GS_NONE ? nend[n->parent] : 0;
+        uint64_t co = n->parent != GS_NONE && n->depth != GS_QSLOT_DEPTH + 1 ? nend[n->parent] : 0;
         for (uint32_t j = 0; j < n->n_curves; ++j) {
             db->qcoff[n->curve_start + j] = (uint32_t)co;
             co += rsize[n->curve_start + j];
         }
-        nend[a] = a == 0 ? 0 : co;
-        if (co + 2ull * n->curve_prefix + 2ull * n->n_curves + 2 > UINT32_MAX) ok = 0;
+        nend[a] = co;
+        if (co + 2ull * n->curve_prefix + 2ull * n->n_curves + GS_QSLOT_HEAD > UINT32_MAX) ok = 0;
     }
     return ok;
+}
+
+/* x's ancestor at depth d (x's leaf when it is shallower). */
+static uint32_t ancestor_at(const gs_db *db, uint32_t l, uint32_t d)
+{
+    while (db->nodes[l].depth > d) l = db->nodes[l].parent;
+    return l;
 }
 
 int gs__db_grid_build(gs_db *db, gs_error *err)
@@ -172,7 +178,6 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
     uint64_t *nend = gs__malloc(db->n_nodes, sizeof *nend);
     db->qcoff = gs__calloc(nc, sizeof *db->qcoff);
     db->qclen = gs__calloc(nc, sizeof *db->qclen);
-    db->qnroot = db->nodes[0].n_curves;
     int ok = curve_grid && m1 && nend && db->qcoff && db->qclen;
     if (ok) {
         for (uint32_t x = 0; x < db->nv; ++x) visit(db, x, max_degree, curve_grid), visit(db, x, max_coefs, m1);
@@ -194,9 +199,18 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
         gs__db_grid_free(db);
         return gs__fail(err, GS_ENOMEM, "out of memory for the query cache");
     }
-    uint64_t slot = 2 + 2ull * db->qnroot; /* header, root's entries, then their records */
-    for (uint32_t j = 0; j < db->qnroot; ++j) slot += m1[db->nodes[0].curve_start + j];
+    /* the slot: header, room for the most shallow entries, then the most
+     * shallow records */
+    uint64_t nsmax = 0, recmax = 0;
+    for (uint32_t a = 0; a < db->n_nodes; ++a)
+        if (db->nodes[a].depth <= GS_QSLOT_DEPTH) {
+            uint64_t ns = db->nodes[a].curve_prefix + (uint64_t)db->nodes[a].n_curves;
+            nsmax = ns > nsmax ? ns : nsmax;
+            recmax = nend[a] > recmax ? nend[a] : recmax;
+        }
+    uint64_t slot = GS_QSLOT_HEAD + 2 * nsmax + recmax;
     slot = (slot + LINE_DOUBLES - 1) / LINE_DOUBLES * LINE_DOUBLES;
+    db->qnroot = (uint32_t)nsmax;
     uint64_t total = 0;
     int big = slot > UINT32_MAX || (db->nv + 1ull) * slot > SIZE_MAX / 16;
     if (!big) db->qroot = cache_alloc((db->nv + 1ull) * slot * sizeof(double));
@@ -205,12 +219,18 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
         for (uint32_t x = 0; x <= db->nv; ++x) {
             uint32_t l = x < db->nv ? db->leaf[x] : GS_NONE;
             uint64_t n = 0;
-            if (l != GS_NONE && db->nodes[l].curve_prefix) /* entries, then records up to the last one's end */
-                n = 2ull * db->nodes[l].curve_prefix + nend[db->nodes[l].parent];
             gs_qvert *h = (gs_qvert *)(db->qroot + x * slot);
             h->start = total;
             h->leaf = l;
             h->nf = l == GS_NONE ? 0 : db->nodes[l].curve_prefix;
+            h->ns = l == GS_NONE ? 0 : db->nodes[ancestor_at(db, l, GS_QSLOT_DEPTH + 1)].curve_prefix;
+            if (h->nf) { /* entries, then the deep records up to the last one's end */
+                uint32_t p = db->nodes[l].parent;
+                n = 2ull * h->nf + (db->nodes[p].depth > GS_QSLOT_DEPTH ? nend[p] : 0);
+            }
+            for (uint32_t d = 0; d < GS_QANC; ++d) h->anc[d] = GS_NONE;
+            for (uint32_t a = l; a != GS_NONE; a = db->nodes[a].parent)
+                if (db->nodes[a].depth < GS_QANC) h->anc[db->nodes[a].depth] = a;
             total += (n + LINE_DOUBLES - 1) / LINE_DOUBLES * LINE_DOUBLES;
         }
     }
@@ -225,13 +245,13 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
     db->qsize = total;
 #pragma omp parallel for schedule(dynamic, 256)
     for (uint32_t x = 0; x < db->nv; ++x) {
-        uint32_t l = db->leaf[x];
         double *sl = db->qroot + (size_t)x * slot;
         double *block = db->qbuf + ((gs_qvert *)sl)->start;
         uint64_t n = ((gs_qvert *)(sl + slot))->start - ((gs_qvert *)sl)->start;
         memset(block, 0, n * sizeof *block); /* padding and unused room */
-        memset(sl + 2, 0, (slot - 2) * sizeof *sl);
-        fill_ctx fc = {curve_grid, block, sl, l == GS_NONE ? 0 : db->nodes[l].curve_prefix};
+        memset(sl + GS_QSLOT_HEAD, 0, (slot - GS_QSLOT_HEAD) * sizeof *sl);
+        const gs_qvert *h = (const gs_qvert *)sl;
+        fill_ctx fc = {curve_grid, block, sl, h->nf, h->ns};
         visit(db, x, fill, &fc);
     }
     free(curve_grid);

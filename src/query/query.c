@@ -42,6 +42,16 @@ static uint32_t lowest_common_ancestor(const gs_db_node *nodes, uint32_t a, uint
     return a;
 }
 
+/* The lowest common ancestor of two different leaves from the slots'
+ * headers: the first depth where their ancestors differ (both have the
+ * root at depth 0); the tree walk when they agree down to GS_QANC - 1. */
+static uint32_t lca_of_slots(const gs_db *db, const gs_qvert *hx, const gs_qvert *hy)
+{
+    for (uint32_t d = 1; d < GS_QANC; ++d)
+        if (hx->anc[d] != hy->anc[d]) return hx->anc[d - 1];
+    return lowest_common_ancestor(db->nodes, hx->leaf, hy->leaf);
+}
+
 /* Candidate curves of a query: the lower bound minval_x + minval_y of each
  * common curve, and the curve's function index. */
 typedef struct candidate {
@@ -83,7 +93,7 @@ static uint32_t gather(const gs_db *db, const char *ex, const char *ey, size_t s
  * other records) and nf. */
 typedef struct qview {
     const double *s, *b;
-    uint32_t nf;
+    uint32_t nf, ns;
 } qview;
 
 static inline const double *slot_of(const gs_db *db, uint32_t x)
@@ -95,15 +105,15 @@ static inline qview view_of(const gs_db *db, uint32_t x)
 {
     const double *s = slot_of(db, x);
     const gs_qvert *h = (const gs_qvert *)s;
-    qview v = {s, db->qbuf + h->start, h->nf};
+    qview v = {s, db->qbuf + h->start, h->nf, h->ns};
     return v;
 }
 
 /* Function k (entry e) of a vertex (reachable: minval finite); returns its
  * record: in the slot for the root's curves, else in the block. */
-static inline const double *cached_fun(const gs_db *db, const qview *v, const gs_qentry *e, uint32_t k, gs_fun *f)
+static inline const double *cached_fun(const qview *v, const gs_qentry *e, uint32_t k, gs_fun *f)
 {
-    const double *rec = (k < db->qnroot ? v->s : v->b) + e->rec;
+    const double *rec = (k < v->ns ? v->s : v->b) + e->rec;
     uint32_t m = e->meta;
     f->kind = GS_META_KIND(m);
     f->degree = GS_META_DEGREE(m);
@@ -123,22 +133,21 @@ static inline void prefetch_lines(const void *p, size_t bytes)
     __builtin_prefetch(e);
 }
 
-/* Start fetching the record of curve c (not the root's: those come with
- * the slot) in a vertex's block: all its lines (head, grid and
+/* Start fetching the record of curve c (not a shallow one: those come
+ * with the slot) in a vertex's block: all its lines (head, grid and
  * coefficients), so that the coefficients arrive while the grid is
  * scanned. */
 static inline void prefetch_record(const gs_db *db, const qview *v, uint32_t c)
 {
-    if (db->curves[c].node != 0) prefetch_lines(v->b + 2 * (size_t)v->nf + db->qcoff[c], 8 * (size_t)db->qclen[c]);
+    if (db->nodes[db->curves[c].node].depth > GS_QSLOT_DEPTH) prefetch_lines(v->b + 2 * (size_t)v->nf + db->qcoff[c], 8 * (size_t)db->qclen[c]);
 }
 
 /* min over curve k of f_x + f_y, entries ex, ey; x < y (the order of the
  * two functions makes d(x,y) == d(y,x) bit for bit). */
-static double cached_pair(const gs_db *db, const qview *vx, const qview *vy, const gs_qentry *ex,
-                          const gs_qentry *ey, uint32_t k)
+static double cached_pair(const qview *vx, const qview *vy, const gs_qentry *ex, const gs_qentry *ey, uint32_t k)
 {
     gs_fun fx, fy;
-    const double *rx = cached_fun(db, vx, ex + k, k, &fx), *ry = cached_fun(db, vy, ey + k, k, &fy);
+    const double *rx = cached_fun(vx, ex + k, k, &fx), *ry = cached_fun(vy, ey + k, k, &fy);
     uint32_t g = gs__qrec_grid(rx);
     if (!g || g != gs__qrec_grid(ry)) return gs_fun_pair_min(&fx, &fy, NULL);
     gs_fun_dip dx, dy;
@@ -147,15 +156,18 @@ static double cached_pair(const gs_db *db, const qview *vx, const qview *vy, con
     return gs_fun_pair_min_grid(&fx, &fy, gs__qrec_values(rx), gs__qrec_values(ry), g, &dx, &dy, NULL);
 }
 
-/* eq. 4-5 with the quick reject, x < y. When the root is the lowest common
- * ancestor, the slots hold all that is needed. */
+/* eq. 4-5 with the quick reject, x < y. When the lowest common ancestor
+ * is at most GS_QSLOT_DEPTH deep, the slots hold all that is needed. */
 static double cross_cached(const gs_db *db, uint32_t x, uint32_t y, uint32_t top)
 {
     qview vx = view_of(db, x), vy = view_of(db, y);
-    const gs_qentry *ex = (const gs_qentry *)(top ? vx.b : vx.s + 2), *ey = (const gs_qentry *)(top ? vy.b : vy.s + 2);
+    int deep = db->nodes[top].depth > GS_QSLOT_DEPTH;
+    const gs_qentry *ex = (const gs_qentry *)(deep ? vx.b : vx.s + GS_QSLOT_HEAD);
+    const gs_qentry *ey = (const gs_qentry *)(deep ? vy.b : vy.s + GS_QSLOT_HEAD);
+    if (deep) prefetch_lines(vx.b, 16 * (size_t)vx.nf), prefetch_lines(vy.b, 16 * (size_t)vy.nf);
     /* the lowest common separator's curves hold the minimum most often:
      * their records are on their way while the entries arrive */
-    for (uint32_t j = 0; top && j < db->nodes[top].n_curves && j < 2; ++j) {
+    for (uint32_t j = 0; deep && j < db->nodes[top].n_curves && j < 2; ++j) {
         uint32_t c = db->nodes[top].curve_start + j;
         prefetch_record(db, &vx, c), prefetch_record(db, &vy, c);
     }
@@ -166,14 +178,14 @@ static double cross_cached(const gs_db *db, uint32_t x, uint32_t y, uint32_t top
     for (uint32_t i = 0; i < n; ++i) {
         if (c[i].bound >= best) break; /* sorted: all others rejected too (and unreachable) */
         if (i + 1 < n) prefetch_record(db, &vx, c[i + 1].curve), prefetch_record(db, &vy, c[i + 1].curve);
-        double d = cached_pair(db, &vx, &vy, ex, ey, c[i].k);
+        double d = cached_pair(&vx, &vy, ex, ey, c[i].k);
         if (d < best) best = d;
     }
     for (uint32_t a = rest; a != GS_NONE; a = db->nodes[a].parent) { /* > 64 curves: rare */
         uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
         for (uint32_t k = k0; k < k1; ++k) {
             if (ex[k].minval + ey[k].minval >= best) continue;
-            double d = cached_pair(db, &vx, &vy, ex, ey, k);
+            double d = cached_pair(&vx, &vy, ex, ey, k);
             if (d < best) best = d;
         }
     }
@@ -227,22 +239,19 @@ double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y)
     if (!db || x >= db->nv || y >= db->nv) return NAN;
     if (x == y) return 0.0;
     uint32_t lx, ly;
+    const gs_qvert *hx = NULL, *hy = NULL;
     if (db->qbuf) { /* both slots on their way (their addresses need no lookup) */
         const double *sx = slot_of(db, x), *sy = slot_of(db, y);
         prefetch_lines(sx, 8 * (size_t)db->qslot), prefetch_lines(sy, 8 * (size_t)db->qslot);
         __builtin_prefetch(db->xyz + 3 * (size_t)x), __builtin_prefetch(db->xyz + 3 * (size_t)y);
-        const gs_qvert *hx = (const gs_qvert *)sx, *hy = (const gs_qvert *)sy;
+        hx = (const gs_qvert *)sx, hy = (const gs_qvert *)sy;
         lx = hx->leaf, ly = hy->leaf;
-        if (lx != ly && lx != GS_NONE && ly != GS_NONE) { /* the blocks' entries, unless the root decides */
-            prefetch_lines(db->qbuf + hx->start, 16 * (size_t)hx->nf);
-            prefetch_lines(db->qbuf + hy->start, 16 * (size_t)hy->nf);
-        }
     } else {
         lx = db->leaf[x], ly = db->leaf[y];
     }
     if (lx == GS_NONE || ly == GS_NONE) return INFINITY;
     if (lx == ly) return same_leaf(db, lx, x, y);
-    return cross_leaf(db, x, y, lowest_common_ancestor(db->nodes, lx, ly));
+    return cross_leaf(db, x, y, hx ? lca_of_slots(db, hx, hy) : lowest_common_ancestor(db->nodes, lx, ly));
 }
 
 /* Out-of-range ids give NaN in out[] and GS_EARG naming the first one; the
