@@ -116,7 +116,7 @@ void gs__db_grid_free(gs_db *db)
     db->qcoff = NULL;
     db->qclen = NULL;
     db->qsize = 0;
-    db->qslot = db->qnroot = 0;
+    db->qslot = db->qnroot = db->qlev = db->qhead = 0;
 }
 
 /* The cache's memory. Queries jump between vertex blocks at random: on
@@ -140,8 +140,8 @@ static void *cache_alloc(size_t bytes)
 /* Vertex blocks start on a 64-byte line. */
 #define LINE_DOUBLES 8u
 
-/* The offsets qcoff: the records of the curves of nodes down to depth
- * GS_QSLOT_DEPTH in the slot, those of deeper nodes in the block (both in
+/* The offsets qcoff: the records of the curves of nodes shallower than
+ * db->qlev in the slot, those of deeper nodes in the block (both in
  * the order of a vertex's functions: the ancestors' first, then the node's
  * own); rsize: each curve's record size. nend[a]: where the records of
  * node a's own curves end, in the slot or in the block. Returns 0 when some
@@ -151,7 +151,7 @@ static int curve_offsets(gs_db *db, const uint32_t *rsize, uint64_t *nend)
     int ok = 1;
     for (uint32_t a = 0; a < db->n_nodes; ++a) { /* parents come first (validated) */
         const gs_db_node *n = &db->nodes[a];
-        uint64_t co = n->parent != GS_NONE && n->depth != GS_QSLOT_DEPTH + 1 ? nend[n->parent] : 0;
+        uint64_t co = n->parent != GS_NONE && n->depth != db->qlev ? nend[n->parent] : 0;
         for (uint32_t j = 0; j < n->n_curves; ++j) {
             db->qcoff[n->curve_start + j] = (uint32_t)co;
             co += rsize[n->curve_start + j];
@@ -187,7 +187,17 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
             m1[c] = (uint32_t)record_doubles(m1[c], curve_grid[c]); /* now: record size */
             db->qclen[c] = m1[c];
         }
+        db->qlev = 0;
         int r = curve_offsets(db, m1, nend);
+        if (r > 0) { /* a large cache gets slots with the curves of depths 0 and 1 */
+            uint64_t t = 0;
+            for (uint32_t x = 0; x < db->nv; ++x) {
+                uint32_t l = db->leaf[x];
+                if (l != GS_NONE && db->nodes[l].curve_prefix)
+                    t += 2ull * db->nodes[l].curve_prefix + nend[db->nodes[l].parent] + LINE_DOUBLES;
+            }
+            if (t * sizeof(double) > GS_QSLOT_MIN_BYTES) db->qlev = GS_QSLOT_LEVELS, r = curve_offsets(db, m1, nend);
+        }
         if (r <= 0) {
             free(curve_grid), free(m1), free(nend);
             gs__db_grid_free(db);
@@ -203,13 +213,16 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
      * shallow records */
     uint64_t nsmax = 0, recmax = 0;
     for (uint32_t a = 0; a < db->n_nodes; ++a)
-        if (db->nodes[a].depth <= GS_QSLOT_DEPTH) {
+        if (db->nodes[a].depth < db->qlev) {
             uint64_t ns = db->nodes[a].curve_prefix + (uint64_t)db->nodes[a].n_curves;
             nsmax = ns > nsmax ? ns : nsmax;
             recmax = nend[a] > recmax ? nend[a] : recmax;
         }
     uint64_t slot = GS_QSLOT_HEAD + 2 * nsmax + recmax;
     slot = (slot + LINE_DOUBLES - 1) / LINE_DOUBLES * LINE_DOUBLES;
+    if (!db->qlev) slot = 2; /* a small cache: start, leaf and nf only (16 bytes: they stay in cache) */
+    else if (slot / LINE_DOUBLES % 2 == 0) slot += LINE_DOUBLES; /* an odd number of lines: slots do not all */
+                                                            /* fall in the same cache sets (2 KB apart) */
     db->qnroot = (uint32_t)nsmax;
     uint64_t total = 0;
     int big = slot > UINT32_MAX || (db->nv + 1ull) * slot > SIZE_MAX / 16;
@@ -223,14 +236,16 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
             h->start = total;
             h->leaf = l;
             h->nf = l == GS_NONE ? 0 : db->nodes[l].curve_prefix;
-            h->ns = l == GS_NONE ? 0 : db->nodes[ancestor_at(db, l, GS_QSLOT_DEPTH + 1)].curve_prefix;
             if (h->nf) { /* entries, then the deep records up to the last one's end */
                 uint32_t p = db->nodes[l].parent;
-                n = 2ull * h->nf + (db->nodes[p].depth > GS_QSLOT_DEPTH ? nend[p] : 0);
+                n = 2ull * h->nf + (db->nodes[p].depth >= db->qlev ? nend[p] : 0);
             }
-            for (uint32_t d = 0; d < GS_QANC; ++d) h->anc[d] = GS_NONE;
-            for (uint32_t a = l; a != GS_NONE; a = db->nodes[a].parent)
-                if (db->nodes[a].depth < GS_QANC) h->anc[db->nodes[a].depth] = a;
+            if (db->qlev) { /* a large cache: ns and the ancestors too */
+                h->ns = l == GS_NONE ? 0 : db->nodes[ancestor_at(db, l, db->qlev)].curve_prefix;
+                for (uint32_t d = 0; d < GS_QANC; ++d) h->anc[d] = GS_NONE;
+                for (uint32_t a = l; a != GS_NONE; a = db->nodes[a].parent)
+                    if (db->nodes[a].depth < GS_QANC) h->anc[db->nodes[a].depth] = a;
+            }
             total += (n + LINE_DOUBLES - 1) / LINE_DOUBLES * LINE_DOUBLES;
         }
     }
@@ -243,15 +258,16 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
                         (unsigned long long)total * 8, (unsigned long long)((db->nv + 1ull) * slot * 8));
     }
     db->qsize = total;
+    db->qhead = !db->qlev && db->nodes[0].n_curves ? db->qclen[db->nodes[0].curve_start] : 0;
 #pragma omp parallel for schedule(dynamic, 256)
     for (uint32_t x = 0; x < db->nv; ++x) {
         double *sl = db->qroot + (size_t)x * slot;
         double *block = db->qbuf + ((gs_qvert *)sl)->start;
         uint64_t n = ((gs_qvert *)(sl + slot))->start - ((gs_qvert *)sl)->start;
         memset(block, 0, n * sizeof *block); /* padding and unused room */
-        memset(sl + GS_QSLOT_HEAD, 0, (slot - GS_QSLOT_HEAD) * sizeof *sl);
+        if (db->qlev) memset(sl + GS_QSLOT_HEAD, 0, (slot - GS_QSLOT_HEAD) * sizeof *sl);
         const gs_qvert *h = (const gs_qvert *)sl;
-        fill_ctx fc = {curve_grid, block, sl, h->nf, h->ns};
+        fill_ctx fc = {curve_grid, block, sl, h->nf, db->qlev ? h->ns : 0};
         visit(db, x, fill, &fc);
     }
     free(curve_grid);

@@ -105,7 +105,7 @@ static inline qview view_of(const gs_db *db, uint32_t x)
 {
     const double *s = slot_of(db, x);
     const gs_qvert *h = (const gs_qvert *)s;
-    qview v = {s, db->qbuf + h->start, h->nf, h->ns};
+    qview v = {s, db->qbuf + h->start, h->nf, db->qlev ? h->ns : 0};
     return v;
 }
 
@@ -139,7 +139,7 @@ static inline void prefetch_lines(const void *p, size_t bytes)
  * scanned. */
 static inline void prefetch_record(const gs_db *db, const qview *v, uint32_t c)
 {
-    if (db->nodes[db->curves[c].node].depth > GS_QSLOT_DEPTH) prefetch_lines(v->b + 2 * (size_t)v->nf + db->qcoff[c], 8 * (size_t)db->qclen[c]);
+    if (db->nodes[db->curves[c].node].depth >= db->qlev) prefetch_lines(v->b + 2 * (size_t)v->nf + db->qcoff[c], 8 * (size_t)db->qclen[c]);
 }
 
 /* min over curve k of f_x + f_y, entries ex, ey; x < y (the order of the
@@ -157,11 +157,11 @@ static double cached_pair(const qview *vx, const qview *vy, const gs_qentry *ex,
 }
 
 /* eq. 4-5 with the quick reject, x < y. When the lowest common ancestor
- * is at most GS_QSLOT_DEPTH deep, the slots hold all that is needed. */
+ * is shallower than db->qlev, the slots hold all that is needed. */
 static double cross_cached(const gs_db *db, uint32_t x, uint32_t y, uint32_t top)
 {
     qview vx = view_of(db, x), vy = view_of(db, y);
-    int deep = db->nodes[top].depth > GS_QSLOT_DEPTH;
+    int deep = db->nodes[top].depth >= db->qlev;
     const gs_qentry *ex = (const gs_qentry *)(deep ? vx.b : vx.s + GS_QSLOT_HEAD);
     const gs_qentry *ey = (const gs_qentry *)(deep ? vy.b : vy.s + GS_QSLOT_HEAD);
     if (deep) prefetch_lines(vx.b, 16 * (size_t)vx.nf), prefetch_lines(vy.b, 16 * (size_t)vy.nf);
@@ -246,12 +246,16 @@ double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y)
         __builtin_prefetch(db->xyz + 3 * (size_t)x), __builtin_prefetch(db->xyz + 3 * (size_t)y);
         hx = (const gs_qvert *)sx, hy = (const gs_qvert *)sy;
         lx = hx->leaf, ly = hy->leaf;
+        if (!db->qlev && lx != ly && lx != GS_NONE && ly != GS_NONE) { /* header-only slots: the blocks' */
+            prefetch_lines(db->qbuf + hx->start, 8 * (2 * (size_t)hx->nf + db->qhead)); /* entries and */
+            prefetch_lines(db->qbuf + hy->start, 8 * (2 * (size_t)hy->nf + db->qhead)); /* root record */
+        }
     } else {
         lx = db->leaf[x], ly = db->leaf[y];
     }
     if (lx == GS_NONE || ly == GS_NONE) return INFINITY;
     if (lx == ly) return same_leaf(db, lx, x, y);
-    return cross_leaf(db, x, y, hx ? lca_of_slots(db, hx, hy) : lowest_common_ancestor(db->nodes, lx, ly));
+    return cross_leaf(db, x, y, db->qlev ? lca_of_slots(db, hx, hy) : lowest_common_ancestor(db->nodes, lx, ly));
 }
 
 /* Out-of-range ids give NaN in out[] and GS_EARG naming the first one; the
