@@ -393,6 +393,8 @@ typedef struct pstats {
     double worst_above, worst_incons;
     long grid_off, grid_incons; /* the cached-grid minimiser of queries  */
     double grid_worst, grid_sum;
+    long loop_sharp, loop_sharp_off; /* loops with a sharp dip: grid vs gs_fun_pair_min */
+    double loop_sharp_worst;
 } pstats;
 
 /* The query engine's minimiser: grid values as the database caches them. */
@@ -432,6 +434,12 @@ static void check_pairs(const fset *s, long npairs, pstats *st)
         st->grid_sum += ge;
         st->grid_off += ge > 1e-3;
         st->grid_incons += !(fabs(rg - eg) <= 1e-12 * eg + 1e-15);
+        if (a->closed && (gs_fun_is_sharp(a) || gs_fun_is_sharp(b))) { /* searched in a window */
+            double ex = (rg - r) / fmax(r, 1e-300);
+            st->loop_sharp++;
+            st->loop_sharp_off += ex > 1e-6;
+            st->loop_sharp_worst = fmax(st->loop_sharp_worst, ex);
+        }
         double above = (r - dm) / fmax(dm, 1e-300), inc = fabs(r - ev) / fmax(ev, 1e-300);
         st->pairs++;
         st->kinds[a->squared + b->squared]++;
@@ -485,6 +493,12 @@ static void test_pairs_real(void)
     CHECK_MSG(st.grid_incons == 0, "%ld cached-grid results not reached by the functions", st.grid_incons);
     CHECK_MSG(st.grid_sum / st.pairs < 2e-5 && st.grid_off * 500 <= st.pairs && st.grid_worst < 0.01,
               "cached-grid minimiser: mean excess %.3g, %ld above 1e-3", st.grid_sum / st.pairs, st.grid_off);
+    printf("  loop pairs with a sharp dip: %ld, grid above gs_fun_pair_min by > 1e-6: %ld, worst %.3g\n",
+           st.loop_sharp, st.loop_sharp_off, st.loop_sharp_worst);
+    CHECK(st.loop_sharp >= 1000);
+    CHECK_MSG(st.loop_sharp_off * 200 <= st.loop_sharp && st.loop_sharp_worst < 1e-4,
+              "loops with a dip: %ld grid results above gs_fun_pair_min by > 1e-6 (worst %.3g)", st.loop_sharp_off,
+              st.loop_sharp_worst);
     CHECK(st.pairs >= 10000);
     /* known gap: two nearly equal minima inside one coarse cell (the sum is
      * almost flat along the curve) can differ by up to ~1e-6 relative */

@@ -908,6 +908,47 @@ static void newton_candidate(const gs_fun *a, const gs_fun *b, double u, double 
     }
 }
 
+/* The minimum of the sum over a window [lo, hi] of a loop (u may leave
+ * [-1,1): the functions wrap it) where the grid's parabola cannot be
+ * trusted: near a sharp dip (a hyperbola-like kink plus a slope) or beside
+ * a seam (the fit jumps there). Values and slopes at WINDOW_PTS points; the
+ * lowest one's neighbour in the downhill direction brackets the minimum
+ * (the slope changes sign), where Newton on the slope, kept inside the
+ * shrinking bracket (bisection when it would leave it), runs to |step| <=
+ * 1e-10. Returns 0 when the samples bracket nothing clearly (the caller
+ * then uses the robust minimiser), 1 otherwise (the window's minimum is
+ * then a candidate, or lies at an end that slopes outward). */
+#define WINDOW_PTS 5
+#define BRACKET_ITERS 40
+static int window_min(const gs_fun *a, const gs_fun *b, double lo, double hi, double *best, double *bu,
+                      int *exact)
+{
+    double x[WINDOW_PTS], v[WINDOW_PTS], d[WINDOW_PTS], a1, a2, b1, b2;
+    int i = 0;
+    for (int k = 0; k < WINDOW_PTS; ++k) {
+        x[k] = lo + (hi - lo) * k / (WINDOW_PTS - 1);
+        v[k] = fun_at3(a, x[k], &a1, &a2) + fun_at3(b, x[k], &b1, &b2), d[k] = a1 + b1;
+        if (v[k] < v[i]) i = k;
+    }
+    if (v[i] < *best) *best = v[i], *bu = gs_fun_wrap(x[i]), *exact = 0;
+    if (d[i] == 0.0 || (i == 0 && d[i] > 0.0) || (i == WINDOW_PTS - 1 && d[i] < 0.0)) return 1;
+    int l = d[i] < 0.0 ? i : i - 1, r = l + 1;
+    if (!(d[l] < 0.0 && d[r] > 0.0)) return 0;
+    double xl = x[l], xr = x[r], t = xl - d[l] * (xr - xl) / (d[r] - d[l]); /* secant start */
+    for (int it = 0; it < BRACKET_ITERS; ++it) {
+        double w = fun_at3(a, t, &a1, &a2) + fun_at3(b, t, &b1, &b2), s1 = a1 + b1, s2 = a2 + b2;
+        if (w < *best) *best = w, *bu = gs_fun_wrap(t), *exact = 0;
+        if (s1 == 0.0) return 1;
+        if (s1 < 0.0) xl = t;
+        else xr = t;
+        double y = s2 > 0.0 ? t - s1 / s2 : 0.5 * (xl + xr);
+        if (!(y > xl && y < xr)) y = 0.5 * (xl + xr);
+        if (fabs(y - t) <= 1e-10 || xr - xl <= 1e-10) return 1;
+        t = y;
+    }
+    return 1;
+}
+
 /* s = ga + gb on the g grid points; returns min s (NaN if some s is NaN). */
 static float grid_sum(const float *ga, const float *gb, uint32_t g, float *s)
 {
@@ -996,26 +1037,30 @@ void gs_fun_dip_find(const gs_fun *f, gs_fun_dip *d)
     d->hi = u + (r2 > t0 ? r2 - t0 : 0.0);
 }
 
-/* The sum at an edge of a's zero set, just inside. */
-static void dip_edge(const gs_fun *a, const gs_fun *b, double e, double u, int closed, double *best, double *bu,
-                     int *exact)
+/* The sum at x (a point of a's zero set). */
+static void dip_edge(const gs_fun *a, const gs_fun *b, double x, int closed, double *best, double *bu, int *exact)
 {
-    double x = e + (u - e) * DIP_INSIDE;
     x = closed ? gs_fun_wrap(x) : clamp1(x);
     double v = pair_value(a, b, x);
     if (v < *best) *best = v, *bu = x, *exact = 1;
 }
 
-/* Candidates of a sharp function's dip: Newton from its own minimiser, and
- * the edges of its zero set, where the sum of a clamped fit and a smooth
- * function has its kink. */
-static void dip_candidates(const gs_fun *a, const gs_fun *b, const gs_fun_dip *d, double h, int closed,
-                           double *best, double *bu, int *exact)
+/* Candidates of a sharp function's dip: near its own minimiser (Newton, or
+ * for loops the window of DIP_WINDOW cells either side), and both edges of
+ * its zero set (a little inside), where the sum of a clamped fit and a
+ * smooth function has its kink. Returns window_min's verdict. */
+#define DIP_WINDOW 1.5
+static int dip_candidates(const gs_fun *a, const gs_fun *b, const gs_fun_dip *d, double h, int closed,
+                          double *best, double *bu, int *exact)
 {
-    if (!d || d->u != d->u || !is_sharp(a)) return;
-    newton_candidate(a, b, d->u, h, closed, NEWTON_STEPS, best, bu, exact);
-    if (d->lo < d->u) dip_edge(a, b, d->lo, d->u, closed, best, bu, exact);
-    if (d->hi > d->u) dip_edge(a, b, d->hi, d->u, closed, best, bu, exact);
+    if (!d || d->u != d->u || !is_sharp(a)) return 1;
+    if (!closed) newton_candidate(a, b, d->u, h, closed, NEWTON_STEPS, best, bu, exact);
+    else if (!window_min(a, b, d->u - DIP_WINDOW * h, d->u + DIP_WINDOW * h, best, bu, exact)) return 0;
+    double pull = 0.5 * (d->hi - d->lo) * DIP_INSIDE;
+    if (!(pull > 0.0)) return 1;
+    dip_edge(a, b, d->lo + pull, closed, best, bu, exact);
+    dip_edge(a, b, d->hi - pull, closed, best, bu, exact);
+    return 1;
 }
 
 /* Whether f's seam (a loop's fit may jump there) may hold the minimum of
@@ -1034,6 +1079,19 @@ static int seam_low(const gs_fun *f, const float *go, uint32_t g, float thr)
     return (v1 < vm ? v1 : vm) + o <= thr * (1.0 + 1e-6);
 }
 
+/* Both sides of f's seam (at u_s, where f's t = wrap(u - shift) passes
+ * from 1 to -1): windows of SEAM_WINDOW cells on either side, ending
+ * SEAM_EPS short of it, each searched by window_min (the one-sided limits
+ * are their inner ends). They cover every grid cell beside the seam. */
+#define SEAM_WINDOW 2.5
+#define SEAM_EPS 1e-12
+static int seam_windows(const gs_fun *f, const gs_fun *o, double h, double *best, double *bu, int *exact)
+{
+    double us = gs_fun_wrap(f->shift - 1.0), w = SEAM_WINDOW * h;
+    return window_min(f, o, us - w, us - SEAM_EPS, best, bu, exact) &&
+           window_min(f, o, us + SEAM_EPS, us + w, best, bu, exact);
+}
+
 double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, const float *gb,
                             uint32_t g, const gs_fun_dip *da, const gs_fun_dip *db, double *u_at)
 {
@@ -1048,9 +1106,11 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
      * other discrete local minimum when the grid cannot tell it from j1 */
     uint32_t j1 = GS_NONE_U32, j2 = GS_NONE_U32;
     float thr = mn * 1.02f;
-    /* loops: a sharp dip or a seam that may hold the minimum go to the
-     * robust minimiser (a quarter of the loop pairs on bunny-5k) */
-    if (closed && ((da && da->u == da->u) || (db && db->u == db->u) || seam_low(a, gb, g, thr) || seam_low(b, ga, g, thr)))
+    /* loops: a seam that may hold the minimum (the fit jumps there) is
+     * searched on both sides below; two such seams close to each other go
+     * to the robust minimiser */
+    int sa = closed && seam_low(a, gb, g, thr), sb = closed && seam_low(b, ga, g, thr);
+    if (sa && sb && fabs(gs_fun_wrap(a->shift - b->shift + 1.0) - 1.0) < 4.0 * SEAM_WINDOW * 2.0 / g)
         return gs_fun_pair_min(a, b, u_at);
     uint32_t low[GS_FUN_GRID_MAX], nl = grid_below(s, g, thr, low);
     for (uint32_t i = 0; i < nl && j1 == GS_NONE_U32; ++i)
@@ -1061,12 +1121,17 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
         if (j != j1 && (j2 == GS_NONE_U32 || s[j] < s[j2]) && grid_local_min(s, g, j, closed)) j2 = j;
     }
     double h = closed ? 2.0 / g : 2.0 / (g - 1), best = INFINITY, bu = 0.0;
+    /* loops whose pairs went to the robust minimiser before (a dip or a
+     * seam): Newton from the parabola's vertex too */
+    int dipped = closed && ((da && da->u == da->u) || (db && db->u == db->u) || sa || sb);
     int exact = 1;
     for (int c = 0; c < 2; ++c) {
         uint32_t jb = c ? j2 : j1;
         if (jb == GS_NONE_U32) continue;
         /* a loop's seam beside the minimum: the robust minimiser */
-        if (closed && (seam_near(a, jb, g) || seam_near(b, jb, g))) return gs_fun_pair_min(a, b, u_at);
+        int na = closed && seam_near(a, jb, g), nb = closed && seam_near(b, jb, g);
+        if ((na && !sa) || (nb && !sb)) return gs_fun_pair_min(a, b, u_at);
+        if (na || nb) continue; /* inside a seam's window */
         double u0 = grid_u(jb, g, closed);
         if (!closed && (jb == 0 || jb + 1 == g) && g >= 3) { /* a path's end: the end, or inside its cell */
             uint32_t m = jb ? g - 2 : 1;
@@ -1083,12 +1148,14 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
                 u0 = closed ? gs_fun_wrap(u0) : clamp1(u0);
             }
         }
-        newton_candidate(a, b, u0, h, closed, 0, &best, &bu, &exact);
+        newton_candidate(a, b, u0, h, closed, dipped ? NEWTON_STEPS : 0, &best, &bu, &exact);
     }
     /* a vertex close to the curve gives its function a sharp dip, which the
      * grid may step over: the dip's own minimiser is a candidate too */
-    dip_candidates(a, b, da, h, closed, &best, &bu, &exact);
-    dip_candidates(b, a, db, h, closed, &best, &bu, &exact);
+    if (!dip_candidates(a, b, da, h, closed, &best, &bu, &exact) ||
+        !dip_candidates(b, a, db, h, closed, &best, &bu, &exact) || (sa && !seam_windows(a, b, h, &best, &bu, &exact)) ||
+        (sb && !seam_windows(b, a, h, &best, &bu, &exact)))
+        return gs_fun_pair_min(a, b, u_at);
     if (u_at) *u_at = bu;
     return exact && best < INFINITY ? best : pair_value(a, b, bu); /* the value as evaluated */
 }

@@ -90,10 +90,13 @@ void gs_fun_dip_find(const gs_fun *f, gs_fun_dip *d);
  * three values around it, where the exact sum is evaluated; a path's end
  * cell by the parabola of the last three; when a function has a sharp dip
  * (a vertex close to the curve) its own minimiser is refined by Newton and
- * its zero set's edges are candidates. The result is a value the functions
- * reach (tests compare it with gs_fun_pair_min). A loop's seam beside the
- * minimum (the fit may jump there), sampled and unreachable functions go to
- * gs_fun_pair_min. */
+ * its zero set's edges are candidates; for a loop, a window of a few cells
+ * around a sharp dip, and each side of a seam that may hold the minimum
+ * (the fit jumps there), is searched with the series (values and slopes,
+ * then a bracketed Newton). The result is a value the functions reach
+ * (tests compare it with gs_fun_pair_min). Sampled and unreachable
+ * functions, two seams close together and windows that bracket nothing
+ * clearly (rare) go to gs_fun_pair_min. */
 double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, const float *gb,
                             uint32_t g, const gs_fun_dip *da, const gs_fun_dip *db, double *u_at);
 

@@ -63,8 +63,8 @@ static void max_coefs(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
 
 typedef struct fill_ctx {
     const uint32_t *curve_grid;
-    double *block;
-    uint64_t nf;
+    double *block, *slot;
+    uint64_t nf, ns;
 } fill_ctx;
 
 static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
@@ -74,18 +74,23 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     gs__db_fun(db, x, k, &f);
     gs_qentry *e = (gs_qentry *)fc->block + k;
     const gs_db_fentry *fe = &db->funs[db->vdir[x].first_function + k];
+    int root = k < fc->ns; /* the shallow curves: records in the slot */
     e->minval = fe->minval;
     e->meta = fe->meta;
     e->rec = 0;
+    if (root) ((gs_qentry *)(fc->slot + GS_QSLOT_HEAD))[k] = *e;
     if (!f.coef) return; /* unreachable: never minimised */
     uint32_t g = fc->curve_grid[c];
-    uint64_t off = 2 * fc->nf + db->qcoff[c];
-    double *rec = fc->block + off;
+    uint64_t off = root ? GS_QSLOT_HEAD + 2ull * db->qnroot + db->qcoff[c] : 2 * fc->nf + db->qcoff[c];
+    double *rec = (root ? fc->slot : fc->block) + off;
     e->rec = (uint32_t)off;
+    if (root) ((gs_qentry *)(fc->slot + GS_QSLOT_HEAD))[k].rec = (uint32_t)off;
     gs_fun_dip dip = {NAN, NAN, NAN};
     if (g) gs_fun_dip_find(&f, &dip);
-    /* offsets as floats: pulled in by a little more than their rounding */
-    float head[3] = {(float)dip.u, (float)((dip.lo - dip.u) * (1 - 1e-6)), (float)((dip.hi - dip.u) * (1 - 1e-6))};
+    /* offsets as floats from u as a float (so that the edges do not move
+     * by u's rounding), pulled in by a little more than their own */
+    float uf = (float)dip.u;
+    float head[3] = {uf, (float)((dip.lo - uf) * (1 - 1e-6)), (float)((dip.hi - uf) * (1 - 1e-6))};
     if (dip.u != dip.u) head[1] = head[2] = 0.0f;
     rec[0] = f.shift;
     memcpy(rec + 1, head, 4);
@@ -103,63 +108,65 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
 void gs__db_grid_free(gs_db *db)
 {
     free(db->qbuf);
-    free(db->qstart);
+    free(db->qroot);
     free(db->qcoff);
     free(db->qclen);
     db->qbuf = NULL;
-    db->qstart = NULL;
+    db->qroot = NULL;
     db->qcoff = NULL;
     db->qclen = NULL;
     db->qsize = 0;
+    db->qslot = db->qnroot = db->qlev = db->qhead = 0;
 }
 
 /* The cache's memory. Queries jump between vertex blocks at random: on
  * Linux, a cache of some megabytes is asked to live on 2 MiB pages (a TLB
- * miss per block otherwise; bunny-5k: 23 MB). The advice may be ignored. */
+ * miss per block otherwise; bunny-5k: 23 MB). The advice may be ignored.
+ * Rounded up to whole 64-byte lines (aligned_alloc wants a multiple). */
 #define HUGE_PAGE ((size_t)2 << 20)
-static double *cache_alloc(size_t bytes)
+static void *cache_alloc(size_t bytes)
 {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
     if (bytes >= HUGE_PAGE) {
         size_t n = (bytes + HUGE_PAGE - 1) / HUGE_PAGE * HUGE_PAGE;
-        double *p = aligned_alloc(HUGE_PAGE, n);
+        void *p = aligned_alloc(HUGE_PAGE, n);
         if (p) madvise(p, n, MADV_HUGEPAGE); /* before the first touch */
         return p;
     }
 #endif
-    return aligned_alloc(64, bytes);
+    return aligned_alloc(64, (bytes + 63) / 64 * 64);
 }
 
 /* Vertex blocks start on a 64-byte line. */
 #define LINE_DOUBLES 8u
 
-/* The offsets qcoff (records of the curves of a node's proper ancestors
- * first, root's first, then the node's own in order); rsize: each curve's
- * record size. Returns 0 when some vertex's block would exceed 32-bit
- * offsets (no cache then). */
-static int curve_offsets(gs_db *db, const uint32_t *rsize)
+/* The offsets qcoff: the records of the curves of nodes shallower than
+ * db->qlev in the slot, those of deeper nodes in the block (both in
+ * the order of a vertex's functions: the ancestors' first, then the node's
+ * own); rsize: each curve's record size. nend[a]: where the records of
+ * node a's own curves end, in the slot or in the block. Returns 0 when some
+ * vertex's block or slot would exceed 32-bit offsets (no cache then). */
+static int curve_offsets(gs_db *db, const uint32_t *rsize, uint64_t *nend)
 {
-    uint64_t *noff = gs__malloc(db->n_nodes ? db->n_nodes : 1, sizeof *noff);
-    if (!noff) return -1;
     int ok = 1;
     for (uint32_t a = 0; a < db->n_nodes; ++a) { /* parents come first (validated) */
         const gs_db_node *n = &db->nodes[a];
-        uint64_t o = 0;
-        if (n->parent != GS_NONE) {
-            const gs_db_node *p = &db->nodes[n->parent];
-            o = noff[n->parent];
-            for (uint32_t j = 0; j < p->n_curves; ++j) o += rsize[p->curve_start + j];
-        }
-        noff[a] = o;
-        uint64_t co = o;
+        uint64_t co = n->parent != GS_NONE && n->depth != db->qlev ? nend[n->parent] : 0;
         for (uint32_t j = 0; j < n->n_curves; ++j) {
             db->qcoff[n->curve_start + j] = (uint32_t)co;
             co += rsize[n->curve_start + j];
         }
-        if (co + 2ull * n->curve_prefix + 2ull * n->n_curves > UINT32_MAX) ok = 0;
+        nend[a] = co;
+        if (co + 2ull * n->curve_prefix + 2ull * n->n_curves + GS_QSLOT_HEAD > UINT32_MAX) ok = 0;
     }
-    free(noff);
     return ok;
+}
+
+/* x's ancestor at depth d (x's leaf when it is shallower). */
+static uint32_t ancestor_at(const gs_db *db, uint32_t l, uint32_t d)
+{
+    while (db->nodes[l].depth > d) l = db->nodes[l].parent;
+    return l;
 }
 
 int gs__db_grid_build(gs_db *db, gs_error *err)
@@ -168,10 +175,10 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
         if (db->leaf[x] != GS_NONE && db->nodes[db->leaf[x]].depth >= MAX_PATH) return GS_OK;
     size_t nc = db->n_curves ? db->n_curves : 1;
     uint32_t *curve_grid = gs__calloc(nc, sizeof *curve_grid), *m1 = gs__calloc(nc, sizeof *m1);
-    db->qstart = gs__malloc((size_t)db->nv + 1, sizeof *db->qstart);
+    uint64_t *nend = gs__malloc(db->n_nodes, sizeof *nend);
     db->qcoff = gs__calloc(nc, sizeof *db->qcoff);
     db->qclen = gs__calloc(nc, sizeof *db->qclen);
-    int ok = curve_grid && m1 && db->qstart && db->qcoff && db->qclen;
+    int ok = curve_grid && m1 && nend && db->qcoff && db->qclen;
     if (ok) {
         for (uint32_t x = 0; x < db->nv; ++x) visit(db, x, max_degree, curve_grid), visit(db, x, max_coefs, m1);
         for (uint32_t c = 0; c < db->n_curves; ++c) {
@@ -180,47 +187,87 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
             m1[c] = (uint32_t)record_doubles(m1[c], curve_grid[c]); /* now: record size */
             db->qclen[c] = m1[c];
         }
-        int r = curve_offsets(db, m1);
+        db->qlev = 0;
+        int r = curve_offsets(db, m1, nend);
+        if (r > 0) { /* a large cache gets slots with the curves of depths 0 and 1 */
+            uint64_t t = 0;
+            for (uint32_t x = 0; x < db->nv; ++x) {
+                uint32_t l = db->leaf[x];
+                if (l != GS_NONE && db->nodes[l].curve_prefix)
+                    t += 2ull * db->nodes[l].curve_prefix + nend[db->nodes[l].parent] + LINE_DOUBLES;
+            }
+            if (t * sizeof(double) > GS_QSLOT_MIN_BYTES) db->qlev = GS_QSLOT_LEVELS, r = curve_offsets(db, m1, nend);
+        }
         if (r <= 0) {
-            free(curve_grid), free(m1);
+            free(curve_grid), free(m1), free(nend);
             gs__db_grid_free(db);
             return r < 0 ? gs__fail(err, GS_ENOMEM, "out of memory for the query cache") : GS_OK;
         }
     }
     if (!ok) {
-        free(curve_grid), free(m1);
+        free(curve_grid), free(m1), free(nend);
         gs__db_grid_free(db);
         return gs__fail(err, GS_ENOMEM, "out of memory for the query cache");
     }
-    uint64_t total = 0;
-    for (uint32_t x = 0; x < db->nv; ++x) {
-        uint32_t l = db->leaf[x];
-        uint64_t n = 0;
-        if (l != GS_NONE && db->nodes[l].curve_prefix) { /* entries, then records up to the last curve's end */
-            const gs_db_node *p = &db->nodes[db->nodes[l].parent];
-            uint32_t c = p->curve_start + p->n_curves - 1;
-            n = 2ull * db->nodes[l].curve_prefix + db->qcoff[c] + m1[c];
+    /* the slot: header, room for the most shallow entries, then the most
+     * shallow records */
+    uint64_t nsmax = 0, recmax = 0;
+    for (uint32_t a = 0; a < db->n_nodes; ++a)
+        if (db->nodes[a].depth < db->qlev) {
+            uint64_t ns = db->nodes[a].curve_prefix + (uint64_t)db->nodes[a].n_curves;
+            nsmax = ns > nsmax ? ns : nsmax;
+            recmax = nend[a] > recmax ? nend[a] : recmax;
         }
-        db->qstart[x] = total;
-        total += (n + LINE_DOUBLES - 1) / LINE_DOUBLES * LINE_DOUBLES;
+    uint64_t slot = GS_QSLOT_HEAD + 2 * nsmax + recmax;
+    slot = (slot + LINE_DOUBLES - 1) / LINE_DOUBLES * LINE_DOUBLES;
+    if (!db->qlev) slot = 2; /* a small cache: start, leaf and nf only (16 bytes: they stay in cache) */
+    else if (slot / LINE_DOUBLES % 2 == 0) slot += LINE_DOUBLES; /* an odd number of lines: slots do not all */
+                                                            /* fall in the same cache sets (2 KB apart) */
+    db->qnroot = (uint32_t)nsmax;
+    uint64_t total = 0;
+    int big = slot > UINT32_MAX || (db->nv + 1ull) * slot > SIZE_MAX / 16;
+    if (!big) db->qroot = cache_alloc((db->nv + 1ull) * slot * sizeof(double));
+    if (db->qroot) {
+        db->qslot = (uint32_t)slot;
+        for (uint32_t x = 0; x <= db->nv; ++x) {
+            uint32_t l = x < db->nv ? db->leaf[x] : GS_NONE;
+            uint64_t n = 0;
+            gs_qvert *h = (gs_qvert *)(db->qroot + x * slot);
+            h->start = total;
+            h->leaf = l;
+            h->nf = l == GS_NONE ? 0 : db->nodes[l].curve_prefix;
+            if (h->nf) { /* entries, then the deep records up to the last one's end */
+                uint32_t p = db->nodes[l].parent;
+                n = 2ull * h->nf + (db->nodes[p].depth >= db->qlev ? nend[p] : 0);
+            }
+            if (db->qlev) { /* a large cache: ns and the ancestors too */
+                h->ns = l == GS_NONE ? 0 : db->nodes[ancestor_at(db, l, db->qlev)].curve_prefix;
+                for (uint32_t d = 0; d < GS_QANC; ++d) h->anc[d] = GS_NONE;
+                for (uint32_t a = l; a != GS_NONE; a = db->nodes[a].parent)
+                    if (db->nodes[a].depth < GS_QANC) h->anc[db->nodes[a].depth] = a;
+            }
+            total += (n + LINE_DOUBLES - 1) / LINE_DOUBLES * LINE_DOUBLES;
+        }
     }
-    db->qstart[db->nv] = total;
-    free(m1);
+    free(m1), free(nend);
     size_t bytes = (total ? total : LINE_DOUBLES) * sizeof(double);
-    if (total > SIZE_MAX / 16 || !(db->qbuf = cache_alloc(bytes))) {
+    if (!db->qroot || total > SIZE_MAX / 16 || !(db->qbuf = cache_alloc(bytes))) {
         free(curve_grid);
         gs__db_grid_free(db);
-        return gs__fail(err, GS_ENOMEM, "out of memory for the query cache (%llu bytes)",
-                        (unsigned long long)total * 8);
+        return gs__fail(err, GS_ENOMEM, "out of memory for the query cache (%llu + %llu bytes)",
+                        (unsigned long long)total * 8, (unsigned long long)((db->nv + 1ull) * slot * 8));
     }
     db->qsize = total;
+    db->qhead = !db->qlev && db->nodes[0].n_curves ? db->qclen[db->nodes[0].curve_start] : 0;
 #pragma omp parallel for schedule(dynamic, 256)
     for (uint32_t x = 0; x < db->nv; ++x) {
-        uint32_t l = db->leaf[x];
-        double *block = db->qbuf + db->qstart[x];
-        uint64_t n = db->qstart[x + 1] - db->qstart[x];
+        double *sl = db->qroot + (size_t)x * slot;
+        double *block = db->qbuf + ((gs_qvert *)sl)->start;
+        uint64_t n = ((gs_qvert *)(sl + slot))->start - ((gs_qvert *)sl)->start;
         memset(block, 0, n * sizeof *block); /* padding and unused room */
-        fill_ctx fc = {curve_grid, block, l == GS_NONE ? 0 : db->nodes[l].curve_prefix};
+        if (db->qlev) memset(sl + GS_QSLOT_HEAD, 0, (slot - GS_QSLOT_HEAD) * sizeof *sl);
+        const gs_qvert *h = (const gs_qvert *)sl;
+        fill_ctx fc = {curve_grid, block, sl, h->nf, db->qlev ? h->ns : 0};
         visit(db, x, fill, &fc);
     }
     free(curve_grid);

@@ -42,6 +42,16 @@ static uint32_t lowest_common_ancestor(const gs_db_node *nodes, uint32_t a, uint
     return a;
 }
 
+/* The lowest common ancestor of two different leaves from the slots'
+ * headers: the first depth where their ancestors differ (both have the
+ * root at depth 0); the tree walk when they agree down to GS_QANC - 1. */
+static uint32_t lca_of_slots(const gs_db *db, const gs_qvert *hx, const gs_qvert *hy)
+{
+    for (uint32_t d = 1; d < GS_QANC; ++d)
+        if (hx->anc[d] != hy->anc[d]) return hx->anc[d - 1];
+    return lowest_common_ancestor(db->nodes, hx->leaf, hy->leaf);
+}
+
 /* Candidate curves of a query: the lower bound minval_x + minval_y of each
  * common curve, and the curve's function index. */
 typedef struct candidate {
@@ -78,11 +88,32 @@ static uint32_t gather(const gs_db *db, const char *ex, const char *ey, size_t s
 
 /* ---- with the query cache (src/query/grid.c) ---- */
 
-/* Function k of a vertex whose block is b (reachable: minval finite). */
-static inline const double *cached_fun(const double *b, uint32_t k, gs_fun *f)
+/* A vertex's view of the query cache (src/db/db_internal.h): its slot s
+ * (header, the root's entries and records), its block b (all entries, the
+ * other records) and nf. */
+typedef struct qview {
+    const double *s, *b;
+    uint32_t nf, ns;
+} qview;
+
+static inline const double *slot_of(const gs_db *db, uint32_t x)
 {
-    const gs_qentry *e = (const gs_qentry *)b + k;
-    const double *rec = b + e->rec;
+    return db->qroot + (size_t)x * db->qslot;
+}
+
+static inline qview view_of(const gs_db *db, uint32_t x)
+{
+    const double *s = slot_of(db, x);
+    const gs_qvert *h = (const gs_qvert *)s;
+    qview v = {s, db->qbuf + h->start, h->nf, db->qlev ? h->ns : 0};
+    return v;
+}
+
+/* Function k (entry e) of a vertex (reachable: minval finite); returns its
+ * record: in the slot for the root's curves, else in the block. */
+static inline const double *cached_fun(const qview *v, const gs_qentry *e, uint32_t k, gs_fun *f)
+{
+    const double *rec = (k < v->ns ? v->s : v->b) + e->rec;
     uint32_t m = e->meta;
     f->kind = GS_META_KIND(m);
     f->degree = GS_META_DEGREE(m);
@@ -94,22 +125,29 @@ static inline const double *cached_fun(const double *b, uint32_t k, gs_fun *f)
     return rec;
 }
 
-/* Start fetching the record of curve c in the block b of a vertex with nf
- * functions: all its lines (head, grid and coefficients), so that the
- * coefficients arrive while the grid is scanned. */
-static inline void prefetch_record(const gs_db *db, const double *b, uint32_t nf, uint32_t c)
+static inline void prefetch_lines(const void *p, size_t bytes)
 {
-    const char *r = (const char *)(b + 2 * (size_t)nf + db->qcoff[c]), *e = r + 8 * (size_t)db->qclen[c] - 1;
+    if (!bytes) return;
+    const char *r = p, *e = r + bytes - 1;
     for (; r < e; r += 64) __builtin_prefetch(r);
     __builtin_prefetch(e);
 }
 
-/* min over curve k of f_x + f_y; x < y (the order of the two functions
- * makes d(x,y) == d(y,x) bit for bit). */
-static double cached_pair(const double *bx, const double *by, uint32_t k)
+/* Start fetching the record of curve c (not a shallow one: those come
+ * with the slot) in a vertex's block: all its lines (head, grid and
+ * coefficients), so that the coefficients arrive while the grid is
+ * scanned. */
+static inline void prefetch_record(const gs_db *db, const qview *v, uint32_t c)
+{
+    if (db->nodes[db->curves[c].node].depth >= db->qlev) prefetch_lines(v->b + 2 * (size_t)v->nf + db->qcoff[c], 8 * (size_t)db->qclen[c]);
+}
+
+/* min over curve k of f_x + f_y, entries ex, ey; x < y (the order of the
+ * two functions makes d(x,y) == d(y,x) bit for bit). */
+static double cached_pair(const qview *vx, const qview *vy, const gs_qentry *ex, const gs_qentry *ey, uint32_t k)
 {
     gs_fun fx, fy;
-    const double *rx = cached_fun(bx, k, &fx), *ry = cached_fun(by, k, &fy);
+    const double *rx = cached_fun(vx, ex + k, k, &fx), *ry = cached_fun(vy, ey + k, k, &fy);
     uint32_t g = gs__qrec_grid(rx);
     if (!g || g != gs__qrec_grid(ry)) return gs_fun_pair_min(&fx, &fy, NULL);
     gs_fun_dip dx, dy;
@@ -118,33 +156,36 @@ static double cached_pair(const double *bx, const double *by, uint32_t k)
     return gs_fun_pair_min_grid(&fx, &fy, gs__qrec_values(rx), gs__qrec_values(ry), g, &dx, &dy, NULL);
 }
 
-/* eq. 4-5 with the quick reject, x < y. */
+/* eq. 4-5 with the quick reject, x < y. When the lowest common ancestor
+ * is shallower than db->qlev, the slots hold all that is needed. */
 static double cross_cached(const gs_db *db, uint32_t x, uint32_t y, uint32_t top)
 {
-    const double *bx = db->qbuf + db->qstart[x], *by = db->qbuf + db->qstart[y];
-    uint32_t nfx = db->nodes[db->leaf[x]].curve_prefix, nfy = db->nodes[db->leaf[y]].curve_prefix;
+    qview vx = view_of(db, x), vy = view_of(db, y);
+    int deep = db->nodes[top].depth >= db->qlev;
+    const gs_qentry *ex = (const gs_qentry *)(deep ? vx.b : vx.s + GS_QSLOT_HEAD);
+    const gs_qentry *ey = (const gs_qentry *)(deep ? vy.b : vy.s + GS_QSLOT_HEAD);
+    if (deep) prefetch_lines(vx.b, 16 * (size_t)vx.nf), prefetch_lines(vy.b, 16 * (size_t)vy.nf);
     /* the lowest common separator's curves hold the minimum most often:
      * their records are on their way while the entries arrive */
-    for (uint32_t j = 0; j < db->nodes[top].n_curves && j < 2; ++j) {
+    for (uint32_t j = 0; deep && j < db->nodes[top].n_curves && j < 2; ++j) {
         uint32_t c = db->nodes[top].curve_start + j;
-        prefetch_record(db, bx, nfx, c), prefetch_record(db, by, nfy, c);
+        prefetch_record(db, &vx, c), prefetch_record(db, &vy, c);
     }
     candidate c[MAX_CANDIDATES];
-    uint32_t rest, n = gather(db, (const char *)bx, (const char *)by, sizeof(gs_qentry), top, c, &rest);
-    if (n && db->curves[c[0].curve].node != top) prefetch_record(db, bx, nfx, c[0].curve), prefetch_record(db, by, nfy, c[0].curve);
+    uint32_t rest, n = gather(db, (const char *)ex, (const char *)ey, sizeof(gs_qentry), top, c, &rest);
+    if (n && db->curves[c[0].curve].node != top) prefetch_record(db, &vx, c[0].curve), prefetch_record(db, &vy, c[0].curve);
     double best = INFINITY;
     for (uint32_t i = 0; i < n; ++i) {
         if (c[i].bound >= best) break; /* sorted: all others rejected too (and unreachable) */
-        if (i + 1 < n) prefetch_record(db, bx, nfx, c[i + 1].curve), prefetch_record(db, by, nfy, c[i + 1].curve);
-        double d = cached_pair(bx, by, c[i].k);
+        if (i + 1 < n) prefetch_record(db, &vx, c[i + 1].curve), prefetch_record(db, &vy, c[i + 1].curve);
+        double d = cached_pair(&vx, &vy, ex, ey, c[i].k);
         if (d < best) best = d;
     }
-    const gs_qentry *ex = (const gs_qentry *)bx, *ey = (const gs_qentry *)by;
     for (uint32_t a = rest; a != GS_NONE; a = db->nodes[a].parent) { /* > 64 curves: rare */
         uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
         for (uint32_t k = k0; k < k1; ++k) {
             if (ex[k].minval + ey[k].minval >= best) continue;
-            double d = cached_pair(bx, by, k);
+            double d = cached_pair(&vx, &vy, ex, ey, k);
             if (d < best) best = d;
         }
     }
@@ -197,16 +238,24 @@ double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y)
 {
     if (!db || x >= db->nv || y >= db->nv) return NAN;
     if (x == y) return 0.0;
-    uint32_t lx = db->leaf[x], ly = db->leaf[y];
+    uint32_t lx, ly;
+    const gs_qvert *hx = NULL, *hy = NULL;
+    if (db->qbuf) { /* both slots on their way (their addresses need no lookup) */
+        const double *sx = slot_of(db, x), *sy = slot_of(db, y);
+        prefetch_lines(sx, 8 * (size_t)db->qslot), prefetch_lines(sy, 8 * (size_t)db->qslot);
+        __builtin_prefetch(db->xyz + 3 * (size_t)x), __builtin_prefetch(db->xyz + 3 * (size_t)y);
+        hx = (const gs_qvert *)sx, hy = (const gs_qvert *)sy;
+        lx = hx->leaf, ly = hy->leaf;
+        if (!db->qlev && lx != ly && lx != GS_NONE && ly != GS_NONE) { /* header-only slots: the blocks' */
+            prefetch_lines(db->qbuf + hx->start, 8 * (2 * (size_t)hx->nf + db->qhead)); /* entries and */
+            prefetch_lines(db->qbuf + hy->start, 8 * (2 * (size_t)hy->nf + db->qhead)); /* root record */
+        }
+    } else {
+        lx = db->leaf[x], ly = db->leaf[y];
+    }
     if (lx == GS_NONE || ly == GS_NONE) return INFINITY;
     if (lx == ly) return same_leaf(db, lx, x, y);
-    if (db->qbuf) { /* start the two blocks' entries on their way */
-        const char *bx = (const char *)(db->qbuf + db->qstart[x]), *by = (const char *)(db->qbuf + db->qstart[y]);
-        __builtin_prefetch(bx), __builtin_prefetch(bx + 64), __builtin_prefetch(bx + 128);
-        __builtin_prefetch(by), __builtin_prefetch(by + 64), __builtin_prefetch(by + 128);
-        __builtin_prefetch(db->xyz + 3 * (size_t)x), __builtin_prefetch(db->xyz + 3 * (size_t)y);
-    }
-    return cross_leaf(db, x, y, lowest_common_ancestor(db->nodes, lx, ly));
+    return cross_leaf(db, x, y, db->qlev ? lca_of_slots(db, hx, hy) : lowest_common_ancestor(db->nodes, lx, ly));
 }
 
 /* Out-of-range ids give NaN in out[] and GS_EARG naming the first one; the
