@@ -5,6 +5,8 @@
 #define GS_TEST_DB_FIXTURE_ONLY
 #include "test_db.c"
 
+#include <unistd.h>
+
 /* Reference without quick reject: all common curves, via gs_fun_pair_min. */
 static double ref_no_reject(const fixture *f, uint32_t x, uint32_t y)
 {
@@ -147,11 +149,66 @@ static void test_errors(void)
     CHECK(gs_field_errors_compute(NULL, approx, 7, 0, &e, &err) == GS_EARG);
 }
 
+/* The query cache of a large database (over GS_QSLOT_MIN_BYTES: per-vertex
+ * slots holding the two shallowest levels' curves) answers exactly what the
+ * small-cache layout does: forced on built databases of generated meshes
+ * (paths, loops, holes), every pair, batch and field compared bit for bit. */
+static void test_slot_layout(const char *spec)
+{
+    gs_mesh *m = NULL;
+    gs_db *built = NULL, *small = NULL, *large = NULL;
+    gs_error err = {0};
+    char path[] = "/tmp/geosep-test-XXXXXX";
+    int fd = mkstemp(path);
+    CHECK(fd >= 0);
+    if (fd >= 0) close(fd);
+    CHECK_MSG(gs_mesh_generate(spec, &m, &err) == GS_OK, "%s: %s", spec, err.message);
+    CHECK(m && gs_db_build(m, NULL, &built, NULL, &err) == GS_OK);
+    CHECK(built && gs_db_save(built, path, &err) == GS_OK);
+    CHECK(gs_db_open(path, &small, &err) == GS_OK);
+    uint64_t keep = gs__qslot_min_bytes;
+    gs__qslot_min_bytes = 0;
+    CHECK(gs_db_open(path, &large, &err) == GS_OK);
+    gs__qslot_min_bytes = keep;
+    remove(path);
+    if (!small || !large) goto done;
+    CHECK_MSG(small->qroot && small->qlev == 0, "%s: the small layout", spec);
+    CHECK_MSG(large->qroot && large->qlev == GS_QSLOT_LEVELS, "%s: slots not built", spec);
+    uint32_t n = gs_mesh_num_vertices(m), bad = 0, finite = 0;
+    double *f1 = malloc(sizeof *f1 * n), *f2 = malloc(sizeof *f2 * n);
+    for (uint32_t x = 0; x < n && f1 && f2; ++x) {
+        CHECK(gs_db_field(small, x, f1, NULL) == GS_OK && gs_db_field(large, x, f2, NULL) == GS_OK);
+        for (uint32_t y = 0; y < n; ++y) {
+            double a = gs_db_distance(small, x, y), b = gs_db_distance(large, x, y);
+            bad += memcmp(&a, &b, 8) != 0 || memcmp(&a, &f1[y], 8) != 0 || memcmp(&b, &f2[y], 8) != 0;
+            finite += isfinite(a) && a > 0;
+        }
+    }
+    CHECK_MSG(bad == 0, "%s: %u of %u answers differ between the cache layouts", spec, bad, n * n);
+    CHECK_MSG(finite >= n * (n - 1) / 2 - n, "%s: too few finite answers (%u)", spec, finite);
+    uint32_t pairs[2 * 1000];
+    double o1[1000], o2[1000];
+    for (uint32_t i = 0; i < 2000; ++i) pairs[i] = (uint32_t)((i * 2654435761u) % n);
+    CHECK(gs_db_distances(small, pairs, 1000, o1, NULL) == GS_OK);
+    CHECK(gs_db_distances(large, pairs, 1000, o2, NULL) == GS_OK);
+    CHECK(memcmp(o1, o2, sizeof o1) == 0);
+    free(f1);
+    free(f2);
+done:
+    gs_db_free(built);
+    gs_db_free(small);
+    gs_db_free(large);
+    gs_mesh_free(m);
+}
+
 int main(void)
 {
     test_pairs(0);
     test_pairs(1);
     test_batch_field();
     test_errors();
+    test_slot_layout("torus:40,20");  /* loops */
+    test_slot_layout("plate:1400");   /* paths, holes */
+    test_slot_layout("two:10");       /* two components: unreachable pairs */
     return gs_test_finish("test_query");
 }

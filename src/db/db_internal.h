@@ -128,6 +128,10 @@ struct gs_db {
 #define GS_QSLOT_HEAD 8  /* doubles */
 #define GS_QSLOT_LEVELS 2 /* a large cache's slots hold depths 0 and 1   */
 #define GS_QSLOT_MIN_BYTES ((uint64_t)64 << 20) /* "large": blocks above   */
+/* The threshold gs_db_open uses, GS_QSLOT_MIN_BYTES unless a test lowers it
+ * (tests only, before opening, single-threaded: 0 gives every database the
+ * large-cache slots so that small test databases exercise that layout). */
+extern uint64_t gs__qslot_min_bytes;
 typedef struct gs_qvert {
     uint64_t start;         /* in doubles from qbuf                         */
     uint32_t leaf;          /* leaf node, GS_NONE: no face                  */

@@ -20,6 +20,8 @@
 
 #define MAX_PATH 1024 /* deeper trees (absurd) get no cache */
 
+uint64_t gs__qslot_min_bytes = GS_QSLOT_MIN_BYTES;
+
 /* Visit the functions of vertex x root first: calls fn(db, x, k, curve). */
 typedef void (*visit_fn)(gs_db *db, uint32_t x, uint64_t k, uint32_t curve, void *user);
 
@@ -196,7 +198,7 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
                 if (l != GS_NONE && db->nodes[l].curve_prefix)
                     t += 2ull * db->nodes[l].curve_prefix + nend[db->nodes[l].parent] + LINE_DOUBLES;
             }
-            if (t * sizeof(double) > GS_QSLOT_MIN_BYTES) db->qlev = GS_QSLOT_LEVELS, r = curve_offsets(db, m1, nend);
+            if (t * sizeof(double) > gs__qslot_min_bytes) db->qlev = GS_QSLOT_LEVELS, r = curve_offsets(db, m1, nend);
         }
         if (r <= 0) {
             free(curve_grid), free(m1), free(nend);
