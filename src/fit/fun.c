@@ -880,8 +880,14 @@ static double pair_value(const gs_fun *a, const gs_fun *b, double u)
     }
     /* both at once, lane by lane the same operations */
     v2 s = {sa, sb}, r1 = {a1, b1}, r2 = {a2, b2};
-    for (uint32_t k = mn; k >= 1; k--) {
-        v2 ck = {ca[k], cb[k]};
+    uint32_t k = mn;
+    for (; k >= 2; k -= 2) { /* two steps a turn */
+        v2 c1 = {ca[k], cb[k]}, c2 = {ca[k - 1], cb[k - 1]};
+        r2 = c1 + s * r1 - r2;
+        r1 = c2 + s * r2 - r1;
+    }
+    if (k == 1) {
+        v2 ck = {ca[1], cb[1]};
         v2 r0 = ck + s * r1 - r2;
         r2 = r1, r1 = r0;
     }
@@ -910,7 +916,23 @@ static double pair_at3(const gs_fun *a, const gs_fun *b, double u, double *s1, d
         v2 t = {ta, tb}, t0 = {1.0, 1.0}, t1 = t, e0 = {0.0, 0.0}, e1 = {1.0, 1.0}, f0 = {0.0, 0.0},
            f1 = {0.0, 0.0}, t2 = 2.0 * t, c1 = {ca[1], cb[1]}, v = (v2){ca[0], cb[0]} + c1 * t, d1 = c1,
            d2 = {0.0, 0.0};
-        for (uint32_t k = 2; k <= mn; k++) {
+        uint32_t k = 2;
+        for (; k + 1 <= mn; k += 2) { /* two steps a turn, the pairs' roles swapped */
+            v2 ck = {ca[k], cb[k]}, cn = {ca[k + 1], cb[k + 1]};
+            t0 = t2 * t1 - t0;
+            e0 = 2.0 * t1 + t2 * e1 - e0;
+            f0 = 4.0 * e1 + t2 * f1 - f0;
+            v += ck * t0;
+            d1 += ck * e0;
+            d2 += ck * f0;
+            t1 = t2 * t0 - t1;
+            e1 = 2.0 * t0 + t2 * e0 - e1;
+            f1 = 4.0 * e0 + t2 * f0 - f1;
+            v += cn * t1;
+            d1 += cn * e1;
+            d2 += cn * f1;
+        }
+        if (k <= mn) {
             v2 ck = {ca[k], cb[k]};
             v2 tn = t2 * t1 - t0;
             v2 en = 2.0 * t1 + t2 * e1 - e0;
@@ -925,13 +947,13 @@ static double pair_at3(const gs_fun *a, const gs_fun *b, double u, double *s1, d
             uint32_t m = l ? mb : ma;
             double x0 = t0[l], x1 = t1[l], y0 = e0[l], y1 = e1[l], z0 = f0[l], z1 = f1[l], x2 = t2[l];
             double vv = v[l], w1 = d1[l], w2 = d2[l];
-            for (uint32_t k = mn + 1; k <= m; k++) {
+            for (uint32_t j = mn + 1; j <= m; j++) {
                 double tn = x2 * x1 - x0;
                 double en = 2.0 * x1 + x2 * y1 - y0;
                 double fn = 4.0 * y1 + x2 * z1 - z0;
-                vv += c[k] * tn;
-                w1 += c[k] * en;
-                w2 += c[k] * fn;
+                vv += c[j] * tn;
+                w1 += c[j] * en;
+                w2 += c[j] * fn;
                 x0 = x1, x1 = tn, y0 = y1, y1 = en, z0 = z1, z1 = fn;
             }
             p[l] = vv, p1[l] = w1, p2[l] = w2;
@@ -1054,8 +1076,9 @@ static void grid_minima(const float *e, uint32_t g, float mn, float thr, uint32_
     __m128 t = _mm_set1_ps(thr), m = _mm_set1_ps(mn);
     for (uint32_t j = 0; j < g; j += 4) {
         __m128 c = _mm_loadu_ps(e + j + 1);
-        unsigned le = (unsigned)_mm_movemask_ps(_mm_cmple_ps(c, t)) & (g - j >= 4 ? 15u : (1u << (g - j)) - 1u);
+        unsigned le = (unsigned)_mm_movemask_ps(_mm_cmple_ps(c, t));
         if (!le) continue;
+        if (g - j < 4) le &= (1u << (g - j)) - 1u;
         if (a == GS_NONE_U32) {
             unsigned eq = le & (unsigned)_mm_movemask_ps(_mm_cmpeq_ps(c, m));
             if (eq) a = j + (uint32_t)__builtin_ctz(eq);
