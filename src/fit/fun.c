@@ -62,10 +62,8 @@ static double term_at(const term *f, double t)
 }
 
 /* Value, first and second derivative of one term (0 where clamped). */
-static double term_at3(const term *f, double t, double *v1, double *v2)
+static double term_post(const term *f, double p, double p1, double p2, double *v1, double *v2)
 {
-    double p, p1, p2;
-    gs_cheb_eval3(f->c, f->m, clamp1(t), &p, &p1, &p2);
     if (!(p > 0.0)) {
         *v1 = *v2 = 0.0;
         return 0.0;
@@ -78,6 +76,13 @@ static double term_at3(const term *f, double t, double *v1, double *v2)
     *v1 = 0.5 * p1 / s;
     *v2 = (0.5 * p2 - *v1 * *v1) / s;
     return s;
+}
+
+static double term_at3(const term *f, double t, double *v1, double *v2)
+{
+    double p, p1, p2;
+    gs_cheb_eval3(f->c, f->m, clamp1(t), &p, &p1, &p2);
+    return term_post(f, p, p1, p2, v1, v2);
 }
 
 #ifdef GS_FUN_STATS
@@ -853,13 +858,6 @@ uint32_t gs_fun_grid_points(uint32_t m)
     return g > GS_FUN_GRID_MAX ? GS_FUN_GRID_MAX : g;
 }
 
-/* Value of f and its first two derivatives in u. */
-static double fun_at3(const gs_fun *f, double u, double *d1, double *d2)
-{
-    term t = {f->coef, f->degree, f->squared};
-    return term_at3(&t, f->closed ? gs_fun_wrap(u - f->shift) : u, d1, d2);
-}
-
 /* gs_fun_value(a, u) + gs_fun_value(b, u) for two Chebyshev functions, bit
  * for bit, with the two Clenshaw recurrences interleaved (a series of lower
  * degree starts with exact zeros). */
@@ -868,16 +866,104 @@ static double pair_value(const gs_fun *a, const gs_fun *b, double u)
     double ta = clamp1(a->closed ? gs_fun_wrap(u - a->shift) : u);
     double tb = clamp1(b->closed ? gs_fun_wrap(u - b->shift) : u);
     const double *ca = a->coef, *cb = b->coef;
-    uint32_t ma = a->degree, mb = b->degree, m = ma > mb ? ma : mb;
+    uint32_t ma = a->degree, mb = b->degree, m = ma > mb ? ma : mb, mn = ma < mb ? ma : mb;
     double a1 = 0.0, a2 = 0.0, b1 = 0.0, b2 = 0.0, sa = 2.0 * ta, sb = 2.0 * tb;
-    for (uint32_t k = m; k >= 1; k--) {
-        double a0 = (k <= ma ? ca[k] : 0.0) + sa * a1 - a2;
-        double b0 = (k <= mb ? cb[k] : 0.0) + sb * b1 - b2;
-        a2 = a1, a1 = a0, b2 = b1, b1 = b0;
+    /* above the lower degree the other recurrence stays exactly +0 */
+    for (uint32_t k = m; k > mn; k--) {
+        if (ma > mb) {
+            double a0 = ca[k] + sa * a1 - a2;
+            a2 = a1, a1 = a0;
+        } else {
+            double b0 = cb[k] + sb * b1 - b2;
+            b2 = b1, b1 = b0;
+        }
     }
+    /* both at once, lane by lane the same operations */
+    v2 s = {sa, sb}, r1 = {a1, b1}, r2 = {a2, b2};
+    uint32_t k = mn;
+    for (; k >= 2; k -= 2) { /* two steps a turn */
+        v2 c1 = {ca[k], cb[k]}, c2 = {ca[k - 1], cb[k - 1]};
+        r2 = c1 + s * r1 - r2;
+        r1 = c2 + s * r2 - r1;
+    }
+    if (k == 1) {
+        v2 ck = {ca[1], cb[1]};
+        v2 r0 = ck + s * r1 - r2;
+        r2 = r1, r1 = r0;
+    }
+    a1 = r1[0], b1 = r1[1], a2 = r2[0], b2 = r2[1];
     double pa = ma ? ca[0] + ta * a1 - a2 : ca[0], pb = mb ? cb[0] + tb * b1 - b2 : cb[0];
     term fa = {ca, ma, a->squared}, fb = {cb, mb, b->squared};
     return term_value(&fa, pa) + term_value(&fb, pb);
+}
+
+/* term_at3 of the two functions at u (p, p', p'' by the forward recurrences
+ * of gs_cheb_eval3, both series at once up to the lower degree): returns
+ * the sum of the values, *s1 and *s2 the sums of the derivatives, bit for
+ * bit term_at3 of each (wrapped, clamped) added. */
+static double pair_at3(const gs_fun *a, const gs_fun *b, double u, double *s1, double *s2)
+{
+    double ta = clamp1(a->closed ? gs_fun_wrap(u - a->shift) : u);
+    double tb = clamp1(b->closed ? gs_fun_wrap(u - b->shift) : u);
+    const double *ca = a->coef, *cb = b->coef;
+    uint32_t ma = a->degree, mb = b->degree;
+    double p[2], p1[2], p2[2];
+    if (ma < 1 || mb < 1) {
+        gs_cheb_eval3(ca, ma, ta, &p[0], &p1[0], &p2[0]);
+        gs_cheb_eval3(cb, mb, tb, &p[1], &p1[1], &p2[1]);
+    } else {
+        uint32_t mn = ma < mb ? ma : mb;
+        v2 t = {ta, tb}, t0 = {1.0, 1.0}, t1 = t, e0 = {0.0, 0.0}, e1 = {1.0, 1.0}, f0 = {0.0, 0.0},
+           f1 = {0.0, 0.0}, t2 = 2.0 * t, c1 = {ca[1], cb[1]}, v = (v2){ca[0], cb[0]} + c1 * t, d1 = c1,
+           d2 = {0.0, 0.0};
+        uint32_t k = 2;
+        for (; k + 1 <= mn; k += 2) { /* two steps a turn, the pairs' roles swapped */
+            v2 ck = {ca[k], cb[k]}, cn = {ca[k + 1], cb[k + 1]};
+            t0 = t2 * t1 - t0;
+            e0 = 2.0 * t1 + t2 * e1 - e0;
+            f0 = 4.0 * e1 + t2 * f1 - f0;
+            v += ck * t0;
+            d1 += ck * e0;
+            d2 += ck * f0;
+            t1 = t2 * t0 - t1;
+            e1 = 2.0 * t0 + t2 * e0 - e1;
+            f1 = 4.0 * e0 + t2 * f0 - f1;
+            v += cn * t1;
+            d1 += cn * e1;
+            d2 += cn * f1;
+        }
+        if (k <= mn) {
+            v2 ck = {ca[k], cb[k]};
+            v2 tn = t2 * t1 - t0;
+            v2 en = 2.0 * t1 + t2 * e1 - e0;
+            v2 fn = 4.0 * e1 + t2 * f1 - f0;
+            v += ck * tn;
+            d1 += ck * en;
+            d2 += ck * fn;
+            t0 = t1, t1 = tn, e0 = e1, e1 = en, f0 = f1, f1 = fn;
+        }
+        for (int l = 0; l < 2; ++l) { /* the higher degree's rest */
+            const double *c = l ? cb : ca;
+            uint32_t m = l ? mb : ma;
+            double x0 = t0[l], x1 = t1[l], y0 = e0[l], y1 = e1[l], z0 = f0[l], z1 = f1[l], x2 = t2[l];
+            double vv = v[l], w1 = d1[l], w2 = d2[l];
+            for (uint32_t j = mn + 1; j <= m; j++) {
+                double tn = x2 * x1 - x0;
+                double en = 2.0 * x1 + x2 * y1 - y0;
+                double fn = 4.0 * y1 + x2 * z1 - z0;
+                vv += c[j] * tn;
+                w1 += c[j] * en;
+                w2 += c[j] * fn;
+                x0 = x1, x1 = tn, y0 = y1, y1 = en, z0 = z1, z1 = fn;
+            }
+            p[l] = vv, p1[l] = w1, p2[l] = w2;
+        }
+    }
+    double a1, a2, b1, b2;
+    term fa = {ca, ma, a->squared}, fb = {cb, mb, b->squared};
+    double v = term_post(&fa, p[0], p1[0], p2[0], &a1, &a2) + term_post(&fb, p[1], p1[1], p2[1], &b1, &b2);
+    *s1 = a1 + b1, *s2 = a2 + b2;
+    return v;
 }
 
 /* Newton on the slope of the sum from u (steps kept within +-h, a cell),
@@ -895,10 +981,8 @@ static void newton_candidate(const gs_fun *a, const gs_fun *b, double u, double 
         return;
     }
     for (int it = 0; it <= steps; ++it) {
-        double a1, a2, b1, b2;
-        double v = fun_at3(a, u, &a1, &a2) + fun_at3(b, u, &b1, &b2);
+        double s1, s2, v = pair_at3(a, b, u, &s1, &s2);
         if (v < *best) *best = v, *bu = u, *exact = 0;
-        double s1 = a1 + b1, s2 = a2 + b2;
         if (it == steps || !(s2 > 0.0)) return;
         double step = -s1 / s2;
         step = step < -h ? -h : (step > h ? h : step);
@@ -923,11 +1007,11 @@ static void newton_candidate(const gs_fun *a, const gs_fun *b, double u, double 
 static int window_min(const gs_fun *a, const gs_fun *b, double lo, double hi, double *best, double *bu,
                       int *exact)
 {
-    double x[WINDOW_PTS], v[WINDOW_PTS], d[WINDOW_PTS], a1, a2, b1, b2;
+    double x[WINDOW_PTS], v[WINDOW_PTS], d[WINDOW_PTS], s2;
     int i = 0;
     for (int k = 0; k < WINDOW_PTS; ++k) {
         x[k] = lo + (hi - lo) * k / (WINDOW_PTS - 1);
-        v[k] = fun_at3(a, x[k], &a1, &a2) + fun_at3(b, x[k], &b1, &b2), d[k] = a1 + b1;
+        v[k] = pair_at3(a, b, x[k], &d[k], &s2);
         if (v[k] < v[i]) i = k;
     }
     if (v[i] < *best) *best = v[i], *bu = gs_fun_wrap(x[i]), *exact = 0;
@@ -936,7 +1020,7 @@ static int window_min(const gs_fun *a, const gs_fun *b, double lo, double hi, do
     if (!(d[l] < 0.0 && d[r] > 0.0)) return 0;
     double xl = x[l], xr = x[r], t = xl - d[l] * (xr - xl) / (d[r] - d[l]); /* secant start */
     for (int it = 0; it < BRACKET_ITERS; ++it) {
-        double w = fun_at3(a, t, &a1, &a2) + fun_at3(b, t, &b1, &b2), s1 = a1 + b1, s2 = a2 + b2;
+        double s1, w = pair_at3(a, b, t, &s1, &s2);
         if (w < *best) *best = w, *bu = gs_fun_wrap(t), *exact = 0;
         if (s1 == 0.0) return 1;
         if (s1 < 0.0) xl = t;
@@ -979,31 +1063,42 @@ static float grid_sum(const float *ga, const float *gb, uint32_t g, float *s)
     return nan ? NAN : mn;
 }
 
-/* The grid points j (increasing) where s[j] <= thr, into low; their count. */
-static uint32_t grid_below(const float *s, uint32_t g, float thr, uint32_t *low)
+/* The grid's candidate points, s[j] = e[j + 1] for j < g with e[0] and
+ * e[g + 1] the neighbours of the ends (a loop's other end, else INFINITY)
+ * and e readable to e[g + 4]: *j1 the first j with s[j] <= thr and s[j] ==
+ * mn; *j2 the first j != *j1 of the lowest s[j] <= thr that is a discrete
+ * local minimum (ties included); GS_NONE_U32 when there is none. */
+static void grid_minima(const float *e, uint32_t g, float mn, float thr, uint32_t *j1, uint32_t *j2)
 {
-    uint32_t n = 0, j = 0;
+    uint32_t a = GS_NONE_U32, b = GS_NONE_U32;
+    float bv = 0.0f;
 #ifdef __SSE2__
-    __m128 t = _mm_set1_ps(thr);
-    for (; j + 4 <= g; j += 4) {
-        int m = _mm_movemask_ps(_mm_cmple_ps(_mm_loadu_ps(s + j), t));
-        while (m) {
-            low[n++] = j + (uint32_t)__builtin_ctz((unsigned)m);
-            m &= m - 1;
+    __m128 t = _mm_set1_ps(thr), m = _mm_set1_ps(mn);
+    for (uint32_t j = 0; j < g; j += 4) {
+        __m128 c = _mm_loadu_ps(e + j + 1);
+        unsigned le = (unsigned)_mm_movemask_ps(_mm_cmple_ps(c, t));
+        if (!le) continue;
+        if (g - j < 4) le &= (1u << (g - j)) - 1u;
+        if (a == GS_NONE_U32) {
+            unsigned eq = le & (unsigned)_mm_movemask_ps(_mm_cmpeq_ps(c, m));
+            if (eq) a = j + (uint32_t)__builtin_ctz(eq);
+        }
+        unsigned lm = le & (unsigned)_mm_movemask_ps(_mm_cmple_ps(c, _mm_loadu_ps(e + j))) &
+                      (unsigned)_mm_movemask_ps(_mm_cmple_ps(c, _mm_loadu_ps(e + j + 2)));
+        for (; lm; lm &= lm - 1) {
+            uint32_t i = j + (uint32_t)__builtin_ctz(lm);
+            if (i != a && (b == GS_NONE_U32 || e[i + 1] < bv)) b = i, bv = e[i + 1];
         }
     }
+#else
+    for (uint32_t j = 0; j < g; ++j) {
+        float c = e[j + 1];
+        if (!(c <= thr)) continue;
+        if (a == GS_NONE_U32 && c == mn) a = j;
+        if (j != a && (b == GS_NONE_U32 || c < bv) && c <= e[j] && c <= e[j + 2]) b = j, bv = c;
+    }
 #endif
-    for (; j < g; ++j)
-        if (s[j] <= thr) low[n++] = j;
-    return n;
-}
-
-/* Whether grid point j is a discrete local minimum of s (ties included). */
-static int grid_local_min(const float *s, uint32_t g, uint32_t j, int closed)
-{
-    float l = (j > 0 || closed) ? s[j ? j - 1 : g - 1] : INFINITY;
-    float r = (j + 1 < g || closed) ? s[j + 1 < g ? j + 1 : 0] : INFINITY;
-    return s[j] <= l && s[j] <= r;
+    *j1 = a, *j2 = b;
 }
 
 /* A loop's seam lies in (u_{j-1}, u_{j+1}] (closed grid, with a little
@@ -1099,7 +1194,7 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
         b->kind == GS_FUN_SAMPLED || a->closed != b->closed)
         return gs_fun_pair_min(a, b, u_at);
     int closed = a->closed != 0;
-    float s[GS_FUN_GRID_MAX];
+    float e[GS_FUN_GRID_MAX + 8], *s = e + 1; /* s with its ends' neighbours (grid_minima) */
     float mn = grid_sum(ga, gb, g, s);
     if (mn != mn) return gs_fun_pair_min(a, b, u_at);
     /* j1: the lowest grid value (a discrete local minimum); j2: the lowest
@@ -1112,14 +1207,11 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
     int sa = closed && seam_low(a, gb, g, thr), sb = closed && seam_low(b, ga, g, thr);
     if (sa && sb && fabs(gs_fun_wrap(a->shift - b->shift + 1.0) - 1.0) < 4.0 * SEAM_WINDOW * 2.0 / g)
         return gs_fun_pair_min(a, b, u_at);
-    uint32_t low[GS_FUN_GRID_MAX], nl = grid_below(s, g, thr, low);
-    for (uint32_t i = 0; i < nl && j1 == GS_NONE_U32; ++i)
-        if (s[low[i]] == mn) j1 = low[i];
+    e[0] = closed ? s[g - 1] : INFINITY;
+    e[g + 1] = closed ? s[0] : INFINITY;
+    e[g + 2] = e[g + 3] = e[g + 4] = 0.0f;
+    grid_minima(e, g, mn, thr, &j1, &j2);
     if (j1 == GS_NONE_U32) return gs_fun_pair_min(a, b, u_at); /* cannot happen */
-    for (uint32_t i = 0; i < nl; ++i) {
-        uint32_t j = low[i];
-        if (j != j1 && (j2 == GS_NONE_U32 || s[j] < s[j2]) && grid_local_min(s, g, j, closed)) j2 = j;
-    }
     double h = closed ? 2.0 / g : 2.0 / (g - 1), best = INFINITY, bu = 0.0;
     /* loops whose pairs went to the robust minimiser before (a dip or a
      * seam): Newton from the parabola's vertex too */
