@@ -966,6 +966,50 @@ static double pair_at3(const gs_fun *a, const gs_fun *b, double u, double *s1, d
     return v;
 }
 
+/* The value of pair_at3 alone (its p recurrence, the same operations, so
+ * bit for bit its return value): Newton's last point needs no slopes. */
+static double pair_at1(const gs_fun *a, const gs_fun *b, double u)
+{
+    uint32_t ma = a->degree, mb = b->degree;
+    if (ma < 1 || mb < 1) {
+        double s1, s2;
+        return pair_at3(a, b, u, &s1, &s2);
+    }
+    double ta = clamp1(a->closed ? gs_fun_wrap(u - a->shift) : u);
+    double tb = clamp1(b->closed ? gs_fun_wrap(u - b->shift) : u);
+    const double *ca = a->coef, *cb = b->coef;
+    uint32_t mn = ma < mb ? ma : mb;
+    v2 t = {ta, tb}, t0 = {1.0, 1.0}, t1 = t, t2 = 2.0 * t, c1 = {ca[1], cb[1]}, v = (v2){ca[0], cb[0]} + c1 * t;
+    uint32_t k = 2;
+    for (; k + 1 <= mn; k += 2) {
+        v2 ck = {ca[k], cb[k]}, cn = {ca[k + 1], cb[k + 1]};
+        t0 = t2 * t1 - t0;
+        v += ck * t0;
+        t1 = t2 * t0 - t1;
+        v += cn * t1;
+    }
+    if (k <= mn) {
+        v2 ck = {ca[k], cb[k]};
+        v2 tn = t2 * t1 - t0;
+        v += ck * tn;
+        t0 = t1, t1 = tn;
+    }
+    double p[2];
+    for (int l = 0; l < 2; ++l) { /* the higher degree's rest */
+        const double *c = l ? cb : ca;
+        uint32_t m = l ? mb : ma;
+        double x0 = t0[l], x1 = t1[l], x2 = t2[l], vv = v[l];
+        for (uint32_t j = mn + 1; j <= m; j++) {
+            double tn = x2 * x1 - x0;
+            vv += c[j] * tn;
+            x0 = x1, x1 = tn;
+        }
+        p[l] = vv;
+    }
+    term fa = {ca, ma, a->squared}, fb = {cb, mb, b->squared};
+    return term_value(&fa, p[0]) + term_value(&fb, p[1]);
+}
+
 /* Newton on the slope of the sum from u (steps kept within +-h, a cell),
  * `steps` times; updates (*best, *bu) with every point it evaluates. *exact
  * says whether *best is pair_value(a, b, *bu) (else it came from the
@@ -981,9 +1025,14 @@ static void newton_candidate(const gs_fun *a, const gs_fun *b, double u, double 
         return;
     }
     for (int it = 0; it <= steps; ++it) {
+        if (it == steps) { /* the last point: its value alone */
+            double v = pair_at1(a, b, u);
+            if (v < *best) *best = v, *bu = u, *exact = 0;
+            return;
+        }
         double s1, s2, v = pair_at3(a, b, u, &s1, &s2);
         if (v < *best) *best = v, *bu = u, *exact = 0;
-        if (it == steps || !(s2 > 0.0)) return;
+        if (!(s2 > 0.0)) return;
         double step = -s1 / s2;
         step = step < -h ? -h : (step > h ? h : step);
         double w = closed ? gs_fun_wrap(u + step) : clamp1(u + step);
