@@ -139,7 +139,9 @@ static inline void prefetch_lines(const void *p, size_t bytes)
  * scanned. */
 static inline void prefetch_record(const gs_db *db, const qview *v, uint32_t c)
 {
-    if (db->nodes[db->curves[c].node].depth >= db->qlev) prefetch_lines(v->b + 2 * (size_t)v->nf + db->qcoff[c], 8 * (size_t)db->qclen[c]);
+    /* small caches (qlev 0) keep every record in the block: no need to look
+     * up the curve's depth */
+    if (!db->qlev || db->nodes[db->curves[c].node].depth >= db->qlev) prefetch_lines(v->b + 2 * (size_t)v->nf + db->qcoff[c], 8 * (size_t)db->qclen[c]);
 }
 
 /* min over curve k of f_x + f_y, entries ex, ey; x < y (the order of the
