@@ -41,6 +41,30 @@ void gs_tree_free(gs_tree *t)
     free(t);
 }
 
+/* Per thread of choose_cut: its own sides, phi and curve output, and the
+ * best candidate it has seen (lowest score, then lowest index). */
+typedef struct cut_slot {
+    uint8_t *side, *best_side;
+    double *phi, *best_phi;
+    size_t cap_side, cap_best_side, cap_phi, cap_best_phi;
+    gs_part_out out;
+    double best;
+    uint32_t best_k, fail_k;
+    int best_valid, rc;
+    gs_error err;
+} cut_slot;
+
+static void cut_slot_free(cut_slot *s)
+{
+    free(s->side);
+    free(s->best_side);
+    free(s->phi);
+    free(s->best_phi);
+    free(s->out.curves);
+    free(s->out.samples);
+    free(s->out.cross);
+}
+
 typedef struct builder {
     const gs_mesh *mesh;
     const gs_tree_options *opt;
@@ -54,10 +78,14 @@ typedef struct builder {
     double *phi;
     size_t cap_lv, cap_lf, cap_tmp, cap_side, cap_phi;
     double long_curve;         /* L of choose_cut (0: plain lengths)      */
+    cut_slot *slot;            /* choose_cut's, one per thread, kept and  */
+    uint32_t n_slot;           /*   grown across nodes                    */
 } builder;
 
 static void builder_free(builder *b)
 {
+    for (uint32_t t = 0; t < b->n_slot; ++t) cut_slot_free(&b->slot[t]);
+    free(b->slot);
     free(b->out.curves);
     free(b->out.samples);
     free(b->out.cross);
@@ -208,29 +236,6 @@ static int candidate_sides(builder *b, gs_part_node *nd, uint32_t seed, int bise
  * levels cost minutes. */
 #define FEW_CANDIDATES_ABOVE 200000u
 
-/* Per thread of choose_cut: its own sides, phi and curve output, and the
- * best candidate it has seen (lowest score, then lowest index). */
-typedef struct cut_slot {
-    uint8_t *side, *best_side;
-    double *phi, *best_phi;
-    gs_part_out out;
-    double best;
-    uint32_t best_k, fail_k;
-    int best_valid, rc;
-    gs_error err;
-} cut_slot;
-
-static void cut_slot_free(cut_slot *s)
-{
-    free(s->side);
-    free(s->best_side);
-    free(s->phi);
-    free(s->best_phi);
-    free(s->out.curves);
-    free(s->out.samples);
-    free(s->out.cross);
-}
-
 /* Candidate k (seed index k / nvar; the bisector variant first) in slot s. */
 static void try_candidate(builder *b, const gs_part_node *nd, uint32_t k, int nvar, cut_slot *s)
 {
@@ -274,16 +279,26 @@ static int choose_cut(builder *b, gs_part_node *nd, gs_error *err)
     if (nt > ncand) nt = ncand;
     if (nt < 1) nt = 1;
     size_t nl = nd->nl ? nd->nl : 1;
-    cut_slot *slot = gs__calloc(nt, sizeof *slot);
-    int rc = slot ? GS_OK : GS_ENOMEM;
+    int rc = GS_OK;
+    if (nt > b->n_slot) {
+        cut_slot *p = gs__realloc(b->slot, nt, sizeof *p);
+        if (p) {
+            memset(p + b->n_slot, 0, (nt - b->n_slot) * sizeof *p);
+            b->slot = p, b->n_slot = nt;
+        } else {
+            rc = GS_ENOMEM;
+        }
+    }
+    cut_slot *slot = b->slot;
     for (uint32_t t = 0; rc == GS_OK && t < nt; ++t) {
-        slot[t].side = gs__malloc(nl, sizeof *slot[t].side);
-        slot[t].best_side = gs__malloc(nl, sizeof *slot[t].best_side);
-        slot[t].phi = gs__malloc(nl, sizeof *slot[t].phi);
-        slot[t].best_phi = gs__malloc(nl, sizeof *slot[t].best_phi);
-        slot[t].best = INFINITY;
-        slot[t].best_k = slot[t].fail_k = UINT32_MAX;
-        if (!slot[t].side || !slot[t].best_side || !slot[t].phi || !slot[t].best_phi) rc = GS_ENOMEM;
+        cut_slot *c = &slot[t];
+        if (RESERVE(c->side, c->cap_side, nl) || RESERVE(c->best_side, c->cap_best_side, nl) ||
+            RESERVE(c->phi, c->cap_phi, nl) || RESERVE(c->best_phi, c->cap_best_phi, nl))
+            rc = GS_ENOMEM;
+        c->best = INFINITY;
+        c->best_k = c->fail_k = UINT32_MAX;
+        c->best_valid = 0;
+        c->rc = GS_OK;
     }
     if (rc == GS_OK) {
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
@@ -309,8 +324,6 @@ static int choose_cut(builder *b, gs_part_node *nd, gs_error *err)
     } else {
         rc = gs__fail(err, GS_ENOMEM, "out of memory building the tree");
     }
-    for (uint32_t t = 0; slot && t < nt; ++t) cut_slot_free(&slot[t]);
-    free(slot);
     return rc;
 }
 
