@@ -10,8 +10,8 @@
 const char usage_build[] =
     "usage: geosep build MESH -o DB [--method exact|graph|fmm|heat] [--vmax N] [--mmax N] [--tol F]\n"
     "                    [--threads N] [--vertex-sources|--sample-sources] [--sampled] [--seed N]\n"
-    "                    [--spacing F] [--max-samples N] [--field-memory MIB] [--heat-time M] [--fmm-start R]\n"
-    "                    [--leaf-exact] [--quiet]\n"
+    "                    [--spacing F] [--max-samples N] [--field-memory MIB] [--heat-time M] [--heat-refine N]\n"
+    "                    [--fmm-start R] [--leaf-exact] [--quiet]\n"
     "  Build a query database: nested bisection tree (leaves of at most --vmax\n"
     "  vertices, default 30), distance fields from every separator sample inside\n"
     "  its patch (--method, default exact), and per-vertex polynomial separator\n"
@@ -27,8 +27,10 @@ const char usage_build[] =
     "  for one block of distance fields (384; two live at a time). --leaf-exact: also store the\n"
     "  exact distances between the vertices of each leaf (paper sec. 3.1, matrix\n"
     "  D; at most vmax numbers per vertex) instead of answering same-leaf queries\n"
-    "  with the Euclidean distance. --threads 0 = all cores. --heat-time and\n"
-    "  --fmm-start: the field method's parameters (see geosep solve --help).\n"
+    "  with the Euclidean distance. --threads 0 = all cores. --heat-time,\n"
+    "  --heat-refine and --fmm-start: the field method's parameters (see geosep\n"
+    "  solve --help; --heat-refine subdivides each patch while its fields are\n"
+    "  solved).\n"
     "  Shows progress on a terminal; prints the stage times and the size.\n";
 const char usage_query[] =
     "usage: geosep query DB X Y\n"
@@ -111,6 +113,8 @@ static int build_option(gs_build_options *o, const char **out, int *quiet, int a
         return parse_double(v, &o->solver.heat_time) ? fail(EXIT_USAGE, "build: --heat-time '%s' is not a number", v) : 0;
     if ((v = opt_value(argc, argv, i, "--fmm-start")))
         return parse_double(v, &o->solver.fmm_exact_start) ? fail(EXIT_USAGE, "build: --fmm-start '%s' is not a number", v) : 0;
+    if ((v = opt_value(argc, argv, i, "--heat-refine")))
+        return parse_u32(v, &o->solver.heat_refine) ? fail(EXIT_USAGE, "build: --heat-refine '%s' is not a count", v) : 0;
     if ((v = opt_value(argc, argv, i, "--tol")))
         return parse_double(v, &o->tol) ? fail(EXIT_USAGE, "build: --tol '%s' is not a number", v) : 0;
     return fail(EXIT_USAGE, "build: unknown or incomplete option '%s'", a);
@@ -121,7 +125,12 @@ static void print_params(const gs_db_info *i)
 {
     printf("built with: method %s", gs_method_name(i->method));
     if (i->method == GS_METHOD_FMM) printf(" (exact start %g edge lengths)", i->solver.fmm_exact_start);
-    if (i->method == GS_METHOD_HEAT) printf(" (t = %g h^2)", i->solver.heat_time);
+    if (i->method == GS_METHOD_HEAT) {
+        printf(" (t = %g h^2", i->solver.heat_time);
+        if (i->solver.heat_refine) printf(", solved on the patches subdivided 1-to-4 %u time%s", i->solver.heat_refine,
+                                          i->solver.heat_refine > 1 ? "s" : "");
+        printf(")");
+    }
     printf(", %s sources, vmax %u, mmax %u, tol %g, spacing %g", i->vertex_sources ? "vertex" : "sample", i->vmax,
            i->mmax, i->tol, i->sample_spacing);
     if (i->max_samples) printf(", at most %u samples per curve", i->max_samples);

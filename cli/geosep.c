@@ -36,7 +36,7 @@ static const char usage_solve[] =
     "                    [--method exact|graph|fmm|heat] [--max-distance D] [-o OUT] [--verbose]\n"
     "       geosep solve MESH --format gt (--sources-from FILE.gt | --random K [--seed S]) -o OUT.gt\n"
     "                    [--method exact|graph|fmm|heat] [--verbose]\n"
-    "       method parameters: [--heat-time M] [--fmm-start R]\n"
+    "       method parameters: [--heat-time M] [--heat-refine N] [--fmm-start R]\n"
     "  Geodesic distances from the sources to every vertex. Text output: one\n"
     "  distance per line in vertex order (\"%.17g\", \"inf\" if unreachable), the\n"
     "  minimum over all sources, to OUT or stdout. --source V is a vertex id\n"
@@ -47,7 +47,10 @@ static const char usage_solve[] =
     "  drawn as the shared ground truth draws them (splitmix64, --seed, default\n"
     "  0), separately, and write all fields to OUT.gt. Files are written\n"
     "  atomically. --heat-time M: heat method time step t = M h^2 (h: mean edge\n"
-    "  length weighted by triangle area; default 1). --fmm-start R: fast\n"
+    "  length weighted by triangle area; default 1). --heat-refine N: solve\n"
+    "  heat on the mesh subdivided 1-to-4 N times (midpoint subdivision: the\n"
+    "  same surface; 0 to 3, default 0; h is then the subdivided mesh's) and\n"
+    "  read the distances back at the vertices. --fmm-start R: fast\n"
     "  marching starts from exact distances within R mean edge lengths of the\n"
     "  sources (default 4; 0: the plain march from the source vertices).\n";
 
@@ -192,7 +195,7 @@ static int solve_option(solve_opts *o, int argc, char **argv, int *i)
     const char *a = argv[*i], *v;
     static const char *const with_value[] = {"--source", "--source-point", "--method", "--max-distance",
                                              "--format", "--sources-from", "--random", "--seed", "-o",
-                                             "--heat-time", "--fmm-start"};
+                                             "--heat-time", "--fmm-start", "--heat-refine"};
     for (size_t k = 0; k < sizeof with_value / sizeof *with_value; ++k) {
         if (!is_opt(a, with_value[k])) continue;
         if (!(v = opt_value(argc, argv, i, with_value[k])) || !*v)
@@ -240,6 +243,10 @@ static int solve_option(solve_opts *o, int argc, char **argv, int *i)
             if (parse_double(v, &o->sopt.fmm_exact_start) || !(o->sopt.fmm_exact_start >= 0) ||
                 !isfinite(o->sopt.fmm_exact_start))
                 return fail(EXIT_USAGE, "solve: --fmm-start '%s': expected a number >= 0", v);
+            return 0;
+        case 11:
+            if (parse_u32(v, &o->sopt.heat_refine) || o->sopt.heat_refine > GS_HEAT_REFINE_MAX)
+                return fail(EXIT_USAGE, "solve: --heat-refine '%s': expected 0 to %d", v, GS_HEAT_REFINE_MAX);
             return 0;
         default: o->out = v; return 0;
         }

@@ -235,13 +235,21 @@ typedef struct gs_solver_options {
                             /*   of the sources get exact distances, and the   */
                             /*   march starts from them; 0: the plain march    */
                             /*   from the source vertices [4]                   */
+    uint32_t heat_refine;   /* heat: solve on the patch subdivided 1-to-4 this */
+                            /*   many times (midpoint subdivision: the same    */
+                            /*   surface), read back at its vertices; 0..3 [0] */
+                            /*   (h above is then the subdivided patch's; the  */
+                            /*   solver's memory and time grow more than 4^N)  */
 } gs_solver_options;
+
+/* Largest gs_solver_options.heat_refine (3: 64x the triangles). */
+#define GS_HEAT_REFINE_MAX 3
 
 void gs_solver_options_default(gs_solver_options *opt);
 
 /* gs_solver_create with options (NULL: defaults). GS_EARG if an option is
  * out of range (heat_time must be finite and > 0, fmm_exact_start finite and
- * >= 0). *out receives a new solver (caller frees); opt is copied. */
+ * >= 0, heat_refine at most GS_HEAT_REFINE_MAX). *out receives a new solver (caller frees); opt is copied. */
 int gs_solver_create_ex(const gs_patch *patch, gs_method method, const gs_solver_options *opt,
                         gs_solver **out, gs_error *err);
 void gs_solver_free(gs_solver *solver);

@@ -205,10 +205,13 @@ static void solve_each(void)
         src[i] = i % 3 ? gs_source_vertex((i * 7919u) % nv)
                        : gs_source_point((i * 104729u) % gs_patch_num_faces(p), 0.2, 0.3, 0.5);
     double *all = malloc((size_t)n * nv * sizeof *all), *one = malloc(nv * sizeof *one);
-    const gs_method methods[] = {GS_METHOD_HEAT, GS_METHOD_FMM, GS_METHOD_EXACT};
-    for (int q = 0; q < 3; ++q) {
+    const gs_method methods[] = {GS_METHOD_HEAT, GS_METHOD_FMM, GS_METHOD_EXACT, GS_METHOD_HEAT};
+    for (int q = 0; q < 4; ++q) {
         gs_solver *s = NULL;
-        CHECK(gs_solver_create(p, methods[q], &s, &err) == GS_OK);
+        gs_solver_options so;
+        gs_solver_options_default(&so);
+        so.heat_refine = q == 3; /* heat on the patch subdivided once */
+        CHECK(gs_solver_create_ex(p, methods[q], &so, &s, &err) == GS_OK);
         CHECK(gs__solver_solve_each(s, src, n, all, &err) == GS_OK);
         double worst = 0;
         for (uint32_t i = 0; i < n; ++i) {
@@ -247,12 +250,50 @@ static void bad_options(void)
     o.field_memory_mib = 1u << 30;
     CHECK(gs_db_build(m, &o, &db, NULL, &err) == GS_EARG && db == NULL);
     CHECK(strstr(err.message, "field_memory_mib") != NULL);
+    gs_build_options_default(&o);
+    o.method = GS_METHOD_HEAT;
+    o.solver.heat_refine = GS_HEAT_REFINE_MAX + 1;
+    CHECK(gs_db_build(m, &o, &db, NULL, &err) == GS_EARG && db == NULL);
+    CHECK(strstr(err.message, "heat_refine 4 must be at most 3") != NULL);
+    gs_mesh_free(m);
+}
+
+/* heat_refine is recorded in the database (build_flags bits 2-3) and read
+ * back, also from the saved file; the fields come from the refined solve
+ * (a database differs from the unrefined one). */
+static void heat_refine_recorded(void)
+{
+    gs_mesh *m = NULL;
+    gs_error err;
+    CHECK(gs_mesh_generate("sphere:3", &m, &err) == GS_OK);
+    gs_build_options o;
+    gs_build_options_default(&o);
+    o.method = GS_METHOD_HEAT;
+    gs_db *plain = build(m, &o);
+    o.solver.heat_refine = 2;
+    gs_db *db = build(m, &o);
+    gs_db_info i;
+    CHECK(gs_db_get_info(plain, &i, &err) == GS_OK && i.solver.heat_refine == 0);
+    CHECK(gs_db_get_info(db, &i, &err) == GS_OK && i.solver.heat_refine == 2 && i.method == GS_METHOD_HEAT);
+    CHECK(!same_file(plain, db));
+    char path[256];
+    snprintf(path, sizeof path, "/tmp/geosep_test_refine_%d.gsdb", (int)getpid());
+    CHECK(gs_db_save(db, path, &err) == GS_OK);
+    gs_db *back = NULL;
+    CHECK(gs_db_open(path, &back, &err) == GS_OK);
+    CHECK(back && gs_db_get_info(back, &i, &err) == GS_OK && i.solver.heat_refine == 2);
+    CHECK(back && same_file(db, back));
+    unlink(path);
+    gs_db_free(back);
+    gs_db_free(db);
+    gs_db_free(plain);
     gs_mesh_free(m);
 }
 
 int main(void)
 {
     bad_options();
+    heat_refine_recorded();
     solve_each();
     capped_samples();
     blocks();

@@ -133,6 +133,7 @@ static void make_fixture(fixture *f, int leaf_exact)
     c->max_samples = 64;
     c->heat_time = 0.5;
     c->fmm_exact_start = 3;
+    c->heat_refine = 2;
     c->avg_depth = 10.0 / 6.0;
     c->max_depth = 2;
     c->n_leaves = 3;
@@ -227,7 +228,7 @@ static void test_round_trip(int leaf_exact)
         CHECK(i1.max_depth == 2 && i1.vmax == 2 && i1.mmax == 12 && i1.tol == 0.005 && i1.vertex_sources == 1);
         CHECK(i1.leaf_exact == leaf_exact && i1.sampled == 0 && i1.file_bytes == n && i1.format_version == 2);
         CHECK(i1.sample_spacing == 0.25 && i1.seed == 7 && i1.max_samples == 64 && i1.solver.heat_time == 0.5 &&
-              i1.solver.fmm_exact_start == 3);
+              i1.solver.fmm_exact_start == 3 && i1.solver.heat_refine == 2);
         /* 14 functions: 12 reachable with 3 coefficients, 4 of them loops */
         CHECK_NEAR(i1.cost, (12.0 * 3 + 4 /* loop shifts */) / FX_NV, 1e-12); /* Table 1: coefficients and shifts */
         /* saving a loaded database writes the same bytes */
@@ -371,6 +372,7 @@ static void m_avg_depth(unsigned char *b) { double v = NAN; memcpy(b + 72, &v, 8
 static void m_method(unsigned char *b) { uint32_t v = 9; memcpy(b + 80, &v, 4); }
 static void m_spacing(unsigned char *b) { double v = 0; memcpy(b + 120, &v, 8); }
 static void m_heat_time(unsigned char *b) { double v = -1; memcpy(b + 136, &v, 8); }
+static void m_build_flags(unsigned char *b) { uint32_t v = 1 | 2u << 2 | 1u << 4; memcpy(b + 92, &v, 4); }
 static void m_fmm_start(unsigned char *b) { double v = INFINITY; memcpy(b + 144, &v, 8); }
 static void m_pos_nan(unsigned char *b) { double v = NAN; memcpy(section(b, GS_SEC_POSITIONS) + 8, &v, 8); }
 static void m_leaf_local(unsigned char *b) { uint32_t v = 0; memcpy(section(b, GS_SEC_LEAF_LOCAL) + 4 * 1, &v, 4); }
@@ -413,6 +415,7 @@ static void test_structure(void)
         {m_spacing, "sample_spacing 0"},
         {m_heat_time, "heat_time -1"},
         {m_fmm_start, "fmm_exact_start inf"},
+        {m_build_flags, "build_flags 0x19 has unknown bits"},
         {m_pos_nan, "vertex 0 has a non-finite coordinate"},
         {m_leaf_local, "vertex 1 has number 0 in leaf 1"},
         {m_leaf_dist, "section 'leaf_dist': entry 1 is -1"},
@@ -447,6 +450,22 @@ static void test_structure(void)
     b[8] = 3;
     reseal(b, n);
     CHECK(open_bad(b, n, &err) == GS_EFORMAT && strstr(err.message, "format_version 3"));
+    /* files written before heat_refine have bits 2-3 of build_flags 0: read
+     * as heat_refine 0 */
+    memcpy(b, db->bytes, n);
+    uint32_t bf = 1;
+    memcpy(b + 92, &bf, 4);
+    reseal(b, n);
+    gs_db *old = NULL;
+    gs_db_info info;
+    CHECK(gs_db_open_memory(b, n, &old, &err) == GS_OK);
+    CHECK(old && gs_db_get_info(old, &info, &err) == GS_OK && info.solver.heat_refine == 0 &&
+          info.vertex_sources == 1 && info.sampled == 0);
+    gs_db_free(old);
+    /* a value that does not fit the two bits is refused by the writer */
+    f.c.heat_refine = 4;
+    CHECK(gs_db_pack(&f.c, &old, &err) == GS_EARG && old == NULL && strstr(err.message, "heat_refine 4"));
+    f.c.heat_refine = 2;
     free(b);
     gs_db_free(db);
 }

@@ -29,7 +29,7 @@ static int all_valid(const double *d, uint32_t n)
 
 /* Mean relative error vs Euclidean distance from the vertex nearest the
  * centre of grid:N,N, over vertices farther than 3 grid spacings. */
-static double grid_error(uint32_t N)
+static double grid_error(uint32_t N, uint32_t refine)
 {
     char spec[64];
     snprintf(spec, sizeof spec, "grid:%u,%u", N, N);
@@ -48,7 +48,13 @@ static double grid_error(uint32_t N)
     }
     double *d = malloc(sizeof(double) * n);
     gs_source src = gs_source_vertex(s);
-    CHECK(gs_distance_field(p, GS_METHOD_HEAT, &src, 1, INFINITY, d, &err) == GS_OK);
+    gs_solver_options o;
+    gs_solver_options_default(&o);
+    o.heat_refine = refine;
+    gs_solver *sh = NULL;
+    CHECK(gs_solver_create_ex(p, GS_METHOD_HEAT, &o, &sh, &err) == GS_OK);
+    CHECK(gs_solver_solve(sh, &src, 1, INFINITY, d, &err) == GS_OK);
+    gs_solver_free(sh);
     CHECK(all_valid(d, n));
     double h = 1.0 / (N - 1), sum = 0;
     uint32_t cnt = 0;
@@ -67,7 +73,7 @@ static double grid_error(uint32_t N)
 
 static void test_grid(void)
 {
-    double e21 = grid_error(21), e41 = grid_error(41), e81 = grid_error(81);
+    double e21 = grid_error(21, 0), e41 = grid_error(41, 0), e81 = grid_error(81, 0);
     printf("grid: mean relative error vs Euclidean: 21x21 %.4f%%, 41x41 %.4f%%, 81x81 %.4f%%\n",
            100 * e21, 100 * e41, 100 * e81);
     /* the plain heat method (direction of grad u, no start ball): 2.23%,
@@ -79,11 +85,11 @@ static void test_grid(void)
 /* Mean over sources of the section-5 ME of heat vs exact; checks +inf
  * agreement and validity. */
 static double compare_exact(const gs_patch *p, const gs_source *src, uint32_t k, uint32_t n,
-                            const uint32_t *ids, const char *name)
+                            const uint32_t *ids, const char *name, const gs_solver_options *opt)
 {
     gs_error err;
     gs_solver *sh = NULL, *se = NULL;
-    CHECK(gs_solver_create(p, GS_METHOD_HEAT, &sh, &err) == GS_OK);
+    CHECK(gs_solver_create_ex(p, GS_METHOD_HEAT, opt, &sh, &err) == GS_OK);
     CHECK(gs_solver_create(p, GS_METHOD_EXACT, &se, &err) == GS_OK);
     double *dh = malloc(sizeof(double) * n), *de = malloc(sizeof(double) * n);
     double me = 0, mx = 0;
@@ -136,7 +142,7 @@ static void test_generated(const char *spec)
     CHECK(gs_mesh_random_vertices(m, 4, 1, ids, &err) == GS_OK);
     gs_source src[4];
     for (int j = 0; j < 4; ++j) src[j] = gs_source_vertex(ids[j]);
-    double me = compare_exact(p, src, 4, n, ids, spec);
+    double me = compare_exact(p, src, 4, n, ids, spec, NULL);
     CHECK_MSG(me < 0.10, "%s: ME %g", spec, me);
     gs_patch_free(p);
     gs_mesh_free(m);
@@ -175,7 +181,7 @@ static void test_slivers(void)
     CHECK(gs_mesh_random_vertices(m, 4, 3, ids, &err) == GS_OK);
     gs_source src[4];
     for (int j = 0; j < 4; ++j) src[j] = gs_source_vertex(ids[j]);
-    double me = compare_exact(p, src, 4, n, ids, "slivers");
+    double me = compare_exact(p, src, 4, n, ids, "slivers", NULL);
     CHECK_MSG(me < 0.10, "slivers: ME %g", me);
     gs_patch_free(p);
     gs_mesh_free(m);
@@ -227,7 +233,7 @@ static void test_points_multi_reuse(void)
     uint32_t n = gs_mesh_num_vertices(m), nf = gs_mesh_num_faces(m);
     gs_source pt[2] = {gs_source_point(nf / 3, 0.2, 0.5, 0.3),
                        gs_source_point(2 * nf / 3 + 1, 0.6, 0.1, 0.3)};
-    double me = compare_exact(p, pt, 2, n, NULL, "points");
+    double me = compare_exact(p, pt, 2, n, NULL, "points", NULL);
     CHECK_MSG(me < 0.10, "point sources: ME %g", me);
 
     uint32_t ids[3];
@@ -316,6 +322,113 @@ static void test_additivity(void)
      * 1.55% and 0.59% here */
     CHECK_MSG(g < 0.006, "grid additivity %g", g);
     CHECK_MSG(sp < 0.002, "sphere additivity %g", sp);
+}
+
+/* Point of face f at barycentric coordinates b. */
+static void point_at(const gs_mesh *m, uint32_t f, const double b[3], double p[3])
+{
+    const double *x = gs_mesh_positions(m);
+    const uint32_t *c = gs_mesh_faces(m) + 3 * (size_t)f;
+    for (int k = 0; k < 3; ++k)
+        p[k] = b[0] * x[3 * c[0] + k] + b[1] * x[3 * c[1] + k] + b[2] * x[3 * c[2] + k];
+}
+
+/* heat_refine: the fields solved on the patch subdivided 1-to-4 (the same
+ * surface), read back at its vertices.
+ *  - It is the heat method on the subdivided mesh: equal (to rounding) to
+ *    solving on gs_mesh_subdivide's mesh with the source mapped by hand
+ *    (a vertex keeps its id; a face point goes to the sub-face holding it,
+ *    checked here by position), at the original vertices.
+ *  - It is at least as accurate: on a flat grid against Euclidean
+ *    distances, on a sphere and a plate with holes against exact ones. */
+static void test_refine(void)
+{
+    gs_error err;
+    gs_mesh *m = NULL, *m1 = NULL, *m2 = NULL;
+    gs_patch *p = NULL, *p1 = NULL, *p2 = NULL;
+    CHECK(gs_mesh_generate("peaks:16", &m, &err) == GS_OK); /* with a boundary */
+    CHECK(gs_mesh_subdivide(m, &m1, &err) == GS_OK && gs_mesh_subdivide(m1, &m2, &err) == GS_OK);
+    CHECK(gs_patch_create(m, NULL, 0, &p, &err) == GS_OK && gs_patch_create(m1, NULL, 0, &p1, &err) == GS_OK &&
+          gs_patch_create(m2, NULL, 0, &p2, &err) == GS_OK);
+    uint32_t n = gs_mesh_num_vertices(m), f = 123;
+    /* a source of m; the same point of m1 and of m2 */
+    static const struct {
+        double b[3], b1[3], b2[3];
+        uint32_t k1, k2; /* sub-face of f in m1, of 4f+k1 in m2 */
+    } pts[] = {
+        {{0.6, 0.3, 0.1}, {0.2, 0.6, 0.2}, {0.4, 0.2, 0.4}, 0, 1},  /* corner faces 0 and 1 */
+        {{0.3, 0.3, 0.4}, {0.2, 0.4, 0.4}, {0.2, 0.6, 0.2}, 3, 3},  /* middle face twice */
+        {{0.65, 0.15, 0.2}, {0.3, 0.3, 0.4}, {0.2, 0.4, 0.4}, 0, 3}, /* corner, then middle */
+        {{0.1, 0.6, 0.3}, {0.2, 0.2, 0.6}, {0.4, 0.4, 0.2}, 1, 2},   /* corners 1 and 2 */
+    };
+    double *d = malloc(sizeof(double) * n), *e = malloc(sizeof(double) * gs_mesh_num_vertices(m2));
+    for (size_t i = 0; i < sizeof pts / sizeof *pts + 1; ++i) {
+        int is_vertex = i == sizeof pts / sizeof *pts;
+        for (uint32_t r = 1; r <= 2; ++r) {
+            gs_source s = is_vertex ? gs_source_vertex(77) : gs_source_point(f, pts[i].b[0], pts[i].b[1], pts[i].b[2]);
+            gs_source sr = s;
+            if (!is_vertex) {
+                uint32_t fr = r == 1 ? 4 * f + pts[i].k1 : 4 * (4 * f + pts[i].k1) + pts[i].k2;
+                const double *br = r == 1 ? pts[i].b1 : pts[i].b2;
+                sr = gs_source_point(fr, br[0], br[1], br[2]);
+                double q0[3], q1[3];
+                point_at(m, f, pts[i].b, q0);
+                point_at(r == 1 ? m1 : m2, fr, br, q1);
+                CHECK_MSG(hypot(hypot(q0[0] - q1[0], q0[1] - q1[1]), q0[2] - q1[2]) < 1e-12,
+                          "point %zu: not the same point at level %u", i, r);
+            }
+            gs_solver_options o;
+            gs_solver_options_default(&o);
+            o.heat_refine = r;
+            gs_solver *s1 = NULL;
+            CHECK(gs_solver_create_ex(p, GS_METHOD_HEAT, &o, &s1, &err) == GS_OK);
+            CHECK(gs_solver_solve(s1, &s, 1, INFINITY, d, &err) == GS_OK);
+            CHECK(gs_distance_field(r == 1 ? p1 : p2, GS_METHOD_HEAT, &sr, 1, INFINITY, e, &err) == GS_OK);
+            double worst = 0;
+            for (uint32_t v = 0; v < n; ++v) worst = fmax(worst, fabs(d[v] - e[v]));
+            CHECK_MSG(worst < 1e-12, "source %zu, refine %u: %g from the subdivided mesh's field", i, r, worst);
+            CHECK(all_valid(d, n) && (!is_vertex || d[77] == 0.0));
+            gs_solver_free(s1);
+        }
+    }
+    free(d), free(e);
+    gs_patch_free(p), gs_patch_free(p1), gs_patch_free(p2);
+    gs_mesh_free(m), gs_mesh_free(m1), gs_mesh_free(m2);
+
+    double g0 = grid_error(21, 0), g1 = grid_error(21, 1), g2 = grid_error(21, 2);
+    printf("grid 21x21 vs Euclidean, heat_refine 0 / 1 / 2: %.4f%% / %.4f%% / %.4f%%\n", 100 * g0, 100 * g1,
+           100 * g2);
+    CHECK_MSG(g1 <= g0 && g2 <= g1, "refined grid errors %g %g %g", g0, g1, g2);
+    const char *specs[] = {"sphere:3", "plate:600"};
+    for (int k = 0; k < 2; ++k) {
+        CHECK(gs_mesh_generate(specs[k], &m, &err) == GS_OK);
+        CHECK(gs_patch_create(m, NULL, 0, &p, &err) == GS_OK);
+        n = gs_mesh_num_vertices(m);
+        uint32_t ids[4];
+        CHECK(gs_mesh_random_vertices(m, 4, 5, ids, &err) == GS_OK);
+        gs_source src[4];
+        for (int j = 0; j < 4; ++j) src[j] = gs_source_vertex(ids[j]);
+        gs_solver_options o;
+        gs_solver_options_default(&o);
+        double me0 = compare_exact(p, src, 4, n, ids, specs[k], &o);
+        o.heat_refine = 1;
+        double me1 = compare_exact(p, src, 4, n, ids, specs[k], &o);
+        CHECK_MSG(me1 <= me0, "%s: heat_refine 1 ME %g, unrefined %g", specs[k], me1, me0);
+        gs_patch_free(p);
+        gs_mesh_free(m);
+    }
+
+    /* out of range */
+    CHECK(gs_mesh_generate("grid:5,5", &m, &err) == GS_OK && gs_patch_create(m, NULL, 0, &p, &err) == GS_OK);
+    gs_solver_options o;
+    gs_solver_options_default(&o);
+    CHECK(o.heat_refine == 0);
+    o.heat_refine = GS_HEAT_REFINE_MAX + 1;
+    gs_solver *s = (gs_solver *)&o; /* must be reset to NULL */
+    CHECK(gs_solver_create_ex(p, GS_METHOD_HEAT, &o, &s, &err) == GS_EARG && s == NULL);
+    CHECK(strstr(err.message, "heat_refine 4 must be at most 3") != NULL);
+    gs_patch_free(p);
+    gs_mesh_free(m);
 }
 
 /* Far from the source: heat decays like exp(-r / sqrt(t)) and underflows
@@ -421,6 +534,7 @@ int main(void)
     test_points_multi_reuse();
     test_additivity();
     test_far();
+    test_refine();
     /* the plain heat method (direction of grad u, no start ball, t from the
      * plain mean edge length): 2.10% and 1.89% */
     test_shared("bunny-5k", 0.013);

@@ -864,6 +864,7 @@ static int assemble(builder *b, const leaf_tables *lt, gs_db **out, gs_error *er
     c.max_samples = b->opt->max_samples;
     c.heat_time = b->opt->solver.heat_time;
     c.fmm_exact_start = b->opt->solver.fmm_exact_start;
+    c.heat_refine = b->opt->solver.heat_refine;
     c.sampled = (uint32_t)b->opt->sampled;
     c.avg_depth = t->avg_leaf_depth;
     c.max_depth = t->max_depth;
@@ -892,6 +893,9 @@ static int check_options(const gs_build_options *o, gs_error *err)
         return gs__fail(err, GS_EARG, "solver.heat_time %g must be finite and > 0", o->solver.heat_time);
     if (!(isfinite(o->solver.fmm_exact_start) && o->solver.fmm_exact_start >= 0))
         return gs__fail(err, GS_EARG, "solver.fmm_exact_start %g must be finite and >= 0", o->solver.fmm_exact_start);
+    if (o->solver.heat_refine > GS_HEAT_REFINE_MAX)
+        return gs__fail(err, GS_EARG, "solver.heat_refine %u must be at most %d", o->solver.heat_refine,
+                        GS_HEAT_REFINE_MAX);
     return GS_OK;
 }
 

@@ -57,6 +57,7 @@ typedef struct gs_db_content {
     uint32_t seed;                /* partitioning seed                       */
     uint32_t max_samples;         /* cap on samples per curve (0: none)      */
     double heat_time, fmm_exact_start; /* gs_solver_options                  */
+    uint32_t heat_refine;         /* gs_solver_options, 0..3                 */
     double avg_depth;
     uint32_t max_depth, n_leaves;
 } gs_db_content;

@@ -19,6 +19,10 @@
 #define GS_DB_FLAG_LEAF_EXACT 1u
 #define GS_DB_BUILD_VERTEX_SOURCES 1u
 #define GS_DB_BUILD_SAMPLED 2u
+/* bits 2-3: gs_solver_options.heat_refine (0 in files written before it) */
+#define GS_DB_BUILD_HEAT_REFINE_SHIFT 2
+#define GS_DB_BUILD_HEAT_REFINE_MASK (3u << GS_DB_BUILD_HEAT_REFINE_SHIFT)
+_Static_assert(GS_HEAT_REFINE_MAX <= 3, "heat_refine must fit build_flags bits 2-3");
 #define GS_DB_MAX_SAMPLED 65535u
 #define GS_DB_MAX_SHIFT 2.0
 

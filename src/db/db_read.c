@@ -113,7 +113,7 @@ static int check_counts(reader *r)
     if (db->nv == 0 || db->nv == GS_NONE) return BAD(r, "%s: header: n_vertices %u out of range", r->name, db->nv);
     if (db->n_nodes == 0 || db->n_nodes == GS_NONE)
         return BAD(r, "%s: header: n_nodes %u out of range", r->name, db->n_nodes);
-    if (db->build_flags & ~(GS_DB_BUILD_VERTEX_SOURCES | GS_DB_BUILD_SAMPLED))
+    if (db->build_flags & ~(GS_DB_BUILD_VERTEX_SOURCES | GS_DB_BUILD_SAMPLED | GS_DB_BUILD_HEAT_REFINE_MASK))
         return BAD(r, "%s: header: build_flags 0x%X has unknown bits", r->name, db->build_flags);
     if (db->max_depth > db->n_nodes) return BAD(r, "%s: header: max_depth %u > n_nodes %u", r->name, db->max_depth, db->n_nodes);
     if (!(db->avg_depth >= 0 && db->avg_depth <= db->max_depth))
@@ -569,5 +569,6 @@ int gs_db_get_info(const gs_db *db, gs_db_info *info, gs_error *err)
     info->max_samples = db->max_samples;
     info->solver.heat_time = db->heat_time;
     info->solver.fmm_exact_start = db->fmm_exact_start;
+    info->solver.heat_refine = (db->build_flags & GS_DB_BUILD_HEAT_REFINE_MASK) >> GS_DB_BUILD_HEAT_REFINE_SHIFT;
     return GS_OK;
 }

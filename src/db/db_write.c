@@ -183,7 +183,8 @@ static void write_header(unsigned char *b, const gs_db_content *c, uint32_t n_se
     put32(b + 84, c->vmax);
     put32(b + 88, c->mmax);
     put32(b + 92, (c->vertex_sources ? GS_DB_BUILD_VERTEX_SOURCES : 0) |
-                      (c->sampled ? GS_DB_BUILD_SAMPLED : 0));
+                      (c->sampled ? GS_DB_BUILD_SAMPLED : 0) |
+                      ((c->heat_refine << GS_DB_BUILD_HEAT_REFINE_SHIFT) & GS_DB_BUILD_HEAT_REFINE_MASK));
     putf(b + 96, c->tol);
     put64(b + 104, leaf_entries);
     /* Table 1 counts what describes the functions: coefficients and loop
@@ -275,6 +276,8 @@ int gs_db_pack(const gs_db_content *c, gs_db **out, gs_error *err)
     if (!c || !out || !c->fun_start || (c->nv && (!c->xyz || !c->leaf)) || !c->nodes)
         return gs__fail(err, GS_EARG, "gs_db_pack: missing content");
     *out = NULL;
+    if (c->heat_refine > GS_DB_BUILD_HEAT_REFINE_MASK >> GS_DB_BUILD_HEAT_REFINE_SHIFT)
+        return gs__fail(err, GS_EARG, "gs_db_pack: heat_refine %u does not fit the header", c->heat_refine);
     if (!gs__db_host_little_endian())
         return gs__fail(err, GS_EFORMAT, "database: big-endian hosts are not supported");
     int tables = c->leaf_dist && c->leaf_vstart && c->leaf_verts && c->leaf_dstart;

@@ -50,6 +50,18 @@
  *    the ball exact distances (window propagation bounded to its radius)
  *    are known, and every face with three corners in it takes the
  *    gradient of their linear interpolant (not normalised) instead.
+ *  - Refinement (gs_solver_options.heat_refine = N > 0): the patch is
+ *    subdivided 1-to-4 N times (midpoints of the edges: the same polyhedral
+ *    surface, so the same exact distances, at 4^N times the triangles), the
+ *    fields are solved on that mesh as above, with its own h (t = heat_time
+ *    x its h^2, 4^-N times the unrefined t; start ball of its mean edge
+ *    lengths), and read back at the patch's vertices, which keep their ids.
+ *    A finer mesh makes the discrete heat kernel decay at the same rate in
+ *    every direction, which is what makes heat distances additive along a
+ *    geodesic (bunny-5k database vs its own fields, ME 0.80% / 0.51% /
+ *    0.41% for N = 0 / 1 / 2; a smaller t on the original mesh does not do
+ *    that, see README). Face sources go to the sub-face holding the point.
+ *    The refined mesh and its factors exist only while the solver does.
  *  - Boundaries: the paper's recommendation, the average of the Neumann
  *    heat flow (the plain system) and the Dirichlet one (u = 0 on boundary
  *    vertices: a second factorisation over interior vertices). Closed
@@ -80,10 +92,21 @@
 enum { HEAT_BATCH = 16 };
 
 typedef struct heat_state {
-    const gs_topo *t;
+    const gs_topo *t;   /* the mesh solved on: the patch's, or refined_t    */
+    /* refined solve (heat_refine > 0): the patch's topology t0 (nv0
+     * vertices), subdivided `refine` times into refined_t (own arrays); the
+     * fields are solved on refined_t (its first nv0 vertices are t0's) into
+     * rdist (rcap rows of nv), sources mapped into rsrc */
+    const gs_topo *t0;
+    uint32_t nv0, refine;
+    gs_topo refined_t;
+    double *rxyz, *rdist;
+    uint32_t *rtri, rcap, rsrc_cap;
+    gs_source *rsrc;
     uint32_t nv, nf;
     double t_step;      /* heat time step t (h^2 by default)                */
-    double h_mean;      /* mean edge length of the input mesh               */
+    double h_mean;      /* mean edge length of the mesh solved on           */
+    double r_ball;      /* start ball radius                                */
     double h_time;      /* its mean edge length weighted by area: t's h     */
     /* intrinsic Delaunay triangulation: same faces count, flipped corners */
     uint32_t *itri;     /* 3*nf vertices                                    */
@@ -361,13 +384,88 @@ static void heat_destroy(void *state)
     free(s->mass), free(s->comp), free(s->map_n), free(s->map_d), free(s->map_p);
     free(s->b), free(s->x), free(s->u), free(s->w), free(s->div), free(s->phi), free(s->cmin);
     free(s->kb), free(s->ku), free(s->kx), free(s->kw);
+    if (s->refine) gs_topo_free(&s->refined_t);
+    free(s->rxyz), free(s->rtri), free(s->rdist), free(s->rsrc);
     free(s);
+}
+
+/* Subdivide t0 `levels` times into s->refined_t (arrays rxyz, rtri). */
+static int refine_patch(heat_state *s, const gs_topo *t0, uint32_t levels, gs_error *err)
+{
+    const gs_topo *cur = t0;
+    for (uint32_t l = 0; l < levels; ++l) {
+        double *xyz;
+        uint32_t *tri, nv, nf;
+        int rc = gs__subdivide_arrays(cur, &nv, &xyz, &nf, &tri, err);
+        if (l > 0) {
+            gs_topo_free(&s->refined_t);
+            free(s->rxyz), free(s->rtri);
+            s->rxyz = NULL, s->rtri = NULL;
+        }
+        if (rc) return rc;
+        s->rxyz = xyz, s->rtri = tri;
+        rc = gs_topo_build(&s->refined_t, nv, xyz, nf, tri, GS_TOPO_ALLOW_NONMANIFOLD_VERTICES, NULL, err);
+        if (rc) {
+            free(s->rxyz), free(s->rtri);
+            s->rxyz = NULL, s->rtri = NULL;
+            return rc;
+        }
+        cur = &s->refined_t;
+    }
+    return GS_OK;
+}
+
+/* A source of the patch as a source of the refined mesh: a vertex keeps its
+ * id; a point of face f lies in one of the four faces f becomes at each
+ * level (a corner face if one of its coordinates is >= 1/2, else the
+ * middle one), with coordinates relative to it; a point that lands on a
+ * refined vertex becomes that vertex. */
+static gs_source refine_source(const heat_state *s, const gs_source *in)
+{
+    if (in->face == GS_NONE) return *in;
+    uint32_t f = in->face;
+    double b0 = in->bary[0], b1 = in->bary[1], b2 = in->bary[2];
+    for (uint32_t l = 0; l < s->refine; ++l) {
+        uint32_t k;
+        double c0, c1, c2;
+        if (b0 >= 0.5) k = 0, c0 = 2 * b0 - 1, c1 = 2 * b1, c2 = 2 * b2;
+        else if (b1 >= 0.5) k = 1, c0 = 2 * b0, c1 = 2 * b1 - 1, c2 = 2 * b2;
+        else if (b2 >= 0.5) k = 2, c0 = 2 * b0, c1 = 2 * b1, c2 = 2 * b2 - 1;
+        else k = 3, c0 = 1 - 2 * b2, c1 = 1 - 2 * b0, c2 = 1 - 2 * b1;
+        double sum = c0 + c1 + c2;
+        b0 = c0 / sum, b1 = c1 / sum, b2 = c2 / sum;
+        f = 4 * f + k;
+    }
+    const uint32_t *c = s->rtri + 3 * (size_t)f;
+    if (b0 == 1.0) return gs_source_vertex(c[0]);
+    if (b1 == 1.0) return gs_source_vertex(c[1]);
+    if (b2 == 1.0) return gs_source_vertex(c[2]);
+    return gs_source_point(f, b0, b1, b2);
 }
 
 static int heat_create(const gs_topo *t, const gs_solver_options *opt, void **state, gs_error *err)
 {
     heat_state *s = calloc(1, sizeof *s);
     if (!s) return gs__fail(err, GS_ENOMEM, "out of memory creating a heat solver");
+    s->t0 = t;
+    s->nv0 = t->nv;
+    if (opt->heat_refine > 0) {
+        int rc = refine_patch(s, t, opt->heat_refine, err);
+        if (rc) {
+            free(s);
+            return rc;
+        }
+        s->refine = opt->heat_refine;
+        t = &s->refined_t;
+        s->rsrc_cap = 16;
+        s->rsrc = gs__malloc(s->rsrc_cap, sizeof *s->rsrc);
+        s->rcap = 1;
+        s->rdist = gs__malloc(t->nv ? t->nv : 1, sizeof *s->rdist);
+        if (!s->rsrc || !s->rdist) {
+            heat_destroy(s);
+            return gs__fail(err, GS_ENOMEM, "out of memory creating a heat solver");
+        }
+    }
     s->t = t;
     s->nv = t->nv;
     s->nf = t->nf;
@@ -415,6 +513,7 @@ static int heat_create(const gs_topo *t, const gs_solver_options *opt, void **st
     }
     s->h_time = area_sum > 0 ? hw / area_sum : s->h_mean;
     s->t_step = opt->heat_time * s->h_time * s->h_time;
+    s->r_ball = HEAT_EXACT_START * s->h_mean;
 
     int rc = make_intrinsic_delaunay(s, err);
     if (rc) {
@@ -597,7 +696,7 @@ static int exact_start(heat_state *s, const gs_source *src, uint32_t n_src, cons
         if (!s->edist || !s->fmark)
             return gs__fail(err, GS_ENOMEM, "out of memory for the heat method's start ball");
     }
-    double r = HEAT_EXACT_START * s->h_mean;
+    double r = s->r_ball;
     gs_solve_stats es = {0, 0};
     int rc = gs_exact_ops.solve(s->exact, src, n_src, r, s->edist, &es, err);
     if (rc) return rc;
@@ -700,10 +799,9 @@ static void shift_components(heat_state *s, const double *phi, const gs_source *
         if (src[i].face == GS_NONE) dist[src[i].vertex] = 0.0;
 }
 
-static int heat_solve(void *state, const gs_source *src, uint32_t n_src, double max_d,
-                      double *dist, gs_solve_stats *stats, gs_error *err)
+static int solve_one(heat_state *state, const gs_source *src, uint32_t n_src, double *dist,
+                     gs_solve_stats *stats, gs_error *err)
 {
-    (void)max_d;
     heat_state *s = state;
     const gs_topo *t = s->t;
     uint32_t nv = s->nv;
@@ -760,8 +858,8 @@ static int heat_flow_many(heat_state *s, gs_sparse_factor *F, const uint32_t *ma
 /* One field per source (dist row i, nv doubles, for source i): the same
  * steps as heat_solve, each linear system solved for a batch of sources at
  * once. Equal to n single solves up to rounding. */
-static int heat_solve_each(void *state, const gs_source *src, uint32_t n_src, double *dist,
-                           gs_solve_stats *stats, gs_error *err)
+static int solve_each(heat_state *state, const gs_source *src, uint32_t n_src, double *dist,
+                      gs_solve_stats *stats, gs_error *err)
 {
     heat_state *s = state;
     const gs_topo *t = s->t;
@@ -826,6 +924,53 @@ static int heat_solve_each(void *state, const gs_source *src, uint32_t n_src, do
     }
     stats->windows_propagated += nv * n_src;
     return GS_OK;
+}
+
+/* Map n sources to the refined mesh (s->rsrc). */
+static int map_sources(heat_state *s, const gs_source *src, uint32_t n, gs_error *err)
+{
+    if (n > s->rsrc_cap) {
+        gs_source *p = gs__realloc(s->rsrc, n, sizeof *p);
+        if (!p) return gs__fail(err, GS_ENOMEM, "out of memory for %u heat sources", n);
+        s->rsrc = p, s->rsrc_cap = n;
+    }
+    for (uint32_t i = 0; i < n; ++i) s->rsrc[i] = refine_source(s, &src[i]);
+    return GS_OK;
+}
+
+static int heat_solve(void *state, const gs_source *src, uint32_t n_src, double max_d,
+                      double *dist, gs_solve_stats *stats, gs_error *err)
+{
+    (void)max_d;
+    heat_state *s = state;
+    if (!s->refine) return solve_one(s, src, n_src, dist, stats, err);
+    int rc = map_sources(s, src, n_src, err);
+    if (!rc) rc = solve_one(s, s->rsrc, n_src, s->rdist, stats, err);
+    if (!rc) memcpy(dist, s->rdist, s->nv0 * sizeof *dist);
+    return rc;
+}
+
+static int heat_solve_each(void *state, const gs_source *src, uint32_t n_src, double *dist,
+                           gs_solve_stats *stats, gs_error *err)
+{
+    heat_state *s = state;
+    if (!s->refine) return solve_each(s, src, n_src, dist, stats, err);
+    uint32_t want = n_src < HEAT_BATCH ? n_src : HEAT_BATCH;
+    if (want > s->rcap) {
+        free(s->rdist);
+        s->rcap = 0;
+        s->rdist = gs__malloc((size_t)s->nv * want + 1, sizeof *s->rdist);
+        if (!s->rdist) return gs__fail(err, GS_ENOMEM, "out of memory for a batch of %u heat fields", want);
+        s->rcap = want;
+    }
+    int rc = map_sources(s, src, n_src, err);
+    for (uint32_t i0 = 0; i0 < n_src && !rc; i0 += HEAT_BATCH) {
+        uint32_t k = n_src - i0 < HEAT_BATCH ? n_src - i0 : HEAT_BATCH;
+        rc = solve_each(s, s->rsrc + i0, k, s->rdist, stats, err);
+        for (uint32_t c = 0; c < k && !rc; ++c)
+            memcpy(dist + (size_t)(i0 + c) * s->nv0, s->rdist + (size_t)c * s->nv, s->nv0 * sizeof *dist);
+    }
+    return rc;
 }
 
 const gs_method_ops gs_heat_ops = {"heat", heat_create, heat_destroy, heat_solve, heat_solve_each};

@@ -91,6 +91,7 @@ void gs_solver_options_default(gs_solver_options *o)
     if (!o) return;
     o->heat_time = 1.0;
     o->fmm_exact_start = 4.0;
+    o->heat_refine = 0;
 }
 
 int gs_solver_create(const gs_patch *patch, gs_method method, gs_solver **out, gs_error *err)
@@ -114,6 +115,9 @@ int gs_solver_create_ex(const gs_patch *patch, gs_method method, const gs_solver
     if (!(isfinite(o.fmm_exact_start) && o.fmm_exact_start >= 0))
         return gs__fail(err, GS_EARG, "gs_solver_create: fmm_exact_start %g must be finite and >= 0",
                         o.fmm_exact_start);
+    if (o.heat_refine > GS_HEAT_REFINE_MAX)
+        return gs__fail(err, GS_EARG, "gs_solver_create: heat_refine %u must be at most %d", o.heat_refine,
+                        GS_HEAT_REFINE_MAX);
     gs_solver *s = gs__calloc(1, sizeof *s);
     if (!s) return gs__fail(err, GS_ENOMEM, "out of memory");
     s->patch = patch;

@@ -50,6 +50,14 @@ int gs_topo_build(gs_topo *t, uint32_t nv, const double *xyz, uint32_t nf,
                   gs_error *err);
 void gs_topo_free(gs_topo *t);
 
+/* 1-to-4 midpoint subdivision of t (subdivide.c): the vertices of t keep
+ * their ids, then one midpoint per edge; face f becomes faces 4f .. 4f+3:
+ * (c0, m0, m2), (m0, c1, m1), (m2, m1, c2), (m0, m1, m2), c the corners of
+ * f and m_i the midpoint of its half-edge 3f+i. *xyz_out (3 * *nv_out) and
+ * *tri_out (3 * *nf_out) are malloc'ed, the caller frees them. */
+int gs__subdivide_arrays(const gs_topo *t, uint32_t *nv_out, double **xyz_out, uint32_t *nf_out,
+                         uint32_t **tri_out, gs_error *err);
+
 struct gs_mesh {
     uint32_t nv, nf;
     double *xyz;
