@@ -132,6 +132,11 @@ run solve "$G" --source 0 --method fmm --fmm-start 0 -o "$T/fmm0.txt"
   awk '{ a += ($1 - $2) ^ 2; b += ($3 - $2) ^ 2 } END { exit !(b < a) }'; }; verdict "solve --fmm-start 0: the plain march, farther from exact than the default"
 run solve "$G" --source 0 --method heat --heat-time 0.5 -o "$T/heat05.txt"
 { [ "$rc" -eq 0 ] && ! cmp -s "$T/heat05.txt" "$T/heat.txt"; }; verdict "solve --heat-time 0.5: another time step"
+run solve "$G" --source 0 --method heat --heat-refine 1 -o "$T/heatr1.txt"
+{ [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/heatr1.txt")" -eq 66 ] && [ "$(head -1 "$T/heatr1.txt")" = "0" ] &&
+  ! cmp -s "$T/heatr1.txt" "$T/heat.txt"; }; verdict "solve --heat-refine 1: solved on the subdivided mesh"
+expect_fail 2 "expected 0 to 3" "heat refine 4" solve "$G" --source 0 --method heat --heat-refine 4
+expect_fail 2 "expected 0 to 3" "heat refine -1" solve "$G" --source 0 --method heat --heat-refine -1
 expect_fail 2 "number > 0" "heat time 0" solve "$G" --source 0 --method heat --heat-time 0
 expect_fail 2 "number > 0" "heat time nan" solve "$G" --source 0 --method heat --heat-time nan
 expect_fail 2 "number >= 0" "negative fmm start" solve "$G" --source 0 --method fmm --fmm-start -1
@@ -227,7 +232,13 @@ expect_fail 2 "vmax" "build: vmax too small" build "$D" -o "$T/x.gsdb" --vmax 1
 expect_fail 2 "not a count" "build: bad --mmax" build "$D" -o "$T/x.gsdb" --mmax many
 expect_fail 2 "heat_time" "build: --heat-time 0" build "$D" -o "$T/x.gsdb" --method heat --heat-time 0
 expect_fail 2 "fmm_exact_start" "build: --fmm-start -2" build "$D" -o "$T/x.gsdb" --method fmm --fmm-start -2
+expect_fail 2 "heat_refine 4 must be at most 3" "build: --heat-refine 4" build "$D" -o "$T/x.gsdb" --method heat --heat-refine 4
+expect_fail 2 "not a count" "build: --heat-refine x" build "$D" -o "$T/x.gsdb" --method heat --heat-refine x
 { [ ! -e "$T/x.gsdb" ]; }; verdict "build: bad method parameters leave no database"
+run build "$D" -o "$T/r1.gsdb" --method heat --heat-refine 1
+{ [ "$rc" -eq 0 ] && grep -q "subdivided 1-to-4 1 time)" "$T/out"; }; verdict "build --heat-refine 1 prints it"
+run eval "$T/r1.gsdb" --groundtruth "$T/grid.gt"
+{ [ "$rc" -eq 0 ] && grep -q "t = 1 h^2, solved on the patches subdivided 1-to-4 1 time)" "$T/out"; }; verdict "eval: the database records --heat-refine"
 expect_fail 2 "need MESH and -o" "build: no -o" build "$D"
 expect_fail 2 "landmarks" "land: zero landmarks" land "$D" --landmarks 0 --groundtruth "$T/grid.gt"
 { [ -z "$(find "$T" -name '*.tmp.*')" ]; }; verdict "database commands leave no temporary files"
