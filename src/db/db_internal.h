@@ -160,12 +160,14 @@ typedef struct gs_qentry {
  *   [1]    float: the dip's u (gs_fun_dip; NaN: not sharp), then uint32 g:
  *          grid points (0: no grid, e.g. sampled functions)
  *   [2]    two floats: the dip's lo - u and hi - u
- *   [3..]  g floats: the values on the curve's uniform grid in u (paths:
+ *   [3]    two floats: the dip's slope, and a loop's seam value rounded
+ *          down (NaN for paths)
+ *   [4..]  g floats: the values on the curve's uniform grid in u (paths:
  *          u_j = -1 + 2j/(g-1); loops: u_j = -1 + 2j/g), padded to a
  *          multiple of 4 floats
  *   then   the degree+1 coefficients (or samples)
  * Every record of a curve has the same size (room for its largest degree). */
-#define GS_QREC_HEAD 3u
+#define GS_QREC_HEAD 4u
 
 static inline uint32_t gs__qrec_grid(const double *rec)
 {
@@ -176,12 +178,14 @@ static inline uint32_t gs__qrec_grid(const double *rec)
 
 static inline void gs__qrec_dip(const double *rec, gs_fun_dip *d)
 {
-    float f[3];
+    float f[5];
     __builtin_memcpy(f, rec + 1, 4);
-    __builtin_memcpy(f + 1, rec + 2, 8);
+    __builtin_memcpy(f + 1, rec + 2, 16);
     d->u = f[0];
     d->lo = d->u + f[1];
     d->hi = d->u + f[2];
+    d->slope = f[3];
+    d->seam = f[4];
 }
 
 static inline const float *gs__qrec_values(const double *rec)

@@ -1053,6 +1053,27 @@ static void newton_candidate(const gs_fun *a, const gs_fun *b, double u, double 
  * then a candidate, or lies at an end that slopes outward). */
 #define WINDOW_PTS 5
 #define BRACKET_ITERS 40
+/* The minimum of the sum inside a bracket xl < xr of a loop's parameter
+ * where its slope goes from dl < 0 to dr > 0: Newton on the slope from the
+ * secant's root, kept inside the shrinking bracket (bisection when it would
+ * leave it), to |step| <= 1e-10. */
+static void bracket_min(const gs_fun *a, const gs_fun *b, double xl, double xr, double dl, double dr, double *best,
+                        double *bu, int *exact)
+{
+    double s2, t = xl - dl * (xr - xl) / (dr - dl); /* secant start */
+    for (int it = 0; it < BRACKET_ITERS; ++it) {
+        double s1, w = pair_at3(a, b, t, &s1, &s2);
+        if (w < *best) *best = w, *bu = gs_fun_wrap(t), *exact = 0;
+        if (s1 == 0.0) return;
+        if (s1 < 0.0) xl = t;
+        else xr = t;
+        double y = s2 > 0.0 ? t - s1 / s2 : 0.5 * (xl + xr);
+        if (!(y > xl && y < xr)) y = 0.5 * (xl + xr);
+        if (fabs(y - t) <= 1e-10 || xr - xl <= 1e-10) return;
+        t = y;
+    }
+}
+
 static int window_min(const gs_fun *a, const gs_fun *b, double lo, double hi, double *best, double *bu,
                       int *exact)
 {
@@ -1067,19 +1088,46 @@ static int window_min(const gs_fun *a, const gs_fun *b, double lo, double hi, do
     if (d[i] == 0.0 || (i == 0 && d[i] > 0.0) || (i == WINDOW_PTS - 1 && d[i] < 0.0)) return 1;
     int l = d[i] < 0.0 ? i : i - 1, r = l + 1;
     if (!(d[l] < 0.0 && d[r] > 0.0)) return 0;
-    double xl = x[l], xr = x[r], t = xl - d[l] * (xr - xl) / (d[r] - d[l]); /* secant start */
-    for (int it = 0; it < BRACKET_ITERS; ++it) {
-        double s1, w = pair_at3(a, b, t, &s1, &s2);
-        if (w < *best) *best = w, *bu = gs_fun_wrap(t), *exact = 0;
-        if (s1 == 0.0) return 1;
-        if (s1 < 0.0) xl = t;
-        else xr = t;
-        double y = s2 > 0.0 ? t - s1 / s2 : 0.5 * (xl + xr);
-        if (!(y > xl && y < xr)) y = 0.5 * (xl + xr);
-        if (fabs(y - t) <= 1e-10 || xr - xl <= 1e-10) return 1;
-        t = y;
-    }
+    bracket_min(a, b, x[l], x[r], d[l], d[r], best, bu, exact);
     return 1;
+}
+
+/* The minimum of the sum beside a's sharp dip at u (no zero set), within
+ * lim either side: at u, a's slope is 0 and the sum's slope m is b's; on a
+ * hyperbola sqrt(a(u)^2 + (L s)^2) (L = the dip's slope) a's slope reaches
+ * -m at the offset s = a(u) m / (L sqrt(L^2 - m^2)) downhill. Probes there
+ * (and twice as far while the slope keeps its sign, up to lim) bracket the
+ * minimum for bracket_min. Returns 0 when the slopes are not numbers (the
+ * caller then uses the robust minimiser), 1 otherwise (a minimum beyond
+ * lim is the grid's to find). */
+static int dip_min(const gs_fun *a, const gs_fun *b, double u, double L, double lim, double *best, double *bu,
+                   int *exact)
+{
+    double s1, s2, v = pair_at3(a, b, u, &s1, &s2);
+    if (v < *best) *best = v, *bu = gs_fun_wrap(u), *exact = 0;
+    if (s1 == 0.0) return 1;
+    if (s1 != s1) return 0;
+    double dir = s1 < 0.0 ? 1.0 : -1.0, m = fabs(s1);
+    double am = a->minval > 0.0 ? a->minval : 0.0;
+    double x = L > m ? 1.25 * am * m / (L * sqrt((L - m) * (L + m))) : lim;
+    x = x < lim ? (x > 1e-9 * lim ? x : 1e-9 * lim) : lim;
+    double xin = 0.0, din = -m; /* the bracket's inner end, along dir */
+    for (;;) {
+        double t = u + dir * x, t1;
+        double w = pair_at3(a, b, t, &t1, &s2);
+        if (w < *best) *best = w, *bu = gs_fun_wrap(t), *exact = 0;
+        double dt = dir * t1; /* the slope along dir */
+        if (dt != dt) return 0;
+        if (dt >= 0.0) {
+            if (dt == 0.0) return 1;
+            if (dir > 0.0) bracket_min(a, b, u + xin, t, din, dt, best, bu, exact);
+            else bracket_min(a, b, t, u - xin, -dt, -din, best, bu, exact);
+            return 1;
+        }
+        if (x >= lim) return 1; /* still downhill at the window's end */
+        xin = x, din = dt;
+        x = 2.0 * x < lim ? 2.0 * x : lim;
+    }
 }
 
 /* s = ga + gb on the g grid points; returns min s (NaN if some s is NaN). */
@@ -1161,9 +1209,22 @@ static int seam_near(const gs_fun *f, uint32_t j, uint32_t g)
     return d <= 2.0 + 1e-9 * g || d >= g - 1e-9 * g;
 }
 
+/* The lower of a loop's one-sided limits at its seam: its series at t = 1
+ * and t = -1 (sums of the coefficients), as term values. */
+static double seam_value(const gs_fun *f)
+{
+    double p1 = 0.0, pm = 0.0;
+    for (uint32_t k = 0; k <= f->degree; k++) p1 += f->coef[k], pm += k & 1 ? -f->coef[k] : f->coef[k];
+    term t = {f->coef, f->degree, f->squared};
+    double v1 = term_value(&t, p1), vm = term_value(&t, pm);
+    return v1 < vm ? v1 : vm;
+}
+
 void gs_fun_dip_find(const gs_fun *f, gs_fun_dip *d)
 {
     d->u = d->lo = d->hi = NAN;
+    d->slope = 0.0;
+    d->seam = f->coef && f->kind == GS_FUN_CHEBYSHEV && f->closed ? seam_value(f) : NAN;
     if (!gs_fun_is_sharp(f)) return;
     double u;
     gs_fun_min(f, &u);
@@ -1172,7 +1233,11 @@ void gs_fun_dip_find(const gs_fun *f, gs_fun_dip *d)
     double t0 = f->closed ? gs_fun_wrap(u - f->shift) : u, p0, p1, p2;
     /* the raw series' own minimum near t0 (t0 may sit on a zero set's edge) */
     double tm = poly_min(&t, t0 - 0.1 > -1.0 ? t0 - 0.1 : -1.0, t0 + 0.1 < 1.0 ? t0 + 0.1 : 1.0, t0, &p0);
-    if (p0 > 0.0) return;
+    if (p0 > 0.0) { /* no zero set: the hyperbola's slope from the curvature at u */
+        double v1, v2, v = term_at3(&t, t0, &v1, &v2);
+        d->slope = v > 0.0 && v2 > 0.0 ? sqrt(v * v2) : 0.0;
+        return;
+    }
     /* the fit dips below 0 (clamped): the edges of that zero set */
     gs_cheb_eval3(t.c, t.m, tm, &p0, &p1, &p2);
     double w = p2 > 0.0 ? sqrt(-2.0 * p0 / p2) : 0.01;
@@ -1199,6 +1264,7 @@ static int dip_candidates(const gs_fun *a, const gs_fun *b, const gs_fun_dip *d,
 {
     if (!d || d->u != d->u || !is_sharp(a)) return 1;
     if (!closed) newton_candidate(a, b, d->u, h, closed, NEWTON_STEPS, best, bu, exact);
+    else if (d->slope > 0.0) return dip_min(a, b, d->u, d->slope, DIP_WINDOW * h, best, bu, exact);
     else if (!window_min(a, b, d->u - DIP_WINDOW * h, d->u + DIP_WINDOW * h, best, bu, exact)) return 0;
     double pull = 0.5 * (d->hi - d->lo) * DIP_INSIDE;
     if (!(pull > 0.0)) return 1;
@@ -1210,17 +1276,14 @@ static int dip_candidates(const gs_fun *a, const gs_fun *b, const gs_fun_dip *d,
 /* Whether f's seam (a loop's fit may jump there) may hold the minimum of
  * the sum: the lower of f's two one-sided limits there (p(1), p(-1)) plus
  * the other function's lower grid value beside the seam is not above thr. */
-static int seam_low(const gs_fun *f, const float *go, uint32_t g, float thr)
+static int seam_low(const gs_fun *f, const gs_fun_dip *d, const float *go, uint32_t g, float thr)
 {
     double sigma = (gs_fun_wrap(f->shift - 1.0) + 1.0) * 0.5 * g;
     uint32_t j = (uint32_t)sigma;
     j = j < g ? j : g - 1;
     float o = go[j] < go[j + 1 < g ? j + 1 : 0] ? go[j] : go[j + 1 < g ? j + 1 : 0];
-    double p1 = 0.0, pm = 0.0;
-    for (uint32_t k = 0; k <= f->degree; k++) p1 += f->coef[k], pm += k & 1 ? -f->coef[k] : f->coef[k];
-    term t = {f->coef, f->degree, f->squared};
-    double v1 = term_value(&t, p1), vm = term_value(&t, pm);
-    return (v1 < vm ? v1 : vm) + o <= thr * (1.0 + 1e-6);
+    double v = d && d->seam == d->seam ? d->seam : seam_value(f);
+    return v + o <= thr * (1.0 + 1e-6);
 }
 
 /* Both sides of f's seam (at u_s, where f's t = wrap(u - shift) passes
@@ -1253,7 +1316,7 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
     /* loops: a seam that may hold the minimum (the fit jumps there) is
      * searched on both sides below; two such seams close to each other go
      * to the robust minimiser */
-    int sa = closed && seam_low(a, gb, g, thr), sb = closed && seam_low(b, ga, g, thr);
+    int sa = closed && seam_low(a, da, gb, g, thr), sb = closed && seam_low(b, db, ga, g, thr);
     if (sa && sb && fabs(gs_fun_wrap(a->shift - b->shift + 1.0) - 1.0) < 4.0 * SEAM_WINDOW * 2.0 / g)
         return gs_fun_pair_min(a, b, u_at);
     e[0] = closed ? s[g - 1] : INFINITY;

@@ -77,9 +77,15 @@ int gs_fun_is_sharp(const gs_fun *f);
  * plus offsets (wrap them). */
 typedef struct gs_fun_dip {
     double u, lo, hi;
+    double slope;  /* the dip's hyperbola: f(u + s) ~ sqrt(f(u)^2 + (slope
+                    *   s)^2), slope = sqrt(f(u) f''(u)); 0 when f has a
+                    *   zero set (lo < hi) or u = NaN                       */
+    double seam;   /* loops: the lower of f's one-sided limits at its seam
+                    *   (t = 1 and t = -1); NaN for paths                   */
 } gs_fun_dip;
 
-/* The dip of f (u = NaN unless gs_fun_is_sharp(f)). */
+/* The dip of f (u = NaN unless gs_fun_is_sharp(f)) and a loop's seam
+ * value (for every loop). */
 void gs_fun_dip_find(const gs_fun *f, gs_fun_dip *d);
 
 /* The query hot path: min over u of a(u) + b(u) given both functions'

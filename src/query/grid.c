@@ -87,7 +87,7 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     double *rec = (root ? fc->slot : fc->block) + off;
     e->rec = (uint32_t)off;
     if (root) ((gs_qentry *)(fc->slot + GS_QSLOT_HEAD))[k].rec = (uint32_t)off;
-    gs_fun_dip dip = {NAN, NAN, NAN};
+    gs_fun_dip dip = {NAN, NAN, NAN, 0.0, NAN};
     if (g) gs_fun_dip_find(&f, &dip);
     /* offsets as floats from u as a float (so that the edges do not move
      * by u's rounding), pulled in by a little more than their own */
@@ -98,6 +98,11 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     memcpy(rec + 1, head, 4);
     memcpy((char *)(rec + 1) + 4, &g, 4);
     memcpy(rec + 2, head + 1, 8);
+    /* the seam value rounded down: seam_low then searches every seam it
+     * would with the exact value, and rarely one more */
+    float tail[2] = {(float)dip.slope, (float)dip.seam};
+    if (tail[1] > dip.seam) tail[1] = nextafterf(tail[1], -INFINITY);
+    memcpy(rec + 3, tail, 8);
     float *v = (float *)(rec + GS_QREC_HEAD);
     for (uint32_t j = 0; j < g; ++j) {
         double u = f.closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1);
