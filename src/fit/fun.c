@@ -1056,7 +1056,7 @@ static void newton_candidate(const gs_fun *a, const gs_fun *b, double u, double 
 /* The minimum of the sum inside a bracket xl < xr of a loop's parameter
  * where its slope goes from dl < 0 to dr > 0: Newton on the slope from the
  * secant's root, kept inside the shrinking bracket (bisection when it would
- * leave it), to |step| <= 1e-10. */
+ * leave it), to |step| <= 1e-10 or a predicted gain below STOP_REL. */
 static void bracket_min(const gs_fun *a, const gs_fun *b, double xl, double xr, double dl, double dr, double *best,
                         double *bu, int *exact)
 {
@@ -1069,6 +1069,7 @@ static void bracket_min(const gs_fun *a, const gs_fun *b, double xl, double xr, 
         else xr = t;
         double y = s2 > 0.0 ? t - s1 / s2 : 0.5 * (xl + xr);
         if (!(y > xl && y < xr)) y = 0.5 * (xl + xr);
+        else if (0.5 * fabs(s1 * (y - t)) <= STOP_REL * w) return; /* Newton's gain: tiny */
         if (fabs(y - t) <= 1e-10 || xr - xl <= 1e-10) return;
         t = y;
     }
