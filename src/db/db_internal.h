@@ -116,6 +116,8 @@ struct gs_db {
     double *qroot;            /* (nv + 1) slots; slot nv: the end, header  */
     double *qbuf;
     uint32_t qslot;           /* doubles per slot (a multiple of 8)        */
+    uint32_t qslot0;          /* its head: header, entries and the root's  */
+                              /*   records (doubles)                       */
     uint32_t qnroot;          /* room for entries in a slot (the most ns)  */
     uint32_t qlev;            /* the slots hold the curves of depth < qlev */
     uint32_t qhead;           /* qlev 0: the root's first record's size    */

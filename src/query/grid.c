@@ -123,7 +123,7 @@ void gs__db_grid_free(gs_db *db)
     db->qcoff = NULL;
     db->qclen = NULL;
     db->qsize = 0;
-    db->qslot = db->qnroot = db->qlev = db->qhead = 0;
+    db->qslot = db->qslot0 = db->qnroot = db->qlev = db->qhead = 0;
 }
 
 /* The cache's memory. Queries jump between vertex blocks at random: on
@@ -236,6 +236,7 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
     if (!big) db->qroot = cache_alloc((db->nv + 1ull) * slot * sizeof(double));
     if (db->qroot) {
         db->qslot = (uint32_t)slot;
+        db->qslot0 = db->qlev ? (uint32_t)(GS_QSLOT_HEAD + 2 * nsmax + (db->n_nodes ? nend[0] : 0)) : (uint32_t)slot;
         for (uint32_t x = 0; x <= db->nv; ++x) {
             uint32_t l = x < db->nv ? db->leaf[x] : GS_NONE;
             uint64_t n = 0;

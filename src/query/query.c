@@ -164,9 +164,15 @@ static double cross_cached(const gs_db *db, uint32_t x, uint32_t y, uint32_t top
 {
     qview vx = view_of(db, x), vy = view_of(db, y);
     int deep = db->nodes[top].depth >= db->qlev;
+    if (db->nodes[top].depth && db->qslot0 < db->qslot) /* below the root: the rest of the slots */
+        prefetch_lines(vx.s + db->qslot0, 8 * (size_t)(db->qslot - db->qslot0)),
+            prefetch_lines(vy.s + db->qslot0, 8 * (size_t)(db->qslot - db->qslot0));
     const gs_qentry *ex = (const gs_qentry *)(deep ? vx.b : vx.s + GS_QSLOT_HEAD);
     const gs_qentry *ey = (const gs_qentry *)(deep ? vy.b : vy.s + GS_QSLOT_HEAD);
-    if (deep) prefetch_lines(vx.b, 16 * (size_t)vx.nf), prefetch_lines(vy.b, 16 * (size_t)vy.nf);
+    if (deep) { /* the entries gather reads: those of top's curves and its ancestors' */
+        size_t ne = 16 * ((size_t)db->nodes[top].curve_prefix + db->nodes[top].n_curves);
+        prefetch_lines(vx.b, ne), prefetch_lines(vy.b, ne);
+    }
     /* the lowest common separator's curves hold the minimum most often:
      * their records are on their way while the entries arrive */
     for (uint32_t j = 0; deep && j < db->nodes[top].n_curves && j < 2; ++j) {
@@ -244,7 +250,7 @@ double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y)
     const gs_qvert *hx = NULL, *hy = NULL;
     if (db->qbuf) { /* both slots on their way (their addresses need no lookup) */
         const double *sx = slot_of(db, x), *sy = slot_of(db, y);
-        prefetch_lines(sx, 8 * (size_t)db->qslot), prefetch_lines(sy, 8 * (size_t)db->qslot);
+        prefetch_lines(sx, 8 * (size_t)db->qslot0), prefetch_lines(sy, 8 * (size_t)db->qslot0);
         __builtin_prefetch(db->xyz + 3 * (size_t)x), __builtin_prefetch(db->xyz + 3 * (size_t)y);
         hx = (const gs_qvert *)sx, hy = (const gs_qvert *)sy;
         lx = hx->leaf, ly = hy->leaf;
