@@ -95,7 +95,8 @@ struct gs_db {
      * a query touches few cache lines and waits for memory at most twice:
      * - per vertex x a slot of qslot doubles at qroot + x qslot (an address
      *   known from x alone): its header (gs_qvert: where its block starts,
-     *   its leaf, nf, ns, the leaf's ancestors), the entries of its first ns
+     *   its leaf, nf, ns, the leaf's ancestors), its coordinates (large
+     *   caches, at GS_QSLOT_XYZ), the entries of its first ns
      *   functions, those of the curves of its ancestors shallower than
      *   qlev (gs_qentry, from slot + GS_QSLOT_HEAD, room for qnroot), and
      *   their records (layout below; curve c's at slot + GS_QSLOT_HEAD + 2
@@ -131,7 +132,10 @@ struct gs_db {
  * down to depth GS_QANC - 1, so that the lowest common ancestor of two
  * vertices comes from their headers without walking the tree. */
 #define GS_QANC 11
-#define GS_QSLOT_HEAD 8  /* doubles */
+#define GS_QSLOT_XYZ 8   /* a large cache's slot: the vertex's coordinates */
+                          /*   after the header (its second line), so     */
+                          /*   that the Euclidean bound costs no miss     */
+#define GS_QSLOT_HEAD 12 /* doubles before the entries: header, xyz, pad */
 #define GS_QSLOT_LEVELS 2 /* a large cache's slots hold depths 0 and 1   */
 #define GS_QSLOT_MIN_BYTES ((uint64_t)64 << 20) /* "large": blocks above   */
 /* The threshold gs_db_open uses, GS_QSLOT_MIN_BYTES unless a test lowers it

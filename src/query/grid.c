@@ -273,7 +273,10 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
         double *block = db->qbuf + ((gs_qvert *)sl)->start;
         uint64_t n = ((gs_qvert *)(sl + slot))->start - ((gs_qvert *)sl)->start;
         memset(block, 0, n * sizeof *block); /* padding and unused room */
-        if (db->qlev) memset(sl + GS_QSLOT_HEAD, 0, (slot - GS_QSLOT_HEAD) * sizeof *sl);
+        if (db->qlev) {
+            memset(sl + GS_QSLOT_XYZ, 0, (slot - GS_QSLOT_XYZ) * sizeof *sl);
+            memcpy(sl + GS_QSLOT_XYZ, db->xyz + 3 * (size_t)x, 3 * sizeof *sl);
+        }
         const gs_qvert *h = (const gs_qvert *)sl;
         fill_ctx fc = {curve_grid, block, sl, h->nf, db->qlev ? h->ns : 0};
         visit(db, x, fill, &fc);

@@ -11,6 +11,8 @@
 static double euclidean(const gs_db *db, uint32_t x, uint32_t y)
 {
     const double *p = db->xyz + 3 * (size_t)x, *q = db->xyz + 3 * (size_t)y;
+    if (db->qlev) /* large caches: the copies in the slots, which the query reads anyway */
+        p = db->qroot + (size_t)x * db->qslot + GS_QSLOT_XYZ, q = db->qroot + (size_t)y * db->qslot + GS_QSLOT_XYZ;
     double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
     return sqrt(dx * dx + dy * dy + dz * dz);
 }
@@ -251,7 +253,7 @@ double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y)
     if (db->qbuf) { /* both slots on their way (their addresses need no lookup) */
         const double *sx = slot_of(db, x), *sy = slot_of(db, y);
         prefetch_lines(sx, 8 * (size_t)db->qslot0), prefetch_lines(sy, 8 * (size_t)db->qslot0);
-        __builtin_prefetch(db->xyz + 3 * (size_t)x), __builtin_prefetch(db->xyz + 3 * (size_t)y);
+        if (!db->qlev) __builtin_prefetch(db->xyz + 3 * (size_t)x), __builtin_prefetch(db->xyz + 3 * (size_t)y);
         hx = (const gs_qvert *)sx, hy = (const gs_qvert *)sy;
         lx = hx->leaf, ly = hy->leaf;
         if (!db->qlev && lx != ly && lx != GS_NONE && ly != GS_NONE) { /* header-only slots: the blocks' */
