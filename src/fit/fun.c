@@ -1086,6 +1086,8 @@ static int window_min(const gs_fun *a, const gs_fun *b, double lo, double hi, do
         if (v[k] < v[i]) i = k;
     }
     if (v[i] < *best) *best = v[i], *bu = gs_fun_wrap(x[i]), *exact = 0;
+    for (int k = 0; k < WINDOW_PTS; ++k)
+        if (d[k] != d[k]) return 0; /* slopes that are not numbers: the robust minimiser */
     if (d[i] == 0.0 || (i == 0 && d[i] > 0.0) || (i == WINDOW_PTS - 1 && d[i] < 0.0)) return 1;
     int l = d[i] < 0.0 ? i : i - 1, r = l + 1;
     if (!(d[l] < 0.0 && d[r] > 0.0)) return 0;
