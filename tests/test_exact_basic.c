@@ -720,8 +720,22 @@ static void test_components(void)
     free_grid(&g);
 }
 
+/* Method names both ways; a NULL result pointer is an argument error (it
+ * was written through). */
+static void test_method_names(void)
+{
+    gs_method m = GS_METHOD_GRAPH;
+    gs_error err = {0};
+    CHECK(gs_method_from_name("heat", &m, &err) == GS_OK && m == GS_METHOD_HEAT);
+    CHECK(gs_method_from_name("Exact", &m, &err) == GS_EARG && strstr(err.message, "unknown method 'Exact'"));
+    CHECK(gs_method_from_name(NULL, &m, &err) == GS_EARG && m == GS_METHOD_HEAT);
+    CHECK(gs_method_from_name("heat", NULL, &err) == GS_EARG && strstr(err.message, "method is NULL"));
+    CHECK(gs_method_name((gs_method)4) == NULL && gs_method_name((gs_method)-1) == NULL);
+}
+
 int main(void)
 {
+    test_method_names();
     test_single_triangle();
     test_flat_sheets();
     test_needles();
