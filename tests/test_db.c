@@ -380,6 +380,10 @@ static void m_leaf_dist(unsigned char *b) { double v = -1; memcpy(section(b, GS_
 static void m_leaf_dstart(unsigned char *b) { uint64_t v = 3; memcpy(section(b, GS_SEC_LEAF_DSTART) + 8 * 2, &v, 8); }
 static void m_padding(unsigned char *b) { section(b, GS_SEC_LEAVES)[4 * FX_NV] = 1; }
 static void m_reserved(unsigned char *b) { uint32_t v = 1; memcpy(section(b, GS_SEC_CURVES) + 12, &v, 4); }
+static void m_coef_huge(unsigned char *b) { double v = -1e101; memcpy(section(b, GS_SEC_WORDS) + 8 * 1, &v, 8); }
+/* leaf 1's table (vertices 0, 1): entry [0][1] changed, [1][0] kept */
+static void m_leaf_asym(unsigned char *b) { double v = 0.125; memcpy(section(b, GS_SEC_LEAF_DIST) + 8 * 1, &v, 8); }
+static void m_leaf_diag(unsigned char *b) { double v = 0.5; memcpy(section(b, GS_SEC_LEAF_DIST) + 8 * 3, &v, 8); }
 
 static void test_structure(void)
 {
@@ -422,6 +426,9 @@ static void test_structure(void)
         {m_leaf_dstart, "section 'leaf_dstart'"},
         {m_padding, "padding byte"},
         {m_reserved, "reserved 1"},
+        {m_coef_huge, "record 0 of vertex 0 has coefficient 1 = -1e+101 (|c| <= 1e+100)"},
+        {m_leaf_asym, "leaf 1's table is not symmetric ([0][1] 0.125"},
+        {m_leaf_diag, "leaf 1's diagonal entry 1 is 0.5 (must be 0)"},
     };
     fixture f;
     gs_db *db = fixture_db(&f, 1);
@@ -468,6 +475,49 @@ static void test_structure(void)
     f.c.heat_refine = 2;
     free(b);
     gs_db_free(db);
+}
+
+/* Finite coefficients so large that the query's minimiser overflowed (inf -
+ * inf = NaN slopes; gs_fun_pair_min_grid's window then read before its
+ * array) are refused; at the limit, 1e100, every answer is still a distance
+ * (>= 0 or +inf), in both cache layouts. */
+static void test_huge_coefficients(void)
+{
+    static const double mags[2] = {1e100, 8.98846567431158e307};
+    for (int t = 0; t < 2; ++t)
+        for (int layout = 0; layout < 2; ++layout) {
+            fixture f;
+            make_fixture(&f, 0);
+            double big[3][GS_FUN_MAX_DEGREE + 1];
+            for (uint32_t i = 0; i < 3; ++i) { /* vertex 2's functions (curves 0, 1, 2), degree 24 */
+                gs_fun *g = &f.funs[f.fun_start[2] + i];
+                for (uint32_t k = 0; k <= GS_FUN_MAX_DEGREE; ++k) big[i][k] = (k % 3 == 0 ? 1 : -1) * mags[t];
+                g->degree = GS_FUN_MAX_DEGREE;
+                g->coef = big[i];
+                g->squared = i == 2;
+            }
+            uint64_t keep = gs__qslot_min_bytes;
+            gs__qslot_min_bytes = layout ? 0 : keep;
+            gs_db *db = NULL;
+            gs_error err = {0};
+            int rc = gs_db_pack(&f.c, &db, &err);
+            gs__qslot_min_bytes = keep;
+            if (t == 1) {
+                CHECK_MSG(rc == GS_EPARSE && db == NULL && strstr(err.message, "record 0 of vertex 2 has coefficient 0 = 8.98"),
+                          "rc %d: %s", rc, err.message);
+                continue;
+            }
+            CHECK_MSG(rc == GS_OK, "%s", err.message);
+            if (!db) continue;
+            int bad = 0;
+            for (uint32_t x = 0; x < FX_NV; ++x)
+                for (uint32_t y = 0; y < FX_NV; ++y) {
+                    double d = gs_db_distance(db, x, y);
+                    bad += !(d >= 0) || d != gs_db_distance(db, y, x);
+                }
+            CHECK_MSG(bad == 0, "%d pairs answered NaN, negative or asymmetric", bad);
+            gs_db_free(db);
+        }
 }
 
 /* Random bytes changed anywhere with the checksums recomputed: whatever the
@@ -575,6 +625,7 @@ int main(void)
     test_truncation();
     test_structure();
     test_random_structural();
+    test_huge_coefficients();
     test_files();
     test_checksum_speed();
     return gs_test_finish("test_db");

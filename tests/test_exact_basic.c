@@ -720,8 +720,52 @@ static void test_components(void)
     free_grid(&g);
 }
 
+/* Method names both ways; a NULL result pointer is an argument error (it
+ * was written through). */
+static void test_method_names(void)
+{
+    gs_method m = GS_METHOD_GRAPH;
+    gs_error err = {0};
+    CHECK(gs_method_from_name("heat", &m, &err) == GS_OK && m == GS_METHOD_HEAT);
+    CHECK(gs_method_from_name("Exact", &m, &err) == GS_EARG && strstr(err.message, "unknown method 'Exact'"));
+    CHECK(gs_method_from_name(NULL, &m, &err) == GS_EARG && m == GS_METHOD_HEAT);
+    CHECK(gs_method_from_name("heat", NULL, &err) == GS_EARG && strstr(err.message, "method is NULL"));
+    CHECK(gs_method_name((gs_method)4) == NULL && gs_method_name((gs_method)-1) == NULL);
+}
+
+/* Needle triangles that pass mesh validation (an octahedron with one vertex
+ * moved to x = 2^32 - 1: aspect ratio 4e9) made the window propagation run
+ * for hours (windows bouncing along the needles); the exact solver, and the
+ * methods that start from it (fmm, heat), now give up with GS_EINTERNAL. */
+static void test_needle_octahedron(void)
+{
+    double xyz[18] = {1, 0, 0, 4294967295.0, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
+    uint32_t tri[24] = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+    gs_mesh *m = NULL;
+    gs_patch *p = NULL;
+    gs_error err = {0};
+    CHECK(gs_mesh_create(xyz, 6, tri, 8, &m, &err) == GS_OK);
+    if (!m || gs_patch_create(m, NULL, 0, &p, &err)) {
+        gs_mesh_free(m);
+        return;
+    }
+    double d[6];
+    gs_source src = gs_source_vertex(0);
+    const gs_method methods[2] = {GS_METHOD_EXACT, GS_METHOD_HEAT};
+    for (int k = 0; k < 2; ++k) {
+        int rc = gs_distance_field(p, methods[k], &src, 1, 0, d, &err);
+        CHECK_MSG(rc == GS_EINTERNAL && strstr(err.message, "exact solver: gave up after"), "%s: %d %s",
+                  gs_method_name(methods[k]), rc, err.message);
+    }
+    CHECK(gs_distance_field(p, GS_METHOD_GRAPH, &src, 1, 0, d, &err) == GS_OK && d[1] > 4294967295.0 && d[1] < 4294967298.0);
+    gs_patch_free(p);
+    gs_mesh_free(m);
+}
+
 int main(void)
 {
+    test_method_names();
+    test_needle_octahedron();
     test_single_triangle();
     test_flat_sheets();
     test_needles();

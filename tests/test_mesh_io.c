@@ -454,8 +454,34 @@ static void cleanup(void)
     CHECK_MSG(rmdir(g_dir) == 0, "temp dir %s not empty (a temp file left behind?)", g_dir);
 }
 
+/* Ground-truth files: a round trip; a folder, a missing file and a short
+ * file are refused with the path in the message (a folder was read as a
+ * file of LONG_MAX bytes: "too short ... (9223372036854775807 bytes)"). */
+static void test_gt_files(void)
+{
+    char dir[] = "/tmp/geosep-gt-XXXXXX", path[64];
+    if (!mkdtemp(dir)) return;
+    snprintf(path, sizeof path, "%s/a.gt", dir);
+    uint32_t src[2] = {1, 2};
+    double d[6] = {1, 0, 2, 3, 4, 0};
+    gs_gt *gt = NULL;
+    gs_error e = {0};
+    CHECK(gs_gt_write(path, 3, 2, src, d, &e) == GS_OK);
+    CHECK(gs_gt_read(path, &gt, &e) == GS_OK && gt && gt->n_vertices == 3 && gt->n_sources == 2 &&
+          gt->sources[1] == 2 && memcmp(gt->dist, d, sizeof d) == 0);
+    gs_gt_free(gt);
+    gt = NULL;
+    CHECK(gs_gt_read(dir, &gt, &e) == GS_EIO && !gt && strstr(e.message, "not a regular file") && strstr(e.message, dir));
+    CHECK(truncate(path, 10) == 0);
+    CHECK(gs_gt_read(path, &gt, &e) == GS_EPARSE && strstr(e.message, "too short for a GEOGT1 header (10 bytes)"));
+    unlink(path);
+    CHECK(gs_gt_read(path, &gt, &e) == GS_EIO && strstr(e.message, "cannot open"));
+    rmdir(dir);
+}
+
 int main(void)
 {
+    test_gt_files();
     snprintf(g_dir, sizeof g_dir, "/tmp/geosep-io-XXXXXX");
     if (!mkdtemp(g_dir)) gs_test_skip("cannot create a temporary directory");
     test_obj();

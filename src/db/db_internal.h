@@ -25,6 +25,11 @@
 _Static_assert(GS_HEAT_REFINE_MAX <= 3, "heat_refine must fit build_flags bits 2-3");
 #define GS_DB_MAX_SAMPLED 65535u
 #define GS_DB_MAX_SHIFT 2.0
+/* |coefficient| and |sample| at most this: the query's minimiser then never
+ * overflows (values, slopes and curvatures of a degree-24 series stay below
+ * 1e108, their squares and products finite); larger finite values made it
+ * compute inf - inf = NaN (and index outside its window on NaN slopes). */
+#define GS_DB_MAX_COEF 1e100
 
 enum {
     GS_SEC_POSITIONS = 1,

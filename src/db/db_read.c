@@ -298,10 +298,14 @@ static int check_record(reader *r, uint32_t x, uint64_t k, const gs_db_fentry *e
     if (curve_closed && !(fabs(w[0]) <= GS_DB_MAX_SHIFT))
         return BAD(r, "%s: section 'words': record %llu of vertex %u has shift %g (|shift| <= 2)", nm,
                    (unsigned long long)k, x, w[0]);
-    for (uint64_t i = curve_closed; i < n; ++i)
+    for (uint64_t i = curve_closed; i < n; ++i) {
         if (!isfinite(w[i]))
             return BAD(r, "%s: section 'words': record %llu of vertex %u has a non-finite coefficient %llu", nm,
                        (unsigned long long)k, x, (unsigned long long)(i - curve_closed));
+        if (fabs(w[i]) > GS_DB_MAX_COEF)
+            return BAD(r, "%s: section 'words': record %llu of vertex %u has coefficient %llu = %g (|c| <= %g)", nm,
+                       (unsigned long long)k, x, (unsigned long long)(i - curve_closed), w[i], GS_DB_MAX_COEF);
+    }
     *words += n;
     return GS_OK;
 }
@@ -405,6 +409,21 @@ static int check_leaf_locals(reader *r, unsigned char *seen)
         if (!(db->leaf_dist[i] >= 0))
             return BAD(r, "%s: section 'leaf_dist': entry %llu is %g (must be >= 0)", r->name, (unsigned long long)i,
                        db->leaf_dist[i]);
+    /* d(x,y) == d(y,x) and d(x,x) == 0, as the cross-leaf answers are */
+    for (uint32_t l = 0; l < db->n_nodes; ++l) {
+        uint64_t nl = (uint64_t)db->leaf_vstart[l + 1] - db->leaf_vstart[l];
+        const double *t = db->leaf_dist + db->leaf_dstart[l];
+        for (uint64_t i = 0; i < nl; ++i) {
+            if (t[i * nl + i] != 0)
+                return BAD(r, "%s: section 'leaf_dist': leaf %u's diagonal entry %llu is %g (must be 0)", r->name, l,
+                           (unsigned long long)i, t[i * nl + i]);
+            for (uint64_t j = i + 1; j < nl; ++j)
+                if (t[i * nl + j] != t[j * nl + i])
+                    return BAD(r, "%s: section 'leaf_dist': leaf %u's table is not symmetric ([%llu][%llu] %.17g, "
+                                  "[%llu][%llu] %.17g)", r->name, l, (unsigned long long)i, (unsigned long long)j,
+                               t[i * nl + j], (unsigned long long)j, (unsigned long long)i, t[j * nl + i]);
+        }
+    }
     return GS_OK;
 }
 

@@ -50,6 +50,10 @@
 /* slack, in radians, on the directions a pseudo-source must serve */
 #define ANGLE_SLACK 1e-9
 
+/* The most window propagations of one solve: base + per face (see ex_solve). */
+#define EX_MAX_WINDOWS_BASE 10000000ull
+#define EX_MAX_WINDOWS_PER_FACE 10000ull
+
 typedef struct ex_win {
     double b0, b1; /* interval on the half-edge, 0 <= b0 <= b1 <= len     */
     double sx, sy; /* pseudo-source in the half-edge frame, sy <= 0       */
@@ -537,7 +541,13 @@ static int ex_solve(void *state, const gs_source *src, uint32_t n_src, double ma
             ex_fire_point(s, &src[i]);
         }
 
-    while (!s->oom) {
+    /* Needle triangles (aspect ratio up to 1e12 passes mesh validation) make
+     * windows bounce along them some aspect-ratio times before their
+     * distances grow past the vertices' (an octahedron with one vertex moved
+     * to 4e9: hours). Real meshes need far fewer windows per face (homer-60k:
+     * 59, stanford-bunny: 47); past this many the solve fails instead. */
+    uint64_t cap = EX_MAX_WINDOWS_BASE + EX_MAX_WINDOWS_PER_FACE * (uint64_t)t->nf;
+    while (!s->oom && s->propagated <= cap) {
         int have_f = s->fheap.n > 0, have_v = s->vheap.n > 0;
         if (!have_f && !have_v) break;
         double kf = have_f ? s->fheap.key[s->fheap.ids[0]] : INFINITY;
@@ -556,6 +566,9 @@ static int ex_solve(void *state, const gs_source *src, uint32_t n_src, double ma
     stats->windows_propagated = s->propagated;
     s->d = NULL;
     if (s->oom) return gs__fail(err, GS_ENOMEM, "out of memory in the exact solver");
+    if (s->propagated > cap)
+        return gs__fail(err, GS_EINTERNAL, "exact solver: gave up after %llu window propagations on %u faces "
+                        "(needle triangles? see the mesh report's min angle)", (unsigned long long)s->propagated, t->nf);
     return GS_OK;
 }
 

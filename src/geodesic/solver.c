@@ -36,6 +36,7 @@ const char *gs_method_name(gs_method m)
 int gs_method_from_name(const char *name, gs_method *m, gs_error *err)
 {
     static const gs_method all[] = {GS_METHOD_EXACT, GS_METHOD_GRAPH, GS_METHOD_FMM, GS_METHOD_HEAT};
+    if (!m) return gs__fail(err, GS_EARG, "gs_method_from_name: method is NULL");
     for (size_t i = 0; name && i < sizeof all / sizeof all[0]; ++i)
         if (strcmp(name, ops_of(all[i])->name) == 0) {
             *m = all[i];

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 static const unsigned char gt_magic[8] = {'G', 'E', 'O', 'G', 'T', '1', 0, 0};
 
@@ -50,6 +51,11 @@ int gs_gt_read(const char *path, gs_gt **out, gs_error *err)
     *out = NULL;
     FILE *f = fopen(path, "rb");
     if (!f) return gs__fail(err, GS_EIO, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) { /* a folder "opens" and has size LONG_MAX */
+        fclose(f);
+        return gs__fail(err, GS_EIO, "%s: not a regular file", path);
+    }
     int rc = GS_OK;
     gs_gt *gt = NULL;
     unsigned char head[16], *rec = NULL;
