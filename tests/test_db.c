@@ -554,6 +554,27 @@ static void test_random_structural(void)
     gs_db_free(db);
 }
 
+/* A leaf table may hold any symmetric non-negative values (the reader
+ * cannot know the geodesics): a same-leaf answer is still never below the
+ * straight segment, like a cross-leaf one (0 between two distinct points
+ * would be a lie). */
+static void test_leaf_floor(void)
+{
+    fixture f;
+    make_fixture(&f, 1);
+    f.leaf_dist[4 + 1] = f.leaf_dist[4 + 2] = 0.0; /* leaf 1: vertices 2 and 3 */
+    gs_db *db = NULL;
+    gs_error err = {0};
+    CHECK_MSG(gs_db_pack(&f.c, &db, &err) == GS_OK, "pack: %s", err.message);
+    if (!db) return;
+    double dx = f.xyz[6] - f.xyz[9], dy = f.xyz[7] - f.xyz[10], dz = f.xyz[8] - f.xyz[11];
+    double e = sqrt(dx * dx + dy * dy + dz * dz), d = gs_db_distance(db, 2, 3), out[FX_NV];
+    CHECK_MSG(e > 0 && d == e && gs_db_distance(db, 3, 2) == e, "d(2,3) %g, Euclidean %g", d, e);
+    CHECK(gs_db_field(db, 2, out, &err) == GS_OK && out[3] == e && out[2] == 0.0);
+    CHECK(gs_db_distance(db, 0, 1) == f.leaf_dist[1]); /* leaf 0 unchanged: 1.25 x Euclidean */
+    gs_db_free(db);
+}
+
 static void test_files(void)
 {
     gs_db *db = NULL;
@@ -574,7 +595,18 @@ static void test_files(void)
     char target[2100];
     snprintf(target, sizeof target, "%s/isdir", subdir);
     mkdir(target, 0755);
-    CHECK(gs_db_save(good, target, &err) == GS_EIO);
+    CHECK(gs_db_save(good, target, &err) == GS_EIO && strstr(err.message, "not a regular file"));
+    /* a device or a pipe is never replaced by the rename (as root, saving
+     * to /dev/full once turned it into a regular file) */
+    char fifo[2100];
+    snprintf(fifo, sizeof fifo, "%s/pipe", subdir);
+    struct stat st;
+    if (mkfifo(fifo, 0644) == 0) {
+        CHECK(gs_db_save(good, fifo, &err) == GS_EIO && strstr(err.message, "not a regular file"));
+        CHECK(stat(fifo, &st) == 0 && S_ISFIFO(st.st_mode));
+        unlink(fifo);
+    }
+
     if (geteuid() != 0) { /* root ignores permissions */
         char ro[2100];
         snprintf(ro, sizeof ro, "%s/ro", subdir);
@@ -626,6 +658,7 @@ int main(void)
     test_structure();
     test_random_structural();
     test_huge_coefficients();
+    test_leaf_floor();
     test_files();
     test_checksum_speed();
     return gs_test_finish("test_db");

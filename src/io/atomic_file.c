@@ -10,6 +10,12 @@
 int gs_atomic_open(gs_atomic_file *af, const char *path, gs_error *err)
 {
     memset(af, 0, sizeof *af);
+    /* the rename would replace whatever the path names: a device, a pipe or
+     * a folder is refused, never swapped for a regular file (a symbolic
+     * link is followed for this check; the rename replaces the link) */
+    struct stat old;
+    if (stat(path, &old) == 0 && !S_ISREG(old.st_mode))
+        return gs__fail(err, GS_EIO, "%s: exists and is not a regular file (not replaced)", path);
     size_t n = strlen(path);
     af->final_path = gs__malloc(n + 1, 1);
     af->tmp_path = gs__malloc(n + 12, 1);

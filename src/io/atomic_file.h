@@ -13,7 +13,8 @@ typedef struct gs_atomic_file {
     char *tmp_path;
 } gs_atomic_file;
 
-/* Create "<path>.tmp.XXXXXX" and open it for writing. */
+/* Create "<path>.tmp.XXXXXX" and open it for writing. GS_EIO when path
+ * exists and is not a regular file (device, pipe, folder: never replaced). */
 int gs_atomic_open(gs_atomic_file *af, const char *path, gs_error *err);
 /* Flush, close and rename to the final path (on failure: remove the temp). */
 int gs_atomic_commit(gs_atomic_file *af, gs_error *err);

@@ -27,9 +27,9 @@ static double at_least_euclidean(const gs_db *db, uint32_t x, uint32_t y, double
 
 static double same_leaf(const gs_db *db, uint32_t l, uint32_t x, uint32_t y)
 {
-    if (db->leaf_dist) {
+    if (db->leaf_dist) { /* never below the straight segment, as cross-leaf answers */
         uint64_t n = (uint64_t)db->leaf_vstart[l + 1] - db->leaf_vstart[l];
-        return db->leaf_dist[db->leaf_dstart[l] + db->leaf_local[x] * n + db->leaf_local[y]];
+        return at_least_euclidean(db, x, y, db->leaf_dist[db->leaf_dstart[l] + db->leaf_local[x] * n + db->leaf_local[y]]);
     }
     return euclidean(db, x, y);
 }
