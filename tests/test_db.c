@@ -495,6 +495,7 @@ static void test_huge_coefficients(void)
                 g->degree = GS_FUN_MAX_DEGREE;
                 g->coef = big[i];
                 g->squared = i == 2;
+                g->minval = 0.0; /* at most the values (clamped at 0): a minval above them is rejected */
             }
             uint64_t keep = gs__qslot_min_bytes;
             gs__qslot_min_bytes = layout ? 0 : keep;
@@ -573,6 +574,27 @@ static void test_leaf_floor(void)
     CHECK(gs_db_field(db, 2, out, &err) == GS_OK && out[3] == e && out[2] == 0.0);
     CHECK(gs_db_distance(db, 0, 1) == f.leaf_dist[1]); /* leaf 0 unchanged: 1.25 x Euclidean */
     gs_db_free(db);
+}
+
+/* A minval above the function's own values would make the quick reject
+ * skip that curve and lengthen answers silently: open rejects it. */
+static void test_minval_above(void)
+{
+    fixture f;
+    make_fixture(&f, 0);
+    uint32_t x = 0;
+    while (x < FX_NV && f.fun_start[x + 1] == f.fun_start[x]) ++x;
+    if (x == FX_NV) return;
+    uint64_t i = f.fun_start[x];
+    gs_db *db = NULL;
+    gs_error err = {0};
+    f.funs[i].minval *= 1.0 + 1e-12; /* within the fitter's own precision: accepted */
+    CHECK_MSG(gs_db_pack(&f.c, &db, &err) == GS_OK, "pack: %s", err.message);
+    gs_db_free(db);
+    db = NULL;
+    f.funs[i].minval = 1.0 + 2.0 * gs_fun_value(&f.funs[i], 0.0);
+    CHECK(gs_db_pack(&f.c, &db, &err) == GS_EPARSE && db == NULL);
+    CHECK_MSG(strstr(err.message, "minval") && strstr(err.message, "above the function's value"), "%s", err.message);
 }
 
 static void test_files(void)
@@ -659,6 +681,7 @@ int main(void)
     test_random_structural();
     test_huge_coefficients();
     test_leaf_floor();
+    test_minval_above();
     test_files();
     test_checksum_speed();
     return gs_test_finish("test_db");

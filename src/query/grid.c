@@ -67,6 +67,9 @@ typedef struct fill_ctx {
     const uint32_t *curve_grid;
     double *block, *slot;
     uint64_t nf, ns;
+    uint64_t bad_k;     /* a function whose minval lies above its values */
+    double bad_min, bad_u;
+    int bad;
 } fill_ctx;
 
 static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
@@ -104,10 +107,17 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     if (tail[1] > dip.seam) tail[1] = nextafterf(tail[1], -INFINITY);
     memcpy(rec + 3, tail, 8);
     float *v = (float *)(rec + GS_QREC_HEAD);
+    double vmin = INFINITY, umin = 0.0;
     for (uint32_t j = 0; j < g; ++j) {
-        double u = f.closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1);
-        v[j] = (float)gs_fun_value(&f, u);
+        double u = f.closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1), w = gs_fun_value(&f, u);
+        v[j] = (float)w;
+        if (w < vmin) vmin = w, umin = u;
     }
+    /* the quick reject skips a curve whose minval is not below the best
+     * sum found: a minval above the function's own values would silently
+     * lengthen answers (the fitter's is its minimum, to ~1e-11) */
+    if (!fc->bad && !(fe->minval <= vmin * (1.0 + 1e-9) + 1e-300))
+        fc->bad = 1, fc->bad_k = k, fc->bad_min = vmin, fc->bad_u = umin;
     for (uint32_t j = g; j < (g + 3u) / 4u * 4u; ++j) v[j] = INFINITY;
     memcpy((double *)gs__qrec_coef(rec, g), f.coef, ((size_t)f.degree + 1) * sizeof *rec);
 }
@@ -267,6 +277,9 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
     }
     db->qsize = total;
     db->qhead = !db->qlev && db->nodes[0].n_curves ? db->qclen[db->nodes[0].curve_start] : 0;
+    uint32_t bad_x = UINT32_MAX;
+    uint64_t bad_k = 0;
+    double bad_min = 0.0, bad_u = 0.0;
 #pragma omp parallel for schedule(dynamic, 256)
     for (uint32_t x = 0; x < db->nv; ++x) {
         double *sl = db->qroot + (size_t)x * slot;
@@ -278,9 +291,21 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
             memcpy(sl + GS_QSLOT_XYZ, db->xyz + 3 * (size_t)x, 3 * sizeof *sl);
         }
         const gs_qvert *h = (const gs_qvert *)sl;
-        fill_ctx fc = {curve_grid, block, sl, h->nf, db->qlev ? h->ns : 0};
+        fill_ctx fc = {curve_grid, block, sl, h->nf, db->qlev ? h->ns : 0, 0, 0.0, 0.0, 0};
         visit(db, x, fill, &fc);
+        if (fc.bad) {
+#pragma omp critical(gs_grid_bad)
+            if (x < bad_x) bad_x = x, bad_k = fc.bad_k, bad_min = fc.bad_min, bad_u = fc.bad_u;
+        }
     }
     free(curve_grid);
+    if (bad_x != UINT32_MAX) { /* the lowest such vertex: the same message for any thread count */
+        double mv = db->funs[db->vdir[bad_x].first_function + bad_k].minval;
+        gs__db_grid_free(db);
+        return gs__fail(err, GS_EPARSE,
+                        "section 'functions': vertex %u, function %llu: minval %.17g is above the function's "
+                        "value %.17g at u = %.6f (the quick reject would skip it)",
+                        bad_x, (unsigned long long)bad_k, mv, bad_min, bad_u);
+    }
     return GS_OK;
 }
