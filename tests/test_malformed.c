@@ -55,6 +55,13 @@ static const bad_case CASES[] = {
     CASE("obj huge index", "huge.obj", TRI3 "f 1 2 99999999999999999999\n", GS_EPARSE, "not an index"),
     CASE("obj repeated index", "rep.obj", TRI3 "f 1 2 2\n", GS_EMESH, "line 4: face repeats a vertex"),
     CASE("obj zero area", "flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", GS_EMESH, "line 4: zero-area"),
+    CASE("obj coordinates 1e300 (4th powers overflow)", "big.obj", "v 0 0 0\nv 1e300 0 0\nv 0 1e300 0\nf 1 2 3\n", GS_EMESH,
+         "line 4: edge 0-1 has length 1e+300, outside geosep's range [1e-50, 1e+50]"),
+    CASE("obj coordinates -1e308..1e308 (difference overflows)", "ovfd.obj", "v -1e308 0 0\nv 1e308 0 0\nv 0 1 0\nf 1 2 3\n", GS_EMESH,
+         "line 4: edge 0-1 has length inf, outside"),
+    CASE("obj edge above 1e50", "big2.obj", "v 0 0 0\nv 1 0 0\nv 0 2e50 0\nf 1 2 3\n", GS_EMESH, "edge 1-2 has length 2e+50"),
+    CASE("obj coordinates 1e-300 (4th powers underflow)", "tiny.obj", "v 0 0 0\nv 1e-300 0 0\nv 0 1e-300 0\nf 1 2 3\n", GS_EMESH,
+         "line 4: edge 0-1 has length 1e-300, outside"),
     CASE("obj non-manifold edge", "nme.obj", TRI3 "v 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n", GS_EMESH, "non-manifold edge"),
     CASE("obj non-manifold vertex", "nmv.obj",
          "v 0 0 0\nv 1 0 1\nv -1 1 1\nv -1 -1 1\nv 1 0 -1\nv -1 1 -1\nv -1 -1 -1\n"

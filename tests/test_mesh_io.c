@@ -479,6 +479,53 @@ static void test_gt_files(void)
     rmdir(dir);
 }
 
+/* Meshes at the ends of the accepted scale (GS_MESH_MIN_EDGE .. MAX_EDGE):
+ * a closed icosphere scaled so that its edges are near 1e47 and 1e-47 loads,
+ * and its distances (exact and graph) are the unit mesh's times the scale. */
+static void test_scale_limits(void)
+{
+    gs_mesh *unit = NULL;
+    gs_error e = {0, ""};
+    CHECK(gs_mesh_generate("sphere:1", &unit, &e) == GS_OK);
+    if (!unit) return;
+    uint32_t n = gs_mesh_num_vertices(unit), nf = gs_mesh_num_faces(unit);
+    double *x = malloc(3 * sizeof *x * n), *d0 = malloc(sizeof *d0 * n), *d = malloc(sizeof *d * n);
+    const double scales[2] = {1e48, 1e-46};
+    for (int meth = 0; meth < 2; ++meth) {
+        gs_patch *pt = NULL;
+        gs_source s = gs_source_vertex(3);
+        CHECK(gs_patch_create(unit, NULL, 0, &pt, &e) == GS_OK);
+        CHECK(gs_distance_field(pt, meth ? GS_METHOD_GRAPH : GS_METHOD_EXACT, &s, 1, 0, d0, &e) == GS_OK);
+        gs_patch_free(pt);
+        for (int k = 0; k < 2; ++k) {
+            for (uint32_t i = 0; i < 3 * n; ++i) x[i] = gs_mesh_positions(unit)[i] * scales[k];
+            gs_mesh *m = NULL;
+            int rc = gs_mesh_create(x, n, gs_mesh_faces(unit), nf, &m, &e);
+            CHECK_MSG(rc == GS_OK, "scale %g: %s", scales[k], e.message);
+            if (rc) continue;
+            pt = NULL;
+            CHECK(gs_patch_create(m, NULL, 0, &pt, &e) == GS_OK);
+            rc = gs_distance_field(pt, meth ? GS_METHOD_GRAPH : GS_METHOD_EXACT, &s, 1, 0, d, &e);
+            CHECK_MSG(rc == GS_OK, "scale %g: %s", scales[k], e.message);
+            for (uint32_t i = 0; rc == GS_OK && i < n; ++i)
+                CHECK_NEAR(d[i] / scales[k], d0[i], 1e-13);
+            gs_patch_free(pt);
+            gs_mesh_free(m);
+        }
+    }
+    /* one step beyond either end: a clear error naming the limit */
+    for (int k = 0; k < 2; ++k) {
+        for (uint32_t i = 0; i < 3 * n; ++i) x[i] = gs_mesh_positions(unit)[i] * (k ? 1e-52 : 1e52);
+        gs_mesh *m = NULL;
+        CHECK(gs_mesh_create(x, n, gs_mesh_faces(unit), nf, &m, &e) == GS_EMESH && !m);
+        CHECK_MSG(strstr(e.message, "outside geosep's range [1e-50, 1e+50] (rescale the mesh)"), "%s", e.message);
+    }
+    free(x);
+    free(d0);
+    free(d);
+    gs_mesh_free(unit);
+}
+
 int main(void)
 {
     test_gt_files();
@@ -490,6 +537,7 @@ int main(void)
     test_stl();
     test_round_trip();
     test_reports();
+    test_scale_limits();
     test_shared();
     cleanup();
     return gs_test_finish("test_mesh_io");
