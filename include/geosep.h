@@ -251,13 +251,24 @@ typedef struct gs_solver_options {
                             /*   solver's memory and time grow more than 4^N)  */
 } gs_solver_options;
 
+/* Range of gs_solver_options.heat_time. Measured on sphere:4, grid:40,40
+ * and torus:48,24 (mean error against exact distances, relative to the
+ * largest distance; 0.03%, 0.5%, 1.5% at the default 1): small values only
+ * add error (1e-4: 1.0%, 3.8%, 10.9%; 1e-8: 1.2%, 9.7%, 10.9%; 1e-12:
+ * 7.2%, 21.6%, 11.3%: the heat barely leaves the source's neighbours);
+ * from 1e4 to 1e13 the field no longer changes (the t -> infinity limit),
+ * from about 1e14 rounding spoils it and from about 1e16 the factorisation
+ * fails ("not positive definite"). 1e8 leaves 5 decades before that. */
+#define GS_HEAT_TIME_MIN 1e-8
+#define GS_HEAT_TIME_MAX 1e8
+
 /* Largest gs_solver_options.heat_refine (3: 64x the triangles). */
 #define GS_HEAT_REFINE_MAX 3
 
 void gs_solver_options_default(gs_solver_options *opt);
 
 /* gs_solver_create with options (NULL: defaults). GS_EARG if an option is
- * out of range (heat_time must be finite and > 0, fmm_exact_start finite and
+ * out of range (heat_time in [GS_HEAT_TIME_MIN, GS_HEAT_TIME_MAX], fmm_exact_start finite and
  * >= 0, heat_refine at most GS_HEAT_REFINE_MAX). *out receives a new solver (caller frees); opt is copied. */
 int gs_solver_create_ex(const gs_patch *patch, gs_method method, const gs_solver_options *opt,
                         gs_solver **out, gs_error *err);
