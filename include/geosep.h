@@ -147,7 +147,9 @@ int gs_mesh_get_report(const gs_mesh *mesh, gs_mesh_report *report,
  *   "torus:NU,NV[,R,r]"       closed torus, radii R > r [1,0.4]; NU,NV >= 3
  *   "sphere:N"                closed unit icosphere, N <= 9 subdivisions
  *   "two:N"                   two disjoint flat N x N grids (two components)
- * Bad specs give GS_EARG, sizes over 2^26 vertices GS_ELIMIT.
+ * Integers are plain digits; sizes plain decimals ("2", "0.5", "1e-3") from
+ * 1e-30 to 1e30, no blanks, signs, hex, inf or nan. Bad specs give GS_EARG
+ * naming the spec and the bad argument, sizes over 2^26 vertices GS_ELIMIT.
  * *out receives a new mesh (caller frees). */
 int gs_mesh_generate(const char *spec, gs_mesh **out, gs_error *err);
 
