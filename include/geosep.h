@@ -100,7 +100,9 @@ int gs_mesh_load(const char *path, gs_mesh_format format, gs_mesh **out,
 
 /* Build a mesh from arrays: xyz holds 3*n_vertices doubles, tri holds
  * 3*n_faces vertex indices (counter-clockwise). Same validation as
- * gs_mesh_load. Arrays are copied. *out receives a new mesh (caller frees). */
+ * gs_mesh_load: in particular n_faces = 0 is GS_EMESH, as a file without
+ * faces (there is no surface to measure distances on; vertices used by no
+ * face are accepted when there is a face). Arrays are copied. *out receives a new mesh (caller frees). */
 int gs_mesh_create(const double *xyz, uint32_t n_vertices, const uint32_t *tri,
                    uint32_t n_faces, gs_mesh **out, gs_error *err);
 

@@ -526,6 +526,18 @@ static void test_scale_limits(void)
     gs_mesh_free(unit);
 }
 
+/* No faces: gs_mesh_create refuses them like gs_mesh_load (GS_EMESH). */
+static void test_create_no_faces(void)
+{
+    const double xyz[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    gs_error e = {0, ""};
+    for (uint32_t nv = 0; nv <= 3; nv += 3) {
+        gs_mesh *m = (gs_mesh *)&e; /* must be reset to NULL */
+        CHECK(gs_mesh_create(xyz, nv, NULL, 0, &m, &e) == GS_EMESH && m == NULL);
+        CHECK_MSG(strstr(e.message, "no faces"), "%s", e.message);
+    }
+}
+
 int main(void)
 {
     test_gt_files();
@@ -538,6 +550,7 @@ int main(void)
     test_round_trip();
     test_reports();
     test_scale_limits();
+    test_create_no_faces();
     test_shared();
     cleanup();
     return gs_test_finish("test_mesh_io");
