@@ -270,6 +270,26 @@ static void test_ply(void)
         CHECK(gs_mesh_positions(m)[0] == -3 && gs_mesh_positions(m)[7] == 5);
     }
     gs_mesh_free(m);
+
+    /* binary PLY whose header lines end with a lone CR and whose first data
+     * byte is '\n' (x = 10): that byte is data, not the rest of a CRLF */
+    b.n = 0;
+    put_str(&b, "ply\rformat binary_little_endian 1.0\relement vertex 3\rproperty uchar x\r"
+                "property float y\rproperty float z\relement face 1\r"
+                "property list uchar int vertex_indices\rend_header\r");
+    const double cr_xyz[9] = {10, 0, 0, 11, 0, 0, 10, 1, 0};
+    for (int v = 0; v < 3; ++v) {
+        put_uint(&b, (uint64_t)cr_xyz[3 * v], 1, 0);
+        put_f32(&b, cr_xyz[3 * v + 1], 0);
+        put_f32(&b, cr_xyz[3 * v + 2], 0);
+    }
+    put_uint(&b, 3, 1, 0);
+    for (int k = 0; k < 3; ++k) put_uint(&b, (uint64_t)k, 4, 0);
+    m = NULL;
+    rc = gs_mesh_load(write_bytes("cr.ply", b.d, b.n), GS_FORMAT_AUTO, &m, &e);
+    CHECK_MSG(rc == GS_OK, "CR-only binary ply: %s", e.message);
+    if (m) CHECK(gs_mesh_num_vertices(m) == 3 && memcmp(gs_mesh_positions(m), cr_xyz, sizeof cr_xyz) == 0);
+    gs_mesh_free(m);
 }
 
 /* ---- STL --------------------------------------------------------------- */
@@ -448,7 +468,7 @@ static void cleanup(void)
     static const char *const names[] = {
         "plain.obj", "forms.obj", "negative.OBJ", "crlf.obj", "mixed.obj", "mixed.mesh",
         "mixed.txt", "plain.off", "colour.off", "noff.dat", "ascii.ply", "le.ply", "be.PLY",
-        "be.bin", "int.ply", "ascii.stl", "binary.stl", "binary.dat", "round.obj", "tet.obj",
+        "be.bin", "int.ply", "cr.ply", "ascii.stl", "binary.stl", "binary.dat", "round.obj", "tet.obj",
         "square.obj", "torus.obj", "unref.obj", "two.obj"};
     for (size_t i = 0; i < sizeof names / sizeof *names; ++i) unlink(path_of(names[i]));
     CHECK_MSG(rmdir(g_dir) == 0, "temp dir %s not empty (a temp file left behind?)", g_dir);
