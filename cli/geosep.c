@@ -236,8 +236,10 @@ static int solve_option(solve_opts *o, int argc, char **argv, int *i)
             if (parse_u32(v, &o->seed)) return fail(EXIT_USAGE, "solve: --seed '%s': expected an integer >= 0", v);
             return 0;
         case 9:
-            if (parse_double(v, &o->sopt.heat_time) || !(o->sopt.heat_time > 0) || !isfinite(o->sopt.heat_time))
-                return fail(EXIT_USAGE, "solve: --heat-time '%s': expected a number > 0", v);
+            if (parse_double(v, &o->sopt.heat_time) || !(o->sopt.heat_time >= GS_HEAT_TIME_MIN) ||
+                !(o->sopt.heat_time <= GS_HEAT_TIME_MAX))
+                return fail(EXIT_USAGE, "solve: --heat-time '%s': expected a number in [%g, %g]", v, GS_HEAT_TIME_MIN,
+                            GS_HEAT_TIME_MAX);
             return 0;
         case 10:
             if (parse_double(v, &o->sopt.fmm_exact_start) || !(o->sopt.fmm_exact_start >= 0) ||

@@ -77,11 +77,20 @@ typedef enum gs_mesh_format {
     GS_FORMAT_STL
 } gs_mesh_format;
 
+/* Range of edge lengths geosep accepts (mesh units): squared and 4th-power
+ * lengths in the validation and the solvers then stay finite and normal.
+ * (A unit icosphere scaled by 1e-75 .. 1e75 gave, with all four methods,
+ * distances that divided by the scale are within 2e-14 of the unscaled ones;
+ * beyond 1e+-100 the validation's 4th powers overflow or underflow.) */
+#define GS_MESH_MAX_EDGE 1e50
+#define GS_MESH_MIN_EDGE 1e-50
+
 /* Read and validate a mesh file. Readers are safe for untrusted input: a
  * malformed file gives GS_EPARSE/GS_EMESH with a message naming the file and
  * the line (text formats) or element (binary formats), never a crash.
  * Rejected: non-finite coordinates, face indices out of range or repeated in
- * a face, zero-area faces, non-manifold edges or vertices, inconsistently
+ * a face, edges longer than GS_MESH_MAX_EDGE or shorter (but not zero) than
+ * GS_MESH_MIN_EDGE, zero-area faces, non-manifold edges or vertices, inconsistently
  * oriented neighbouring faces, header counts the file cannot hold.
  * Accepted and reported by gs_mesh_get_report(): several components,
  * boundary loops, genus, vertices used by no face.
@@ -91,7 +100,9 @@ int gs_mesh_load(const char *path, gs_mesh_format format, gs_mesh **out,
 
 /* Build a mesh from arrays: xyz holds 3*n_vertices doubles, tri holds
  * 3*n_faces vertex indices (counter-clockwise). Same validation as
- * gs_mesh_load. Arrays are copied. *out receives a new mesh (caller frees). */
+ * gs_mesh_load: in particular n_faces = 0 is GS_EMESH, as a file without
+ * faces (there is no surface to measure distances on; vertices used by no
+ * face are accepted when there is a face). Arrays are copied. *out receives a new mesh (caller frees). */
 int gs_mesh_create(const double *xyz, uint32_t n_vertices, const uint32_t *tri,
                    uint32_t n_faces, gs_mesh **out, gs_error *err);
 
@@ -138,7 +149,9 @@ int gs_mesh_get_report(const gs_mesh *mesh, gs_mesh_report *report,
  *   "torus:NU,NV[,R,r]"       closed torus, radii R > r [1,0.4]; NU,NV >= 3
  *   "sphere:N"                closed unit icosphere, N <= 9 subdivisions
  *   "two:N"                   two disjoint flat N x N grids (two components)
- * Bad specs give GS_EARG, sizes over 2^26 vertices GS_ELIMIT.
+ * Integers are plain digits; sizes plain decimals ("2", "0.5", "1e-3") from
+ * 1e-30 to 1e30, no blanks, signs, hex, inf or nan. Bad specs give GS_EARG
+ * naming the spec and the bad argument, sizes over 2^26 vertices GS_ELIMIT.
  * *out receives a new mesh (caller frees). */
 int gs_mesh_generate(const char *spec, gs_mesh **out, gs_error *err);
 
@@ -242,13 +255,24 @@ typedef struct gs_solver_options {
                             /*   solver's memory and time grow more than 4^N)  */
 } gs_solver_options;
 
+/* Range of gs_solver_options.heat_time. Measured on sphere:4, grid:40,40
+ * and torus:48,24 (mean error against exact distances, relative to the
+ * largest distance; 0.03%, 0.5%, 1.5% at the default 1): small values only
+ * add error (1e-4: 1.0%, 3.8%, 10.9%; 1e-8: 1.2%, 9.7%, 10.9%; 1e-12:
+ * 7.2%, 21.6%, 11.3%: the heat barely leaves the source's neighbours);
+ * from 1e4 to 1e13 the field no longer changes (the t -> infinity limit),
+ * from about 1e14 rounding spoils it and from about 1e16 the factorisation
+ * fails ("not positive definite"). 1e8 leaves 5 decades before that. */
+#define GS_HEAT_TIME_MIN 1e-8
+#define GS_HEAT_TIME_MAX 1e8
+
 /* Largest gs_solver_options.heat_refine (3: 64x the triangles). */
 #define GS_HEAT_REFINE_MAX 3
 
 void gs_solver_options_default(gs_solver_options *opt);
 
 /* gs_solver_create with options (NULL: defaults). GS_EARG if an option is
- * out of range (heat_time must be finite and > 0, fmm_exact_start finite and
+ * out of range (heat_time in [GS_HEAT_TIME_MIN, GS_HEAT_TIME_MAX], fmm_exact_start finite and
  * >= 0, heat_refine at most GS_HEAT_REFINE_MAX). *out receives a new solver (caller frees); opt is copied. */
 int gs_solver_create_ex(const gs_patch *patch, gs_method method, const gs_solver_options *opt,
                         gs_solver **out, gs_error *err);

@@ -137,8 +137,9 @@ run solve "$G" --source 0 --method heat --heat-refine 1 -o "$T/heatr1.txt"
   ! cmp -s "$T/heatr1.txt" "$T/heat.txt"; }; verdict "solve --heat-refine 1: solved on the subdivided mesh"
 expect_fail 2 "expected 0 to 3" "heat refine 4" solve "$G" --source 0 --method heat --heat-refine 4
 expect_fail 2 "expected 0 to 3" "heat refine -1" solve "$G" --source 0 --method heat --heat-refine -1
-expect_fail 2 "number > 0" "heat time 0" solve "$G" --source 0 --method heat --heat-time 0
-expect_fail 2 "number > 0" "heat time nan" solve "$G" --source 0 --method heat --heat-time nan
+expect_fail 2 "number in .1e-08, 1e.08" "heat time 0" solve "$G" --source 0 --method heat --heat-time 0
+expect_fail 2 "number in" "heat time nan" solve "$G" --source 0 --method heat --heat-time nan
+expect_fail 2 "number in" "heat time 1e300" solve "$G" --source 0 --method heat --heat-time 1e300
 expect_fail 2 "number >= 0" "negative fmm start" solve "$G" --source 0 --method fmm --fmm-start -1
 expect_fail 2 "number >= 0" "negative max distance" solve "$G" --source 0 --max-distance -1
 expect_fail 2 "number >= 0" "malformed max distance" solve "$G" --source 0 --max-distance 1x
@@ -231,6 +232,7 @@ expect_fail 2 "vmax" "build: vmax too small" build "$D" -o "$T/x.gsdb" --vmax 1
 { [ ! -e "$T/x.gsdb" ]; }; verdict "build: failure leaves no database"
 expect_fail 2 "not a count" "build: bad --mmax" build "$D" -o "$T/x.gsdb" --mmax many
 expect_fail 2 "heat_time" "build: --heat-time 0" build "$D" -o "$T/x.gsdb" --method heat --heat-time 0
+expect_fail 2 "heat_time 1e.300 out of range" "build: --heat-time 1e300" build "$D" -o "$T/x.gsdb" --method heat --heat-time 1e300
 expect_fail 2 "fmm_exact_start" "build: --fmm-start -2" build "$D" -o "$T/x.gsdb" --method fmm --fmm-start -2
 expect_fail 2 "heat_refine 4 must be at most 3" "build: --heat-refine 4" build "$D" -o "$T/x.gsdb" --method heat --heat-refine 4
 expect_fail 2 "not a count" "build: --heat-refine x" build "$D" -o "$T/x.gsdb" --method heat --heat-refine x

@@ -240,13 +240,25 @@ static void test_options(void)
     gs_solver_options o;
     gs_solver_options_default(&o);
     CHECK(o.heat_time == 1.0 && o.fmm_exact_start == 4.0);
-    const double bad_t[] = {0, -1, NAN, INFINITY}, bad_r[] = {-1e-9, NAN, INFINITY};
+    const double bad_t[] = {0, -1, NAN, INFINITY, 1e300, 1.01e8, 0.99e-8}, bad_r[] = {-1e-9, NAN, INFINITY};
     for (size_t i = 0; i < sizeof bad_t / sizeof *bad_t; ++i) {
         gs_solver *s = (gs_solver *)&o; /* must be reset to NULL */
         gs_solver_options b = o;
         b.heat_time = bad_t[i];
         CHECK(gs_solver_create_ex(p, GS_METHOD_HEAT, &b, &s, &err) == GS_EARG && s == NULL);
-        CHECK(strstr(err.message, "heat_time") != NULL);
+        CHECK(strstr(err.message, "heat_time") != NULL && strstr(err.message, "out of range [1e-08, 1e+08]") != NULL);
+    }
+    /* the ends of the range solve (a finite field, 0 at the source) */
+    for (int k = 0; k < 2; ++k) {
+        gs_solver *s = NULL;
+        gs_solver_options b = o;
+        b.heat_time = k ? GS_HEAT_TIME_MAX : GS_HEAT_TIME_MIN;
+        double d[25];
+        gs_source src = gs_source_vertex(12);
+        CHECK(gs_solver_create_ex(p, GS_METHOD_HEAT, &b, &s, &err) == GS_OK);
+        CHECK_MSG(s && gs_solver_solve(s, &src, 1, 0, d, &err) == GS_OK, "heat_time %g: %s", b.heat_time, err.message);
+        for (int i = 0; s && i < 25; ++i) CHECK(isfinite(d[i]) && d[i] >= 0 && (i != 12 || d[i] == 0));
+        gs_solver_free(s);
     }
     for (size_t i = 0; i < sizeof bad_r / sizeof *bad_r; ++i) {
         gs_solver *s = NULL;

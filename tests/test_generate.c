@@ -243,6 +243,10 @@ static void test_bad_specs(void)
         "grid:99999999999,5", "torus:10,10,1,2", "torus:10,10,1,1", "sphere:10", "cube:0",
         "cube:2,0", "plate:10", "peaks:1", "peaks:5,0", "peaks:5,-6", "peaks:5,6,6", "two:1", "cylinder:2,5", "cone:5,1", "torus:5,2", "sphere:-1",
         "grid:5 ,5", "grid:5,5,1e400,1",
+        /* strict sizes: blanks, signs, hex, inf/nan words, out of [1e-30, 1e30] */
+        "grid:3,3, 1,1", "grid:3,3,1 ,1", "grid:3,3,1,\t1", "grid:3,3,+1,1", "grid:3,3,0x1p1,1",
+        "grid:3,3,infinity,1", "grid:3,3,1e,1", "grid:3,3,.,1", "grid:3,3,1e31,1", "grid:3,3,1e-31,1",
+        "grid:3,3,1.5e+300,1", "torus:8,8, 1,0.4", "cube:3,\n2", "grid:3,3,1,1e",
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
         gs_mesh *m = (gs_mesh *)&m; /* must be reset to NULL */
@@ -262,6 +266,22 @@ static void test_bad_specs(void)
     CHECK(gs_mesh_generate("grid:3,3", NULL, NULL) == GS_EARG);
     CHECK(gs_mesh_generate("grid:20000,20000", &m, &err) == GS_ELIMIT && m == NULL);
     printf("reject grid:20000,20000 -> %s\n", err.message);
+    CHECK(gs_mesh_generate("grid:3,3, 1,1", &m, &err) == GS_EARG && m == NULL);
+    CHECK_MSG(strstr(err.message, "bad mesh spec \"grid:3,3, 1,1\": argument 3 (\" 1\") must be a plain decimal "
+                                  "number from 1e-30 to 1e+30"), "%s", err.message);
+    /* the plain decimal forms are all accepted, with their exact values */
+    static const char *good[] = {"grid:3,3,.5,2.", "grid:3,3,5e-1,2E0", "grid:3,3,0.5,2e+0", "grid:3,3,1e-30,1e-30", "grid:3,3,1e30,1e30"};
+    for (size_t i = 0; i < sizeof good / sizeof *good; ++i) {
+        int rc = gs_mesh_generate(good[i], &m, &err);
+        CHECK_MSG(rc == GS_OK, "%s: %s", good[i], err.message);
+        gs_mesh_report r;
+        if (rc == GS_OK && gs_mesh_get_report(m, &r, &err) == GS_OK) {
+            if (i < 3) CHECK(r.bbox_max[0] == 0.5 && r.bbox_max[1] == 2.0);
+            else CHECK(r.bbox_max[0] == (i == 3 ? 1e-30 : 1e30) && r.bbox_max[1] == r.bbox_max[0]);
+        }
+        gs_mesh_free(m);
+        m = NULL;
+    }
 }
 
 int main(void)

@@ -55,6 +55,13 @@ static const bad_case CASES[] = {
     CASE("obj huge index", "huge.obj", TRI3 "f 1 2 99999999999999999999\n", GS_EPARSE, "not an index"),
     CASE("obj repeated index", "rep.obj", TRI3 "f 1 2 2\n", GS_EMESH, "line 4: face repeats a vertex"),
     CASE("obj zero area", "flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", GS_EMESH, "line 4: zero-area"),
+    CASE("obj coordinates 1e300 (4th powers overflow)", "big.obj", "v 0 0 0\nv 1e300 0 0\nv 0 1e300 0\nf 1 2 3\n", GS_EMESH,
+         "line 4: edge 0-1 has length 1e+300, outside geosep's range [1e-50, 1e+50]"),
+    CASE("obj coordinates -1e308..1e308 (difference overflows)", "ovfd.obj", "v -1e308 0 0\nv 1e308 0 0\nv 0 1 0\nf 1 2 3\n", GS_EMESH,
+         "line 4: edge 0-1 has length inf, outside"),
+    CASE("obj edge above 1e50", "big2.obj", "v 0 0 0\nv 1 0 0\nv 0 2e50 0\nf 1 2 3\n", GS_EMESH, "edge 1-2 has length 2e+50"),
+    CASE("obj coordinates 1e-300 (4th powers underflow)", "tiny.obj", "v 0 0 0\nv 1e-300 0 0\nv 0 1e-300 0\nf 1 2 3\n", GS_EMESH,
+         "line 4: edge 0-1 has length 1e-300, outside"),
     CASE("obj non-manifold edge", "nme.obj", TRI3 "v 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n", GS_EMESH, "non-manifold edge"),
     CASE("obj non-manifold vertex", "nmv.obj",
          "v 0 0 0\nv 1 0 1\nv -1 1 1\nv -1 -1 1\nv 1 0 -1\nv -1 1 -1\nv -1 -1 -1\n"
@@ -88,6 +95,24 @@ static const bad_case CASES[] = {
     CASE("ply binary truncated in a row", "truncb.ply", PLYLE "element vertex 3\nproperty double x\nproperty float y\n"
          "property float z\nend_header\n" F0 F0 F0 F0 F0 F0 F0 F0 F0 F0 F0 "\1\2",
          GS_EPARSE, "at most 2"),
+    /* structure-level cases of the fz2 campaign (all rejected cleanly; kept as regressions) */
+    CASE("ply BE list count 2^32-1", "bemax.ply", "ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\n"
+         "property float y\nproperty float z\nelement face 1\nproperty list uint int vertex_indices\nend_header\n"
+         F0 F0 F0 "\x3f\x80\0\0" F0 F0 F0 "\x3f\x80\0\0" F0 "\xff\xff\xff\xff" "\0\0\0\0\0\0\0\1\0\0\0\2",
+         GS_EPARSE, "face 0: list of 4294967295 values runs past the end of the file"),
+    CASE("ply binary negative list count", "negcount.ply", PLYLE "element vertex 3\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n"
+         F0 F0 F0 F1 F0 F0 F0 F1 F0 "\xff\xff\xff\xff" "\0\0\0\0\1\0\0\0\2\0\0\0", GS_EPARSE, "face 0: negative list length -1"),
+    CASE("ply binary truncated at a record boundary", "recb.ply", PLYLE "element vertex 3\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+         F0 F0 F0 F1 F0 F0 F0 F1 F0, GS_EPARSE, "header claims 1 faces but the file holds at most 0"),
+    CASE("ply binary list count of float type", "fcount.ply", PLYLE "element face 1\nproperty list float int vertex_indices\nend_header\n",
+         GS_EPARSE, ":4: list count of float type float"),
+    CASE("ply skipped element with a huge list", "skip.ply", PLYLE "element vertex 3\nproperty float x\nproperty float y\n"
+         "property float z\nelement other 1\nproperty list uint uchar junk\nend_header\n"
+         F0 F0 F0 F1 F0 F0 F0 F1 F0 "\xff\xff\xff\xff" "0123", GS_EPARSE, "other 0: list of 4294967295 values runs past the end"),
+    CASE("stl binary one byte too many", "plus1.stl", HDR80 "\1\0\0\0" F0 F0 F0 F0 F0 F0 F1 F0 F0 F0 F1 F0 "\0\0" "\n",
+         GS_EPARSE, "says 1 triangles (134 bytes) but the file has 135"),
     CASE("ply no end_header", "noend.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n", GS_EPARSE, "no end_header"),
     CASE("ply unknown type", "type.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float128 x\nend_header\n", GS_EPARSE, ":4: unknown property type float128"),
     CASE("ply no format", "nofmt.ply", "ply\nelement vertex 0\nproperty float x\nend_header\n", GS_EPARSE, "no format line"),

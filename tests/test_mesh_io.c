@@ -270,6 +270,26 @@ static void test_ply(void)
         CHECK(gs_mesh_positions(m)[0] == -3 && gs_mesh_positions(m)[7] == 5);
     }
     gs_mesh_free(m);
+
+    /* binary PLY whose header lines end with a lone CR and whose first data
+     * byte is '\n' (x = 10): that byte is data, not the rest of a CRLF */
+    b.n = 0;
+    put_str(&b, "ply\rformat binary_little_endian 1.0\relement vertex 3\rproperty uchar x\r"
+                "property float y\rproperty float z\relement face 1\r"
+                "property list uchar int vertex_indices\rend_header\r");
+    const double cr_xyz[9] = {10, 0, 0, 11, 0, 0, 10, 1, 0};
+    for (int v = 0; v < 3; ++v) {
+        put_uint(&b, (uint64_t)cr_xyz[3 * v], 1, 0);
+        put_f32(&b, cr_xyz[3 * v + 1], 0);
+        put_f32(&b, cr_xyz[3 * v + 2], 0);
+    }
+    put_uint(&b, 3, 1, 0);
+    for (int k = 0; k < 3; ++k) put_uint(&b, (uint64_t)k, 4, 0);
+    m = NULL;
+    rc = gs_mesh_load(write_bytes("cr.ply", b.d, b.n), GS_FORMAT_AUTO, &m, &e);
+    CHECK_MSG(rc == GS_OK, "CR-only binary ply: %s", e.message);
+    if (m) CHECK(gs_mesh_num_vertices(m) == 3 && memcmp(gs_mesh_positions(m), cr_xyz, sizeof cr_xyz) == 0);
+    gs_mesh_free(m);
 }
 
 /* ---- STL --------------------------------------------------------------- */
@@ -448,7 +468,7 @@ static void cleanup(void)
     static const char *const names[] = {
         "plain.obj", "forms.obj", "negative.OBJ", "crlf.obj", "mixed.obj", "mixed.mesh",
         "mixed.txt", "plain.off", "colour.off", "noff.dat", "ascii.ply", "le.ply", "be.PLY",
-        "be.bin", "int.ply", "ascii.stl", "binary.stl", "binary.dat", "round.obj", "tet.obj",
+        "be.bin", "int.ply", "cr.ply", "ascii.stl", "binary.stl", "binary.dat", "round.obj", "tet.obj",
         "square.obj", "torus.obj", "unref.obj", "two.obj"};
     for (size_t i = 0; i < sizeof names / sizeof *names; ++i) unlink(path_of(names[i]));
     CHECK_MSG(rmdir(g_dir) == 0, "temp dir %s not empty (a temp file left behind?)", g_dir);
@@ -479,6 +499,65 @@ static void test_gt_files(void)
     rmdir(dir);
 }
 
+/* Meshes at the ends of the accepted scale (GS_MESH_MIN_EDGE .. MAX_EDGE):
+ * a closed icosphere scaled so that its edges are near 1e47 and 1e-47 loads,
+ * and its distances (exact and graph) are the unit mesh's times the scale. */
+static void test_scale_limits(void)
+{
+    gs_mesh *unit = NULL;
+    gs_error e = {0, ""};
+    CHECK(gs_mesh_generate("sphere:1", &unit, &e) == GS_OK);
+    if (!unit) return;
+    uint32_t n = gs_mesh_num_vertices(unit), nf = gs_mesh_num_faces(unit);
+    double *x = malloc(3 * sizeof *x * n), *d0 = malloc(sizeof *d0 * n), *d = malloc(sizeof *d * n);
+    const double scales[2] = {1e48, 1e-46};
+    for (int meth = 0; meth < 2; ++meth) {
+        gs_patch *pt = NULL;
+        gs_source s = gs_source_vertex(3);
+        CHECK(gs_patch_create(unit, NULL, 0, &pt, &e) == GS_OK);
+        CHECK(gs_distance_field(pt, meth ? GS_METHOD_GRAPH : GS_METHOD_EXACT, &s, 1, 0, d0, &e) == GS_OK);
+        gs_patch_free(pt);
+        for (int k = 0; k < 2; ++k) {
+            for (uint32_t i = 0; i < 3 * n; ++i) x[i] = gs_mesh_positions(unit)[i] * scales[k];
+            gs_mesh *m = NULL;
+            int rc = gs_mesh_create(x, n, gs_mesh_faces(unit), nf, &m, &e);
+            CHECK_MSG(rc == GS_OK, "scale %g: %s", scales[k], e.message);
+            if (rc) continue;
+            pt = NULL;
+            CHECK(gs_patch_create(m, NULL, 0, &pt, &e) == GS_OK);
+            rc = gs_distance_field(pt, meth ? GS_METHOD_GRAPH : GS_METHOD_EXACT, &s, 1, 0, d, &e);
+            CHECK_MSG(rc == GS_OK, "scale %g: %s", scales[k], e.message);
+            for (uint32_t i = 0; rc == GS_OK && i < n; ++i)
+                CHECK_NEAR(d[i] / scales[k], d0[i], 1e-13);
+            gs_patch_free(pt);
+            gs_mesh_free(m);
+        }
+    }
+    /* one step beyond either end: a clear error naming the limit */
+    for (int k = 0; k < 2; ++k) {
+        for (uint32_t i = 0; i < 3 * n; ++i) x[i] = gs_mesh_positions(unit)[i] * (k ? 1e-52 : 1e52);
+        gs_mesh *m = NULL;
+        CHECK(gs_mesh_create(x, n, gs_mesh_faces(unit), nf, &m, &e) == GS_EMESH && !m);
+        CHECK_MSG(strstr(e.message, "outside geosep's range [1e-50, 1e+50] (rescale the mesh)"), "%s", e.message);
+    }
+    free(x);
+    free(d0);
+    free(d);
+    gs_mesh_free(unit);
+}
+
+/* No faces: gs_mesh_create refuses them like gs_mesh_load (GS_EMESH). */
+static void test_create_no_faces(void)
+{
+    const double xyz[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    gs_error e = {0, ""};
+    for (uint32_t nv = 0; nv <= 3; nv += 3) {
+        gs_mesh *m = (gs_mesh *)&e; /* must be reset to NULL */
+        CHECK(gs_mesh_create(xyz, nv, NULL, 0, &m, &e) == GS_EMESH && m == NULL);
+        CHECK_MSG(strstr(e.message, "no faces"), "%s", e.message);
+    }
+}
+
 int main(void)
 {
     test_gt_files();
@@ -490,6 +569,8 @@ int main(void)
     test_stl();
     test_round_trip();
     test_reports();
+    test_scale_limits();
+    test_create_no_faces();
     test_shared();
     cleanup();
     return gs_test_finish("test_mesh_io");

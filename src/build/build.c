@@ -889,8 +889,9 @@ static int check_options(const gs_build_options *o, gs_error *err)
     if (o->field_memory_mib > (1u << 20))
         return gs__fail(err, GS_EARG, "field_memory_mib %u is absurd", o->field_memory_mib);
     if (o->threads > 1024) return gs__fail(err, GS_EARG, "threads %u is absurd", o->threads);
-    if (!(isfinite(o->solver.heat_time) && o->solver.heat_time > 0))
-        return gs__fail(err, GS_EARG, "solver.heat_time %g must be finite and > 0", o->solver.heat_time);
+    if (!(o->solver.heat_time >= GS_HEAT_TIME_MIN && o->solver.heat_time <= GS_HEAT_TIME_MAX))
+        return gs__fail(err, GS_EARG, "solver.heat_time %g out of range [%g, %g]", o->solver.heat_time,
+                        GS_HEAT_TIME_MIN, GS_HEAT_TIME_MAX);
     if (!(isfinite(o->solver.fmm_exact_start) && o->solver.fmm_exact_start >= 0))
         return gs__fail(err, GS_EARG, "solver.fmm_exact_start %g must be finite and >= 0", o->solver.fmm_exact_start);
     if (o->solver.heat_refine > GS_HEAT_REFINE_MAX)

@@ -111,8 +111,9 @@ int gs_solver_create_ex(const gs_patch *patch, gs_method method, const gs_solver
     gs_solver_options o;
     gs_solver_options_default(&o);
     if (opt) o = *opt;
-    if (!(isfinite(o.heat_time) && o.heat_time > 0))
-        return gs__fail(err, GS_EARG, "gs_solver_create: heat_time %g must be finite and > 0", o.heat_time);
+    if (!(o.heat_time >= GS_HEAT_TIME_MIN && o.heat_time <= GS_HEAT_TIME_MAX))
+        return gs__fail(err, GS_EARG, "gs_solver_create: heat_time %g out of range [%g, %g]", o.heat_time,
+                        GS_HEAT_TIME_MIN, GS_HEAT_TIME_MAX);
     if (!(isfinite(o.fmm_exact_start) && o.fmm_exact_start >= 0))
         return gs__fail(err, GS_EARG, "gs_solver_create: fmm_exact_start %g must be finite and >= 0",
                         o.fmm_exact_start);

@@ -11,6 +11,8 @@
 
 #define GEN_MAX_VERTICES (1u << 26) /* keeps 3*nv and 3*nf far below 2^32  */
 #define GEN_MAX_ARGS 4
+#define GEN_MIN_SIZE 1e-30 /* sizes: edges stay inside [GS_MESH_MIN_EDGE, */
+#define GEN_MAX_SIZE 1e30  /* GS_MESH_MAX_EDGE] at any allowed resolution */
 
 /* ---- growable vertex / face arrays ------------------------------------- */
 
@@ -583,11 +585,26 @@ static int parse_uint(const char *t, uint32_t lo, uint32_t hi, uint32_t *out)
     return 0;
 }
 
+/* Strict: digits with an optional '.' and exponent ("2", "0.5", ".5", "1e3");
+ * no blanks, sign, hex, inf or nan, which strtod alone would accept. */
 static int parse_real(const char *t, double *out)
 {
+    const char *p = t;
+    int digits = 0;
+    while (*p >= '0' && *p <= '9') ++p, ++digits;
+    if (*p == '.')
+        for (++p; *p >= '0' && *p <= '9'; ++p) ++digits;
+    if (!digits) return -1;
+    if (*p == 'e' || *p == 'E') {
+        ++p;
+        if (*p == '+' || *p == '-') ++p;
+        if (!(*p >= '0' && *p <= '9')) return -1;
+        while (*p >= '0' && *p <= '9') ++p;
+    }
+    if (*p) return -1;
     char *end;
     double v = strtod(t, &end);
-    if (end == t || *end || !isfinite(v) || !(v > 0)) return -1;
+    if (*end || !(v >= GEN_MIN_SIZE && v <= GEN_MAX_SIZE)) return -1;
     *out = v;
     return 0;
 }
@@ -612,9 +629,10 @@ static int parse_args(const gen_kind *k, const char *spec, const char *rest, gen
         a->r[i] = k->real_def[i];
         if (n > k->n_int && parse_real(tok[k->n_int + i], &a->r[i]))
             return gs__fail(err, GS_EARG,
-                            "bad mesh spec \"%s\": argument %d (\"%s\") must be a finite "
-                            "number > 0; expected %s",
-                            spec, k->n_int + i + 1, tok[k->n_int + i], k->usage);
+                            "bad mesh spec \"%s\": argument %d (\"%s\") must be a plain "
+                            "decimal number from %g to %g; expected %s",
+                            spec, k->n_int + i + 1, tok[k->n_int + i], GEN_MIN_SIZE, GEN_MAX_SIZE,
+                            k->usage);
     }
     return GS_OK;
 }

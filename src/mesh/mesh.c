@@ -149,6 +149,12 @@ int gs_mesh_create(const double *xyz, uint32_t nv, const uint32_t *tri, uint32_t
     *out = NULL;
     if ((nv && !xyz) || (nf && !tri))
         return gs__fail(err, GS_EARG, "gs_mesh_create: NULL array with a non-zero count");
+    /* as gs_mesh_load: without a face there is no surface to measure on (a
+     * database of such a mesh answered +inf for every pair, or failed with
+     * 0 vertices) */
+    if (nf == 0)
+        return gs__fail(err, GS_EMESH, "gs_mesh_create: no faces (%u vertices given); a mesh needs "
+                        "at least one triangle", nv);
     double *x = gs__malloc(3 * (size_t)nv, sizeof *x);
     uint32_t *f = gs__malloc(3 * (size_t)nf, sizeof *f);
     if (!x || !f) {

@@ -461,7 +461,11 @@ int gs__read_ply(const char *file, char *data, size_t size, gs_soup *s, gs_error
     r.s = s;
     gs__lines_init(&r.c, data, size);
     uint64_t n_faces = 0;
+    /* header lines ended by a lone CR ("ply\r"): the line cursor takes
+     * "end_header\r\n" as one line end, but then the '\n' is binary data */
+    int cr_only = size >= 5 && data[3] == '\r' && data[4] != '\n';
     int rc = read_header(&r);
+    if (rc == GS_OK && r.format != F_ASCII && cr_only && r.c.p[-1] == '\n') r.c.p--;
     if (rc == GS_OK) rc = check_roles(&r);
     if (rc == GS_OK) {
         uint64_t room = (uint64_t)(r.c.end - r.c.p) + (r.format == F_ASCII);

@@ -81,6 +81,23 @@ static int check_faces(const gs_topo *t, const gs_origin *o, gs_error *err)
                      *r = t->xyz + 3 * (size_t)c[2];
         double u[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
         double v[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+        double e[3][3] = {{u[0], u[1], u[2]}, {r[0] - q[0], r[1] - q[1], r[2] - q[2]},
+                          {v[0], v[1], v[2]}};
+        /* Edge lengths in [GS_MESH_MIN_EDGE, GS_MESH_MAX_EDGE] keep every
+         * product below (the 4th powers here, squares elsewhere) finite and
+         * normal; 0 is left to the zero-area test. */
+        for (int k = 0; k < 3; ++k) {
+            double l2 = e[k][0] * e[k][0] + e[k][1] * e[k][1] + e[k][2] * e[k][2];
+            if (l2 >= GS_MESH_MIN_EDGE * GS_MESH_MIN_EDGE && l2 <= GS_MESH_MAX_EDGE * GS_MESH_MAX_EDGE)
+                continue; /* the common case, without hypot's cost */
+            double l = hypot(hypot(e[k][0], e[k][1]), e[k][2]); /* no overflow */
+            if (!(l <= GS_MESH_MAX_EDGE) || (l > 0 && l < GS_MESH_MIN_EDGE)) {
+                where(w, sizeof w, o, f);
+                return gs__fail(err, GS_EMESH, "%s: edge %u-%u has length %.3g, outside geosep's "
+                                "range [%g, %g] (rescale the mesh)", w, c[k], c[(k + 1) % 3], l,
+                                GS_MESH_MIN_EDGE, GS_MESH_MAX_EDGE);
+            }
+        }
         double x[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
                        u[0] * v[1] - u[1] * v[0]};
         double a2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
