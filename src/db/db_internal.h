@@ -209,8 +209,9 @@ static inline const double *gs__qrec_coef(const double *rec, uint32_t g)
     return rec + GS_QREC_HEAD + (g + 3u) / 4u * 2u;
 }
 
-/* Build the query cache (called once the database is validated). */
-int gs__db_grid_build(gs_db *db, gs_error *err);
+/* Build the query cache (called once the database is validated); name
+ * prefixes its messages. */
+int gs__db_grid_build(gs_db *db, const char *name, gs_error *err);
 void gs__db_grid_free(gs_db *db);
 
 /* Serialise c into the on-disk layout and open the result through the

@@ -6,7 +6,6 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
@@ -506,13 +505,8 @@ int gs__db_attach(void *storage, size_t size, int mapped, const char *name, gs_d
     db->mapped = mapped;
     db->bytes = storage;
     db->size = size;
-    rc = gs__db_grid_build(db, err);
+    rc = gs__db_grid_build(db, name, err);
     if (rc) {
-        if (err && rc == GS_EPARSE) { /* name the file */
-            char msg[sizeof err->message];
-            snprintf(msg, sizeof msg, "%s", err->message);
-            gs__fail(err, rc, "%s: %s", name, msg);
-        }
         free(db);
         return rc;
     }

@@ -186,7 +186,7 @@ static uint32_t ancestor_at(const gs_db *db, uint32_t l, uint32_t d)
     return l;
 }
 
-int gs__db_grid_build(gs_db *db, gs_error *err)
+int gs__db_grid_build(gs_db *db, const char *name, gs_error *err)
 {
     for (uint32_t x = 0; x < db->nv; ++x) /* absurdly deep trees: no cache */
         if (db->leaf[x] != GS_NONE && db->nodes[db->leaf[x]].depth >= MAX_PATH) return GS_OK;
@@ -218,13 +218,13 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
         if (r <= 0) {
             free(curve_grid), free(m1), free(nend);
             gs__db_grid_free(db);
-            return r < 0 ? gs__fail(err, GS_ENOMEM, "out of memory for the query cache") : GS_OK;
+            return r < 0 ? gs__fail(err, GS_ENOMEM, "%s: out of memory for the query cache", name) : GS_OK;
         }
     }
     if (!ok) {
         free(curve_grid), free(m1), free(nend);
         gs__db_grid_free(db);
-        return gs__fail(err, GS_ENOMEM, "out of memory for the query cache");
+        return gs__fail(err, GS_ENOMEM, "%s: out of memory for the query cache", name);
     }
     /* the slot: header, room for the most shallow entries, then the most
      * shallow records */
@@ -272,7 +272,7 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
     if (!db->qroot || total > SIZE_MAX / 16 || !(db->qbuf = cache_alloc(bytes))) {
         free(curve_grid);
         gs__db_grid_free(db);
-        return gs__fail(err, GS_ENOMEM, "out of memory for the query cache (%llu + %llu bytes)",
+        return gs__fail(err, GS_ENOMEM, "%s: out of memory for the query cache (%llu + %llu bytes)", name,
                         (unsigned long long)total * 8, (unsigned long long)((db->nv + 1ull) * slot * 8));
     }
     db->qsize = total;
@@ -303,9 +303,9 @@ int gs__db_grid_build(gs_db *db, gs_error *err)
         double mv = db->funs[db->vdir[bad_x].first_function + bad_k].minval;
         gs__db_grid_free(db);
         return gs__fail(err, GS_EPARSE,
-                        "section 'functions': vertex %u, function %llu: minval %.17g is above the function's "
+                        "%s: section 'functions': vertex %u, function %llu: minval %.17g is above the function's "
                         "value %.17g at u = %.6f (the quick reject would skip it)",
-                        bad_x, (unsigned long long)bad_k, mv, bad_min, bad_u);
+                        name, bad_x, (unsigned long long)bad_k, mv, bad_min, bad_u);
     }
     return GS_OK;
 }

@@ -8,11 +8,16 @@
 
 #define FIELD_MAX_DEPTH 512 /* x's ancestors by depth kept on the stack     */
 
+/* x's coordinates: large caches keep a copy in x's slot, which the query
+ * reads anyway. */
+static inline const double *coords(const gs_db *db, uint32_t x)
+{
+    return db->qlev ? db->qroot + (size_t)x * db->qslot + GS_QSLOT_XYZ : db->xyz + 3 * (size_t)x;
+}
+
 static double euclidean(const gs_db *db, uint32_t x, uint32_t y)
 {
-    const double *p = db->xyz + 3 * (size_t)x, *q = db->xyz + 3 * (size_t)y;
-    if (db->qlev) /* large caches: the copies in the slots, which the query reads anyway */
-        p = db->qroot + (size_t)x * db->qslot + GS_QSLOT_XYZ, q = db->qroot + (size_t)y * db->qslot + GS_QSLOT_XYZ;
+    const double *p = coords(db, x), *q = coords(db, y);
     double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
     return sqrt(dx * dx + dy * dy + dz * dz);
 }
