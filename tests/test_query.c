@@ -76,7 +76,9 @@ static void test_pairs(int leaf_exact)
                 /* the query never answers below the straight-line distance */
                 double e = euclid(&f, x, y), r = fmax(ref_no_reject(&f, x, y), e);
                 n_clamped += r == e;
-                CHECK_MSG(fabs(d - r) <= 1e-12 * (1 + r) || (d == INFINITY && r == INFINITY), "%u %u: %.17g vs %.17g",
+                /* the cache's grid values are 16-bit: the parabola through
+                 * them places a quadratic's vertex a little off (~1e-8) */
+                CHECK_MSG(fabs(d - r) <= 1e-7 * (1 + r) || (d == INFINITY && r == INFINITY), "%u %u: %.17g vs %.17g",
                           x, y, d, r);
                 double b = fmax(ref_dense(&f, x, y), e);
                 CHECK_MSG(fabs(d - b) <= 1e-7 * (1 + b) || (d == INFINITY && b == INFINITY), "%u %u: %.17g vs dense %.17g",
@@ -91,7 +93,7 @@ static void test_pairs(int leaf_exact)
             uint64_t i = f.fun_start[x], j = f.fun_start[y];
             double b1 = f.qb[i], b2 = f.qb[j], t1 = f.qt[i], t2 = f.qt[j];
             double want = f.qa[i] + f.qa[j] + b1 * b2 / (b1 + b2) * (t1 - t2) * (t1 - t2);
-            CHECK_NEAR(gs_db_distance(db, x, y), fmax(want, euclid(&f, x, y)), 1e-9);
+            CHECK_NEAR(gs_db_distance(db, x, y), fmax(want, euclid(&f, x, y)), 1e-7);
         }
     /* vertex 5 reaches the root's curve from nowhere: no common finite curve */
     CHECK(gs_db_distance(db, 0, 5) == INFINITY && gs_db_distance(db, 5, 1) == INFINITY);

@@ -173,12 +173,13 @@ typedef struct gs_qentry {
  *   [2]    two floats: the dip's lo - u and hi - u
  *   [3]    two floats: the dip's slope, and a loop's seam value rounded
  *          down (NaN for paths)
- *   [4..]  g floats: the values on the curve's uniform grid in u (paths:
- *          u_j = -1 + 2j/(g-1); loops: u_j = -1 + 2j/g), padded to a
- *          multiple of 4 floats
+ *   [4]    two floats: the grid's base and step (gs_fun_grid)
+ *   [5..]  g uint16: the values on the curve's uniform grid in u (paths:
+ *          u_j = -1 + 2j/(g-1); loops: u_j = -1 + 2j/g), quantised
+ *          (gs_fun_grid_fill), padded to a multiple of 8
  *   then   the degree+1 coefficients (or samples)
  * Every record of a curve has the same size (room for its largest degree). */
-#define GS_QREC_HEAD 4u
+#define GS_QREC_HEAD 5u
 
 static inline uint32_t gs__qrec_grid(const double *rec)
 {
@@ -199,14 +200,25 @@ static inline void gs__qrec_dip(const double *rec, gs_fun_dip *d)
     d->seam = f[4];
 }
 
-static inline const float *gs__qrec_values(const double *rec)
+/* Doubles of a record's grid of g points. */
+static inline uint32_t gs__qrec_grid_doubles(uint32_t g)
 {
-    return (const float *)(rec + GS_QREC_HEAD);
+    return gs_fun_grid_padded(g) / 4u;
+}
+
+static inline gs_fun_grid gs__qrec_values(const double *rec)
+{
+    gs_fun_grid v;
+    float bs[2];
+    __builtin_memcpy(bs, rec + 4, 8);
+    v.q = (const uint16_t *)(rec + GS_QREC_HEAD);
+    v.base = bs[0], v.step = bs[1];
+    return v;
 }
 
 static inline const double *gs__qrec_coef(const double *rec, uint32_t g)
 {
-    return rec + GS_QREC_HEAD + (g + 3u) / 4u * 2u;
+    return rec + GS_QREC_HEAD + gs__qrec_grid_doubles(g);
 }
 
 /* Build the query cache (called once the database is validated); name

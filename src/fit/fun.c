@@ -1133,34 +1133,72 @@ static int dip_min(const gs_fun *a, const gs_fun *b, double u, double L, double 
     }
 }
 
-/* s = ga + gb on the g grid points; returns min s (NaN if some s is NaN). */
-static float grid_sum(const float *ga, const float *gb, uint32_t g, float *s)
+/* s = ga + gb on the g grid points (decoded); returns min s. */
+static float grid_sum(const gs_fun_grid *ga, const gs_fun_grid *gb, uint32_t g, float *s)
 {
+    const float base = ga->base + gb->base, sa = ga->step, sb = gb->step;
+    const uint16_t *qa = ga->q, *qb = gb->q;
     uint32_t j = 0;
     float mn = INFINITY;
-    int nan = 0;
 #ifdef __SSE2__
-    __m128 vm = _mm_set1_ps(INFINITY), vn = _mm_setzero_ps();
-    for (; j + 4 <= g; j += 4) {
-        __m128 v = _mm_add_ps(_mm_loadu_ps(ga + j), _mm_loadu_ps(gb + j));
-        _mm_storeu_ps(s + j, v);
-        vm = _mm_min_ps(vm, v);
-        vn = _mm_or_ps(vn, _mm_cmpunord_ps(v, v));
+    const __m128 vb = _mm_set1_ps(base), va = _mm_set1_ps(sa), vs = _mm_set1_ps(sb);
+    const __m128i z = _mm_setzero_si128();
+    __m128 vm = _mm_set1_ps(INFINITY);
+    for (; j + 8 <= g; j += 8) {
+        __m128i xa = _mm_loadu_si128((const __m128i *)(qa + j)), xb = _mm_loadu_si128((const __m128i *)(qb + j));
+        __m128 a0 = _mm_cvtepi32_ps(_mm_unpacklo_epi16(xa, z)), a1 = _mm_cvtepi32_ps(_mm_unpackhi_epi16(xa, z));
+        __m128 b0 = _mm_cvtepi32_ps(_mm_unpacklo_epi16(xb, z)), b1 = _mm_cvtepi32_ps(_mm_unpackhi_epi16(xb, z));
+        __m128 v0 = _mm_add_ps(_mm_add_ps(vb, _mm_mul_ps(va, a0)), _mm_mul_ps(vs, b0));
+        __m128 v1 = _mm_add_ps(_mm_add_ps(vb, _mm_mul_ps(va, a1)), _mm_mul_ps(vs, b1));
+        _mm_storeu_ps(s + j, v0);
+        _mm_storeu_ps(s + j + 4, v1);
+        vm = _mm_min_ps(vm, _mm_min_ps(v0, v1));
     }
     float m4[4];
     _mm_storeu_ps(m4, vm);
     mn = m4[0] < m4[1] ? m4[0] : m4[1];
     mn = mn < m4[2] ? mn : m4[2];
     mn = mn < m4[3] ? mn : m4[3];
-    nan = _mm_movemask_ps(vn) != 0;
 #endif
     for (; j < g; ++j) {
-        float v = ga[j] + gb[j];
+        float v = (base + sa * (float)qa[j]) + sb * (float)qb[j];
         s[j] = v;
-        nan |= v != v;
         mn = v < mn ? v : mn;
     }
-    return nan ? NAN : mn;
+    return mn;
+}
+
+#define GRID_TOP 65534u    /* the largest level; 0xFFFF pads */
+
+void gs_fun_grid_fill(const gs_fun *f, uint32_t g, uint16_t *q, float *base, float *step, double *vmin,
+                      double *umin)
+{
+    double v[GS_FUN_GRID_MAX], lo = INFINITY, hi = -INFINITY, ul = 0.0;
+    g = g > GS_FUN_GRID_MAX ? GS_FUN_GRID_MAX : g;
+    for (uint32_t j = 0; j < g; ++j) {
+        double u = f->closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1);
+        v[j] = gs_fun_value(f, u);
+        if (v[j] < lo) lo = v[j], ul = u;
+        if (v[j] > hi) hi = v[j];
+    }
+    if (vmin) *vmin = lo;
+    if (umin) *umin = ul;
+    for (uint32_t j = g; j < gs_fun_grid_padded(g); ++j) q[j] = 0xFFFFu;
+    if (!(lo >= 0.0 && hi <= FLT_MAX / 8)) { /* decoding would overflow (or NaN) */
+        for (uint32_t j = 0; j < g; ++j) q[j] = 0;
+        *base = 0.0f, *step = NAN;
+        return;
+    }
+    float b = (float)lo, st;
+    if (b > lo) b = nextafterf(b, 0.0f);
+    double sd = (hi - b) / GRID_TOP;
+    st = (float)sd;
+    if (st < sd) st = nextafterf(st, INFINITY);
+    for (uint32_t j = 0; j < g; ++j) {
+        double l = st > 0.0f ? nearbyint((v[j] - b) / st) : 0.0;
+        q[j] = (uint16_t)(l < 0.0 ? 0.0 : (l > GRID_TOP ? GRID_TOP : l));
+    }
+    *base = b, *step = st;
 }
 
 /* The grid's candidate points, s[j] = e[j + 1] for j < g with e[0] and
@@ -1279,12 +1317,13 @@ static int dip_candidates(const gs_fun *a, const gs_fun *b, const gs_fun_dip *d,
 /* Whether f's seam (a loop's fit may jump there) may hold the minimum of
  * the sum: the lower of f's two one-sided limits there (p(1), p(-1)) plus
  * the other function's lower grid value beside the seam is not above thr. */
-static int seam_low(const gs_fun *f, const gs_fun_dip *d, const float *go, uint32_t g, float thr)
+static int seam_low(const gs_fun *f, const gs_fun_dip *d, const gs_fun_grid *go, uint32_t g, float thr)
 {
     double sigma = (gs_fun_wrap(f->shift - 1.0) + 1.0) * 0.5 * g;
     uint32_t j = (uint32_t)sigma;
     j = j < g ? j : g - 1;
-    float o = go[j] < go[j + 1 < g ? j + 1 : 0] ? go[j] : go[j + 1 < g ? j + 1 : 0];
+    uint16_t q0 = go->q[j], q1 = go->q[j + 1 < g ? j + 1 : 0];
+    float o = go->base + go->step * (float)(q0 < q1 ? q0 : q1);
     double v = d && d->seam == d->seam ? d->seam : seam_value(f);
     return v + o <= thr * (1.0 + 1e-6);
 }
@@ -1302,16 +1341,15 @@ static int seam_windows(const gs_fun *f, const gs_fun *o, double h, double *best
            window_min(f, o, us + SEAM_EPS, us + w, best, bu, exact);
 }
 
-double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, const float *gb,
+double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const gs_fun_grid *ga, const gs_fun_grid *gb,
                             uint32_t g, const gs_fun_dip *da, const gs_fun_dip *db, double *u_at)
 {
     if (unreachable(a) || unreachable(b) || g < 3 || g > GS_FUN_GRID_MAX || a->kind == GS_FUN_SAMPLED ||
-        b->kind == GS_FUN_SAMPLED || a->closed != b->closed)
+        b->kind == GS_FUN_SAMPLED || a->closed != b->closed || ga->step != ga->step || gb->step != gb->step)
         return gs_fun_pair_min(a, b, u_at);
     int closed = a->closed != 0;
     float e[GS_FUN_GRID_MAX + 8], *s = e + 1; /* s with its ends' neighbours (grid_minima) */
     float mn = grid_sum(ga, gb, g, s);
-    if (mn != mn) return gs_fun_pair_min(a, b, u_at);
     /* j1: the lowest grid value (a discrete local minimum); j2: the lowest
      * other discrete local minimum when the grid cannot tell it from j1 */
     uint32_t j1 = GS_NONE_U32, j2 = GS_NONE_U32;

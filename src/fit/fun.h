@@ -88,22 +88,45 @@ typedef struct gs_fun_dip {
  * value (for every loop). */
 void gs_fun_dip_find(const gs_fun *f, gs_fun_dip *d);
 
+/* A function's values on a curve's uniform grid of g points in u (paths:
+ * u_j = -1 + 2j/(g-1); loops: u_j = -1 + 2j/g), quantised to 16 bits:
+ * value_j ~ base + step q[j], within step/2 (relative to the function's
+ * range on the grid, 1/131068); 2 bytes a point instead of a float's 4, so
+ * that a query's records span fewer cache lines. step NaN: no usable grid
+ * (values beyond float range). */
+typedef struct gs_fun_grid {
+    const uint16_t *q;  /* g values, readable up to a multiple of 8        */
+    float base, step;
+} gs_fun_grid;
+
+/* Points of a grid of g, rounded up to the multiple of 8 the query reads. */
+static inline uint32_t gs_fun_grid_padded(uint32_t g)
+{
+    return (g + 7u) / 8u * 8u;
+}
+
+/* Tabulate f on the grid of g points (<= GS_FUN_GRID_MAX) into q
+ * (gs_fun_grid_padded(g) entries: the padding holds 0xFFFF), *base and
+ * *step; *vmin and *umin (may be NULL) receive the lowest exact value on
+ * the grid and its u. */
+void gs_fun_grid_fill(const gs_fun *f, uint32_t g, uint16_t *q, float *base, float *step, double *vmin,
+                      double *umin);
+
 /* The query hot path: min over u of a(u) + b(u) given both functions'
- * values on the same uniform grid of g points in u (paths: u_j = -1 +
- * 2j/(g-1); loops: u_j = -1 + 2j/g), as floats, and each function's dip
- * (da, db: gs_fun_dip_find; NULL or u = NaN: none). The grid cell of the
- * minimum is found from the tables and refined by a parabola through the
- * three values around it, where the exact sum is evaluated; a path's end
- * cell by the parabola of the last three; when a function has a sharp dip
- * (a vertex close to the curve) its own minimiser is refined by Newton and
- * its zero set's edges are candidates; for a loop, a window of a few cells
- * around a sharp dip, and each side of a seam that may hold the minimum
- * (the fit jumps there), is searched with the series (values and slopes,
- * then a bracketed Newton). The result is a value the functions reach
- * (tests compare it with gs_fun_pair_min). Sampled and unreachable
- * functions, two seams close together and windows that bracket nothing
- * clearly (rare) go to gs_fun_pair_min. */
-double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, const float *gb,
+ * quantised values on the same grid of g points (gs_fun_grid_fill) and each
+ * function's dip (da, db: gs_fun_dip_find; NULL or u = NaN: none). The
+ * grid cell of the minimum is found from the tables and refined by a
+ * parabola through the three values around it, where the exact sum is
+ * evaluated; a path's end cell by the parabola of the last three; when a
+ * function has a sharp dip (a vertex close to the curve) its own minimiser
+ * is refined by Newton and its zero set's edges are candidates; for a loop,
+ * a window of a few cells around a sharp dip, and each side of a seam that
+ * may hold the minimum (the fit jumps there), is searched with the series
+ * (values and slopes, then a bracketed Newton). The result is a value the
+ * functions reach (tests compare it with gs_fun_pair_min). Sampled and
+ * unreachable functions, grids without a step, two seams close together
+ * and windows that bracket nothing clearly (rare) go to gs_fun_pair_min. */
+double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const gs_fun_grid *ga, const gs_fun_grid *gb,
                             uint32_t g, const gs_fun_dip *da, const gs_fun_dip *db, double *u_at);
 
 #endif

@@ -2,7 +2,7 @@
  * vertex's separator distance functions are copied into one contiguous
  * block (quick-reject entries, then per function its shift, coefficients and
  * values tabulated on a uniform grid in the curve parameter u, a loop's
- * shift already applied, as floats), so that a query touches few cache lines
+ * shift already applied, quantised to 16 bits), so that a query touches few cache lines
  * and finds the cell of the minimum of f_x + f_y with one vectorised pass
  * (src/fit/fun.c gs_fun_pair_min_grid). Memory only; the file stays as
  * compact as the paper's. Layout: src/db/db_internal.h (gs_qentry). */
@@ -51,7 +51,7 @@ static void max_degree(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user
 /* Doubles of a record with up to m1 coefficients and g grid points. */
 static uint64_t record_doubles(uint32_t m1, uint32_t g)
 {
-    return GS_QREC_HEAD + ((g + 3u) / 4u) * 2u + m1;
+    return GS_QREC_HEAD + gs__qrec_grid_doubles(g) + m1;
 }
 
 /* Per curve: the most coefficients (or samples) of its functions. */
@@ -106,19 +106,15 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     float tail[2] = {(float)dip.slope, (float)dip.seam};
     if (tail[1] > dip.seam) tail[1] = nextafterf(tail[1], -INFINITY);
     memcpy(rec + 3, tail, 8);
-    float *v = (float *)(rec + GS_QREC_HEAD);
     double vmin = INFINITY, umin = 0.0;
-    for (uint32_t j = 0; j < g; ++j) {
-        double u = f.closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1), w = gs_fun_value(&f, u);
-        v[j] = (float)w;
-        if (w < vmin) vmin = w, umin = u;
-    }
+    float bs[2] = {0.0f, NAN};
+    if (g) gs_fun_grid_fill(&f, g, (uint16_t *)(rec + GS_QREC_HEAD), bs, bs + 1, &vmin, &umin);
+    memcpy(rec + 4, bs, 8);
     /* the quick reject skips a curve whose minval is not below the best
      * sum found: a minval above the function's own values would silently
      * lengthen answers (the fitter's is its minimum, to ~1e-11) */
     if (!fc->bad && !(fe->minval <= vmin * (1.0 + 1e-9) + 1e-300))
         fc->bad = 1, fc->bad_k = k, fc->bad_min = vmin, fc->bad_u = umin;
-    for (uint32_t j = g; j < (g + 3u) / 4u * 4u; ++j) v[j] = INFINITY;
     memcpy((double *)gs__qrec_coef(rec, g), f.coef, ((size_t)f.degree + 1) * sizeof *rec);
 }
 

@@ -162,7 +162,8 @@ static double cached_pair(const qview *vx, const qview *vy, const gs_qentry *ex,
     gs_fun_dip dx, dy;
     gs__qrec_dip(rx, &dx);
     gs__qrec_dip(ry, &dy);
-    return gs_fun_pair_min_grid(&fx, &fy, gs__qrec_values(rx), gs__qrec_values(ry), g, &dx, &dy, NULL);
+    gs_fun_grid gx = gs__qrec_values(rx), gy = gs__qrec_values(ry);
+    return gs_fun_pair_min_grid(&fx, &fy, &gx, &gy, g, &dx, &dy, NULL);
 }
 
 /* eq. 4-5 with the quick reject, x < y. When the lowest common ancestor
