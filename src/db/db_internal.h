@@ -103,9 +103,10 @@ struct gs_db {
      *   its leaf, nf, ns, the leaf's ancestors), its coordinates (large
      *   caches, at GS_QSLOT_XYZ), the entries of its first ns
      *   functions, those of the curves of its ancestors shallower than
-     *   qlev (gs_qentry, from slot + GS_QSLOT_HEAD, room for qnroot), and
-     *   their records (layout below; curve c's at slot + GS_QSLOT_HEAD + 2
-     *   qnroot + qcoff[c]). Pairs whose lowest common ancestor is that
+     *   qlev (from slot + GS_QSLOT_HEAD, room for qnroot), and their
+     *   records (layout below; curve c's at slot + GS_QSLOT_HEAD +
+     *   gs__qent_doubles(qnroot) + qcoff[c]). Pairs whose lowest common
+     *   ancestor is that
      *   shallow (most random pairs) need nothing else. qlev is
      *   GS_QSLOT_LEVELS for caches over GS_QSLOT_MIN_BYTES (measured: the
      *   slots gain ~15% on homer-60k's 356 MB, lose ~10% on bunny-5k's 20
@@ -113,11 +114,14 @@ struct gs_db {
      *   start, leaf, nf, which stay in cache for small meshes);
      * - its block at qbuf + start: all nf = nodes[leaf].curve_prefix entries
      *   (root's curves first, as in the file), then the records of the other
-     *   curves, curve c's at block + 2 nf + qcoff[c], an offset that does
-     *   not depend on x (records are sized per curve), so that a query can
-     *   fetch the records it will likely need before it reads the entries.
-     * An entry's rec counts from the slot for the root's curves, from the
-     * block otherwise. NULL when not built (queries then read the file's
+     *   curves, curve c's at block + gs__qent_doubles(nf) + qcoff[c], an
+     *   offset that does not depend on x (records are sized per curve), so
+     *   that a query can fetch the records it will likely need before it
+     *   reads the entries.
+     * An entry is a function's minval as a float, rounded down (FLT_MAX
+     * for larger ones; +inf: unreachable): all the quick reject needs, in 4
+     * bytes (the file's 16-byte entry costs a query 3 lines on bunny-5k, 1
+     * this way). NULL when not built (queries then read the file's
      * sections). */
     double *qroot;            /* (nv + 1) slots; slot nv: the end, header  */
     double *qbuf;
@@ -129,6 +133,7 @@ struct gs_db {
     uint32_t qhead;           /* qlev 0: the root's first record's size    */
     uint32_t *qcoff;          /* n_curves                                  */
     uint32_t *qclen;          /* n_curves: a record's size (doubles)       */
+    uint32_t *qgrid;          /* n_curves: grid points (0: no grid)        */
     uint64_t qsize;           /* doubles in qbuf                           */
 };
 
@@ -158,34 +163,33 @@ typedef struct gs_qvert {
                             /*   GS_NONE deeper                             */
 } gs_qvert;
 
-/* One function in a vertex's cache block: 16 bytes, like gs_db_fentry. */
-typedef struct gs_qentry {
-    double minval;  /* as in the file (quick reject)                       */
-    uint32_t rec;   /* its record: offset in doubles from the block start  */
-                    /*   (2 nf + qcoff[curve]); 0: unreachable, none      */
-    uint32_t meta;  /* as in the file: degree, kind, squared, closed       */
-} gs_qentry;
+/* Doubles of n entries (floats). */
+static inline uint64_t gs__qent_doubles(uint64_t n)
+{
+    return (n + 1) / 2;
+}
 
-/* A function's record, doubles from block + rec:
+/* A reachable function's record (none for unreachable ones), doubles:
  *   [0]    shift (loops; 0 for paths)
- *   [1]    float: the dip's u (gs_fun_dip; NaN: not sharp), then uint32 g:
- *          grid points (0: no grid, e.g. sampled functions)
+ *   [1]    float: the dip's u (gs_fun_dip; NaN: not sharp), then uint32:
+ *          the meta word, as in the file (degree, kind, squared, closed)
  *   [2]    two floats: the dip's lo - u and hi - u
  *   [3]    two floats: the dip's slope, and a loop's seam value rounded
  *          down (NaN for paths)
  *   [4]    two floats: the grid's base and step (gs_fun_grid)
- *   [5..]  g uint16: the values on the curve's uniform grid in u (paths:
+ *   [5]    minval, as in the file
+ *   [6..]  g uint16 (g = qgrid[curve]): the values on the curve's uniform grid in u (paths:
  *          u_j = -1 + 2j/(g-1); loops: u_j = -1 + 2j/g), quantised
  *          (gs_fun_grid_fill), padded to a multiple of 8
  *   then   the degree+1 coefficients (or samples)
  * Every record of a curve has the same size (room for its largest degree). */
-#define GS_QREC_HEAD 5u
+#define GS_QREC_HEAD 6u
 
-static inline uint32_t gs__qrec_grid(const double *rec)
+static inline uint32_t gs__qrec_meta(const double *rec)
 {
-    uint32_t g;
-    __builtin_memcpy(&g, (const char *)(rec + 1) + 4, 4);
-    return g;
+    uint32_t m;
+    __builtin_memcpy(&m, (const char *)(rec + 1) + 4, 4);
+    return m;
 }
 
 static inline void gs__qrec_dip(const double *rec, gs_fun_dip *d)

@@ -5,12 +5,13 @@
  * shift already applied, quantised to 16 bits), so that a query touches few cache lines
  * and finds the cell of the minimum of f_x + f_y with one vectorised pass
  * (src/fit/fun.c gs_fun_pair_min_grid). Memory only; the file stays as
- * compact as the paper's. Layout: src/db/db_internal.h (gs_qentry). */
+ * compact as the paper's. Layout: src/db/db_internal.h (struct gs_db). */
 #if defined(__linux__) && !defined(_DEFAULT_SOURCE)
 #define _DEFAULT_SOURCE /* madvise, MADV_HUGEPAGE */
 #endif
 #include "../db/db_internal.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -64,7 +65,6 @@ static void max_coefs(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
 }
 
 typedef struct fill_ctx {
-    const uint32_t *curve_grid;
     double *block, *slot;
     uint64_t nf, ns;
     uint64_t bad_k;     /* a function whose minval lies above its values */
@@ -77,19 +77,17 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     fill_ctx *fc = user;
     gs_fun f;
     gs__db_fun(db, x, k, &f);
-    gs_qentry *e = (gs_qentry *)fc->block + k;
     const gs_db_fentry *fe = &db->funs[db->vdir[x].first_function + k];
     int root = k < fc->ns; /* the shallow curves: records in the slot */
-    e->minval = fe->minval;
-    e->meta = fe->meta;
-    e->rec = 0;
-    if (root) ((gs_qentry *)(fc->slot + GS_QSLOT_HEAD))[k] = *e;
+    /* the entry: minval rounded down to a float (a lower bound stays one) */
+    float mv = fe->minval > FLT_MAX && fe->minval < INFINITY ? FLT_MAX : (float)fe->minval;
+    if (mv > fe->minval) mv = nextafterf(mv, -INFINITY);
+    ((float *)fc->block)[k] = mv;
+    if (root) ((float *)(fc->slot + GS_QSLOT_HEAD))[k] = mv;
     if (!f.coef) return; /* unreachable: never minimised */
-    uint32_t g = fc->curve_grid[c];
-    uint64_t off = root ? GS_QSLOT_HEAD + 2ull * db->qnroot + db->qcoff[c] : 2 * fc->nf + db->qcoff[c];
-    double *rec = (root ? fc->slot : fc->block) + off;
-    e->rec = (uint32_t)off;
-    if (root) ((gs_qentry *)(fc->slot + GS_QSLOT_HEAD))[k].rec = (uint32_t)off;
+    uint32_t g = db->qgrid[c];
+    double *rec = root ? fc->slot + GS_QSLOT_HEAD + gs__qent_doubles(db->qnroot) + db->qcoff[c]
+                       : fc->block + gs__qent_doubles(fc->nf) + db->qcoff[c];
     gs_fun_dip dip = {NAN, NAN, NAN, 0.0, NAN};
     if (g) gs_fun_dip_find(&f, &dip);
     /* offsets as floats from u as a float (so that the edges do not move
@@ -99,7 +97,7 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     if (dip.u != dip.u) head[1] = head[2] = 0.0f;
     rec[0] = f.shift;
     memcpy(rec + 1, head, 4);
-    memcpy((char *)(rec + 1) + 4, &g, 4);
+    memcpy((char *)(rec + 1) + 4, &fe->meta, 4);
     memcpy(rec + 2, head + 1, 8);
     /* the seam value rounded down: seam_low then searches every seam it
      * would with the exact value, and rarely one more */
@@ -110,6 +108,7 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     float bs[2] = {0.0f, NAN};
     if (g) gs_fun_grid_fill(&f, g, (uint16_t *)(rec + GS_QREC_HEAD), bs, bs + 1, &vmin, &umin);
     memcpy(rec + 4, bs, 8);
+    rec[5] = fe->minval;
     /* the quick reject skips a curve whose minval is not below the best
      * sum found: a minval above the function's own values would silently
      * lengthen answers (the fitter's is its minimum, to ~1e-11) */
@@ -124,6 +123,8 @@ void gs__db_grid_free(gs_db *db)
     free(db->qroot);
     free(db->qcoff);
     free(db->qclen);
+    free(db->qgrid);
+    db->qgrid = NULL;
     db->qbuf = NULL;
     db->qroot = NULL;
     db->qcoff = NULL;
@@ -170,7 +171,7 @@ static int curve_offsets(gs_db *db, const uint32_t *rsize, uint64_t *nend)
             co += rsize[n->curve_start + j];
         }
         nend[a] = co;
-        if (co + 2ull * n->curve_prefix + 2ull * n->n_curves + GS_QSLOT_HEAD > UINT32_MAX) ok = 0;
+        if (co + gs__qent_doubles((uint64_t)n->curve_prefix + n->n_curves) + GS_QSLOT_HEAD > UINT32_MAX) ok = 0;
     }
     return ok;
 }
@@ -187,7 +188,8 @@ int gs__db_grid_build(gs_db *db, const char *name, gs_error *err)
     for (uint32_t x = 0; x < db->nv; ++x) /* absurdly deep trees: no cache */
         if (db->leaf[x] != GS_NONE && db->nodes[db->leaf[x]].depth >= MAX_PATH) return GS_OK;
     size_t nc = db->n_curves ? db->n_curves : 1;
-    uint32_t *curve_grid = gs__calloc(nc, sizeof *curve_grid), *m1 = gs__calloc(nc, sizeof *m1);
+    uint32_t *m1 = gs__calloc(nc, sizeof *m1);
+    uint32_t *curve_grid = db->qgrid = gs__calloc(nc, sizeof *db->qgrid); /* the database's from here */
     uint64_t *nend = gs__malloc(db->n_nodes, sizeof *nend);
     db->qcoff = gs__calloc(nc, sizeof *db->qcoff);
     db->qclen = gs__calloc(nc, sizeof *db->qclen);
@@ -207,18 +209,18 @@ int gs__db_grid_build(gs_db *db, const char *name, gs_error *err)
             for (uint32_t x = 0; x < db->nv; ++x) {
                 uint32_t l = db->leaf[x];
                 if (l != GS_NONE && db->nodes[l].curve_prefix)
-                    t += 2ull * db->nodes[l].curve_prefix + nend[db->nodes[l].parent] + LINE_DOUBLES;
+                    t += gs__qent_doubles(db->nodes[l].curve_prefix) + nend[db->nodes[l].parent] + LINE_DOUBLES;
             }
             if (t * sizeof(double) > gs__qslot_min_bytes) db->qlev = GS_QSLOT_LEVELS, r = curve_offsets(db, m1, nend);
         }
         if (r <= 0) {
-            free(curve_grid), free(m1), free(nend);
+            free(m1), free(nend);
             gs__db_grid_free(db);
             return r < 0 ? gs__fail(err, GS_ENOMEM, "%s: out of memory for the query cache", name) : GS_OK;
         }
     }
     if (!ok) {
-        free(curve_grid), free(m1), free(nend);
+        free(m1), free(nend);
         gs__db_grid_free(db);
         return gs__fail(err, GS_ENOMEM, "%s: out of memory for the query cache", name);
     }
@@ -231,7 +233,7 @@ int gs__db_grid_build(gs_db *db, const char *name, gs_error *err)
             nsmax = ns > nsmax ? ns : nsmax;
             recmax = nend[a] > recmax ? nend[a] : recmax;
         }
-    uint64_t slot = GS_QSLOT_HEAD + 2 * nsmax + recmax;
+    uint64_t slot = GS_QSLOT_HEAD + gs__qent_doubles(nsmax) + recmax;
     slot = (slot + LINE_DOUBLES - 1) / LINE_DOUBLES * LINE_DOUBLES;
     if (!db->qlev) slot = 2; /* a small cache: start, leaf and nf only (16 bytes: they stay in cache) */
     else if (slot / LINE_DOUBLES % 2 == 0) slot += LINE_DOUBLES; /* an odd number of lines: slots do not all */
@@ -242,7 +244,7 @@ int gs__db_grid_build(gs_db *db, const char *name, gs_error *err)
     if (!big) db->qroot = cache_alloc((db->nv + 1ull) * slot * sizeof(double));
     if (db->qroot) {
         db->qslot = (uint32_t)slot;
-        db->qslot0 = db->qlev ? (uint32_t)(GS_QSLOT_HEAD + 2 * nsmax + (db->n_nodes ? nend[0] : 0)) : (uint32_t)slot;
+        db->qslot0 = db->qlev ? (uint32_t)(GS_QSLOT_HEAD + gs__qent_doubles(nsmax) + (db->n_nodes ? nend[0] : 0)) : (uint32_t)slot;
         for (uint32_t x = 0; x <= db->nv; ++x) {
             uint32_t l = x < db->nv ? db->leaf[x] : GS_NONE;
             uint64_t n = 0;
@@ -252,7 +254,7 @@ int gs__db_grid_build(gs_db *db, const char *name, gs_error *err)
             h->nf = l == GS_NONE ? 0 : db->nodes[l].curve_prefix;
             if (h->nf) { /* entries, then the deep records up to the last one's end */
                 uint32_t p = db->nodes[l].parent;
-                n = 2ull * h->nf + (db->nodes[p].depth >= db->qlev ? nend[p] : 0);
+                n = gs__qent_doubles(h->nf) + (db->nodes[p].depth >= db->qlev ? nend[p] : 0);
             }
             if (db->qlev) { /* a large cache: ns and the ancestors too */
                 h->ns = l == GS_NONE ? 0 : db->nodes[ancestor_at(db, l, db->qlev)].curve_prefix;
@@ -266,7 +268,6 @@ int gs__db_grid_build(gs_db *db, const char *name, gs_error *err)
     free(m1), free(nend);
     size_t bytes = (total ? total : LINE_DOUBLES) * sizeof(double);
     if (!db->qroot || total > SIZE_MAX / 16 || !(db->qbuf = cache_alloc(bytes))) {
-        free(curve_grid);
         gs__db_grid_free(db);
         return gs__fail(err, GS_ENOMEM, "%s: out of memory for the query cache (%llu + %llu bytes)", name,
                         (unsigned long long)total * 8, (unsigned long long)((db->nv + 1ull) * slot * 8));
@@ -287,14 +288,13 @@ int gs__db_grid_build(gs_db *db, const char *name, gs_error *err)
             memcpy(sl + GS_QSLOT_XYZ, db->xyz + 3 * (size_t)x, 3 * sizeof *sl);
         }
         const gs_qvert *h = (const gs_qvert *)sl;
-        fill_ctx fc = {curve_grid, block, sl, h->nf, db->qlev ? h->ns : 0, 0, 0.0, 0.0, 0};
+        fill_ctx fc = {block, sl, h->nf, db->qlev ? h->ns : 0, 0, 0.0, 0.0, 0};
         visit(db, x, fill, &fc);
         if (fc.bad) {
 #pragma omp critical(gs_grid_bad)
             if (x < bad_x) bad_x = x, bad_k = fc.bad_k, bad_min = fc.bad_min, bad_u = fc.bad_u;
         }
     }
-    free(curve_grid);
     if (bad_x != UINT32_MAX) { /* the lowest such vertex: the same message for any thread count */
         double mv = db->funs[db->vdir[bad_x].first_function + bad_k].minval;
         gs__db_grid_free(db);

@@ -73,17 +73,19 @@ typedef struct candidate {
  * the most promising curve first makes the quick reject skip more pair
  * minimisations than the paper's plain bottom-up order (bunny-5k: 1.41
  * instead of 2.05 per query) and gives the same minimum. ex, ey: the two
- * vertices' entries (minval first, stride `stride` bytes). Returns the number
- * gathered; *rest is the node where gathering stopped (GS_NONE: all). */
-static uint32_t gather(const gs_db *db, const char *ex, const char *ey, size_t stride, uint32_t top, candidate *c,
-                       uint32_t *rest)
+ * vertices' entries (the file's, minval first, stride `stride` bytes, or
+ * the cache's floats: flt). Returns the number gathered; *rest is the node
+ * where gathering stopped (GS_NONE: all). */
+static inline uint32_t gather_t(const gs_db *db, const char *ex, const char *ey, size_t stride, int flt, uint32_t top,
+                                candidate *c, uint32_t *rest)
 {
     uint32_t n = 0, a = top;
     for (; a != GS_NONE; a = db->nodes[a].parent) {
         uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
         if (n + (k1 - k0) > MAX_CANDIDATES) break;
         for (uint32_t k = k0; k < k1; ++k) {
-            double b = *(const double *)(ex + k * stride) + *(const double *)(ey + k * stride);
+            double b = flt ? (double)((const float *)ex)[k] + (double)((const float *)ey)[k]
+                           : *(const double *)(ex + k * stride) + *(const double *)(ey + k * stride);
             uint32_t i = n++;
             for (; i > 0 && c[i - 1].bound > b; --i) c[i] = c[i - 1];
             c[i].bound = b, c[i].k = k, c[i].curve = db->nodes[a].curve_start + (k - k0);
@@ -93,11 +95,25 @@ static uint32_t gather(const gs_db *db, const char *ex, const char *ey, size_t s
     return n;
 }
 
+/* the file's entries (minval first, stride `stride` bytes) */
+static uint32_t gather(const gs_db *db, const char *ex, const char *ey, size_t stride, uint32_t top, candidate *c,
+                       uint32_t *rest)
+{
+    return gather_t(db, ex, ey, stride, 0, top, c, rest);
+}
+
+/* the cache's entries (floats) */
+static uint32_t gather_cached(const gs_db *db, const float *ex, const float *ey, uint32_t top, candidate *c,
+                              uint32_t *rest)
+{
+    return gather_t(db, (const char *)ex, (const char *)ey, sizeof(float), 1, top, c, rest);
+}
+
 /* ---- with the query cache (src/query/grid.c) ---- */
 
 /* A vertex's view of the query cache (src/db/db_internal.h): its slot s
- * (header, the root's entries and records), its block b (all entries, the
- * other records) and nf. */
+ * (header, the shallow curves' entries and records), its block b (all
+ * entries, the other records), nf and ns. */
 typedef struct qview {
     const double *s, *b;
     uint32_t nf, ns;
@@ -116,20 +132,25 @@ static inline qview view_of(const gs_db *db, uint32_t x)
     return v;
 }
 
-/* Function k (entry e) of a vertex (reachable: minval finite); returns its
- * record: in the slot for the root's curves, else in the block. */
-static inline const double *cached_fun(const qview *v, const gs_qentry *e, uint32_t k, gs_fun *f)
+/* The record of function k (curve c) of a vertex: in the slot for the
+ * shallow curves, else in the block. */
+static inline const double *record_of(const gs_db *db, const qview *v, uint32_t k, uint32_t c)
 {
-    const double *rec = (k < v->ns ? v->s : v->b) + e->rec;
-    uint32_t m = e->meta;
+    return (k < v->ns ? v->s + GS_QSLOT_HEAD + gs__qent_doubles(db->qnroot) : v->b + gs__qent_doubles(v->nf)) +
+           db->qcoff[c];
+}
+
+/* The function of a record (reachable: minval finite); g its grid. */
+static inline void cached_fun(const double *rec, uint32_t g, gs_fun *f)
+{
+    uint32_t m = gs__qrec_meta(rec);
     f->kind = GS_META_KIND(m);
     f->degree = GS_META_DEGREE(m);
     f->squared = GS_META_SQUARED(m);
     f->closed = GS_META_CLOSED(m);
-    f->minval = e->minval;
+    f->minval = rec[5];
     f->shift = rec[0];
-    f->coef = gs__qrec_coef(rec, gs__qrec_grid(rec));
-    return rec;
+    f->coef = gs__qrec_coef(rec, g);
 }
 
 static inline void prefetch_lines(const void *p, size_t bytes)
@@ -148,17 +169,19 @@ static inline void prefetch_record(const gs_db *db, const qview *v, uint32_t c)
 {
     /* small caches (qlev 0) keep every record in the block: no need to look
      * up the curve's depth */
-    if (!db->qlev || db->nodes[db->curves[c].node].depth >= db->qlev) prefetch_lines(v->b + 2 * (size_t)v->nf + db->qcoff[c], 8 * (size_t)db->qclen[c]);
+    if (!db->qlev || db->nodes[db->curves[c].node].depth >= db->qlev)
+        prefetch_lines(v->b + gs__qent_doubles(v->nf) + db->qcoff[c], 8 * (size_t)db->qclen[c]);
 }
 
-/* min over curve k of f_x + f_y, entries ex, ey; x < y (the order of the
- * two functions makes d(x,y) == d(y,x) bit for bit). */
-static double cached_pair(const qview *vx, const qview *vy, const gs_qentry *ex, const gs_qentry *ey, uint32_t k)
+/* min over curve c (function k) of f_x + f_y; x < y (the order of the two
+ * functions makes d(x,y) == d(y,x) bit for bit). */
+static double cached_pair(const gs_db *db, const qview *vx, const qview *vy, uint32_t k, uint32_t c)
 {
     gs_fun fx, fy;
-    const double *rx = cached_fun(vx, ex + k, k, &fx), *ry = cached_fun(vy, ey + k, k, &fy);
-    uint32_t g = gs__qrec_grid(rx);
-    if (!g || g != gs__qrec_grid(ry)) return gs_fun_pair_min(&fx, &fy, NULL);
+    const double *rx = record_of(db, vx, k, c), *ry = record_of(db, vy, k, c);
+    uint32_t g = db->qgrid[c];
+    cached_fun(rx, g, &fx), cached_fun(ry, g, &fy);
+    if (!g) return gs_fun_pair_min(&fx, &fy, NULL);
     gs_fun_dip dx, dy;
     gs__qrec_dip(rx, &dx);
     gs__qrec_dip(ry, &dy);
@@ -175,10 +198,10 @@ static double cross_cached(const gs_db *db, uint32_t x, uint32_t y, uint32_t top
     if (db->nodes[top].depth && db->qslot0 < db->qslot) /* below the root: the rest of the slots */
         prefetch_lines(vx.s + db->qslot0, 8 * (size_t)(db->qslot - db->qslot0)),
             prefetch_lines(vy.s + db->qslot0, 8 * (size_t)(db->qslot - db->qslot0));
-    const gs_qentry *ex = (const gs_qentry *)(deep ? vx.b : vx.s + GS_QSLOT_HEAD);
-    const gs_qentry *ey = (const gs_qentry *)(deep ? vy.b : vy.s + GS_QSLOT_HEAD);
+    const float *ex = (const float *)(deep ? vx.b : vx.s + GS_QSLOT_HEAD);
+    const float *ey = (const float *)(deep ? vy.b : vy.s + GS_QSLOT_HEAD);
     if (deep) { /* the entries gather reads: those of top's curves and its ancestors' */
-        size_t ne = 16 * ((size_t)db->nodes[top].curve_prefix + db->nodes[top].n_curves);
+        size_t ne = sizeof(float) * ((size_t)db->nodes[top].curve_prefix + db->nodes[top].n_curves);
         prefetch_lines(vx.b, ne), prefetch_lines(vy.b, ne);
     }
     /* the lowest common separator's curves hold the minimum most often:
@@ -188,20 +211,20 @@ static double cross_cached(const gs_db *db, uint32_t x, uint32_t y, uint32_t top
         prefetch_record(db, &vx, c), prefetch_record(db, &vy, c);
     }
     candidate c[MAX_CANDIDATES];
-    uint32_t rest, n = gather(db, (const char *)ex, (const char *)ey, sizeof(gs_qentry), top, c, &rest);
+    uint32_t rest, n = gather_cached(db, ex, ey, top, c, &rest);
     if (n && db->curves[c[0].curve].node != top) prefetch_record(db, &vx, c[0].curve), prefetch_record(db, &vy, c[0].curve);
     double best = INFINITY;
     for (uint32_t i = 0; i < n; ++i) {
         if (c[i].bound >= best) break; /* sorted: all others rejected too (and unreachable) */
         if (i + 1 < n) prefetch_record(db, &vx, c[i + 1].curve), prefetch_record(db, &vy, c[i + 1].curve);
-        double d = cached_pair(&vx, &vy, ex, ey, c[i].k);
+        double d = cached_pair(db, &vx, &vy, c[i].k, c[i].curve);
         if (d < best) best = d;
     }
     for (uint32_t a = rest; a != GS_NONE; a = db->nodes[a].parent) { /* > 64 curves: rare */
         uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
         for (uint32_t k = k0; k < k1; ++k) {
-            if (ex[k].minval + ey[k].minval >= best) continue;
-            double d = cached_pair(&vx, &vy, ex, ey, k);
+            if ((double)ex[k] + (double)ey[k] >= best) continue;
+            double d = cached_pair(db, &vx, &vy, k, db->nodes[a].curve_start + (k - k0));
             if (d < best) best = d;
         }
     }
@@ -263,8 +286,8 @@ double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y)
         hx = (const gs_qvert *)sx, hy = (const gs_qvert *)sy;
         lx = hx->leaf, ly = hy->leaf;
         if (!db->qlev && lx != ly && lx != GS_NONE && ly != GS_NONE) { /* header-only slots: the blocks' */
-            prefetch_lines(db->qbuf + hx->start, 8 * (2 * (size_t)hx->nf + db->qhead)); /* entries and */
-            prefetch_lines(db->qbuf + hy->start, 8 * (2 * (size_t)hy->nf + db->qhead)); /* root record */
+            prefetch_lines(db->qbuf + hx->start, 8 * (gs__qent_doubles(hx->nf) + db->qhead)); /* entries and */
+            prefetch_lines(db->qbuf + hy->start, 8 * (gs__qent_doubles(hy->nf) + db->qhead)); /* root record */
         }
     } else {
         lx = db->leaf[x], ly = db->leaf[y];
