@@ -372,6 +372,7 @@ static void m_avg_depth(unsigned char *b) { double v = NAN; memcpy(b + 72, &v, 8
 static void m_method(unsigned char *b) { uint32_t v = 9; memcpy(b + 80, &v, 4); }
 static void m_spacing(unsigned char *b) { double v = 0; memcpy(b + 120, &v, 8); }
 static void m_heat_time(unsigned char *b) { double v = -1; memcpy(b + 136, &v, 8); }
+static void m_heat_time_big(unsigned char *b) { double v = 1e9; memcpy(b + 136, &v, 8); }
 static void m_build_flags(unsigned char *b) { uint32_t v = 1 | 2u << 2 | 1u << 4; memcpy(b + 92, &v, 4); }
 static void m_fmm_start(unsigned char *b) { double v = INFINITY; memcpy(b + 144, &v, 8); }
 static void m_pos_nan(unsigned char *b) { double v = NAN; memcpy(section(b, GS_SEC_POSITIONS) + 8, &v, 8); }
@@ -417,7 +418,8 @@ static void test_structure(void)
         {m_avg_depth, "avg_depth"},
         {m_method, "method 9 unknown"},
         {m_spacing, "sample_spacing 0"},
-        {m_heat_time, "heat_time -1"},
+        {m_heat_time, "heat_time -1 not in [1e-08, 1e+08]"},
+        {m_heat_time_big, "heat_time 1e+09 not in [1e-08, 1e+08]"},
         {m_fmm_start, "fmm_exact_start inf"},
         {m_build_flags, "build_flags 0x19 has unknown bits"},
         {m_pos_nan, "vertex 0 has a non-finite coordinate"},

@@ -123,8 +123,9 @@ static int check_counts(reader *r)
     if (!gs_method_name((gs_method)db->method)) return BAD(r, "%s: header: method %u unknown", r->name, db->method);
     if (!(db->sample_spacing > 0 && isfinite(db->sample_spacing)))
         return BAD(r, "%s: header: sample_spacing %g not finite and > 0", r->name, db->sample_spacing);
-    if (!(db->heat_time > 0 && isfinite(db->heat_time)))
-        return BAD(r, "%s: header: heat_time %g not finite and > 0", r->name, db->heat_time);
+    if (!(db->heat_time >= GS_HEAT_TIME_MIN && db->heat_time <= GS_HEAT_TIME_MAX)) /* as the builder accepts */
+        return BAD(r, "%s: header: heat_time %g not in [%g, %g]", r->name, db->heat_time, GS_HEAT_TIME_MIN,
+                   GS_HEAT_TIME_MAX);
     if (!(db->fmm_exact_start >= 0 && isfinite(db->fmm_exact_start)))
         return BAD(r, "%s: header: fmm_exact_start %g not finite and >= 0", r->name, db->fmm_exact_start);
     if (!(db->flags & GS_DB_FLAG_LEAF_EXACT) && db->leaf_entries)
