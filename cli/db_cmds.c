@@ -141,6 +141,7 @@ int cmd_build(int argc, char **argv)
 {
     gs_build_options o;
     gs_build_options_default(&o);
+    o.no_query_cache = 1; /* saved, never queried here */
     const char *mesh_path = NULL, *out = NULL;
     int quiet = 0;
     for (int i = 1; i < argc; ++i) {

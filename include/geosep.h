@@ -340,6 +340,13 @@ typedef struct gs_build_options {
                              /*   about 2 x this + n_owned x n_samples x 4     */
                              /*   bytes for the largest node + the factors     */
                              /*   (heat) + the database [384]                  */
+    int no_query_cache;      /* 1: the database returned answers queries from  */
+                             /*   its sections, without the query cache       */
+                             /*   gs_db_open builds (3-5 times the file in     */
+                             /*   memory; its queries are several times        */
+                             /*   faster): for a build that is only saved      */
+                             /*   (geosep build), it saves that memory and the */
+                             /*   time to fill it [0]                          */
     gs_progress_fn progress; /* may be NULL                                    */
     void *progress_user;
 } gs_build_options;

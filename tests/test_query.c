@@ -203,6 +203,50 @@ done:
     gs_mesh_free(m);
 }
 
+/* A build with no_query_cache: the same file, no cache, and queries read
+ * the sections with the robust minimiser, never above the cache's answers
+ * (beyond rounding) and close to them; fields agree with single queries. */
+static void test_no_cache(const char *spec)
+{
+    gs_mesh *m = NULL;
+    gs_db *cached = NULL, *bare = NULL;
+    gs_error err = {0};
+    gs_build_options o;
+    gs_build_options_default(&o);
+    CHECK_MSG(gs_mesh_generate(spec, &m, &err) == GS_OK, "%s: %s", spec, err.message);
+    CHECK(m && gs_db_build(m, &o, &cached, NULL, &err) == GS_OK);
+    o.no_query_cache = 1;
+    CHECK(m && gs_db_build(m, &o, &bare, NULL, &err) == GS_OK);
+    if (!cached || !bare) goto done;
+    CHECK(cached->qroot && !bare->qroot && !bare->qbuf);
+    CHECK(cached->size == bare->size && memcmp(cached->bytes, bare->bytes, (size_t)bare->size) == 0);
+    uint32_t n = gs_mesh_num_vertices(m), above = 0, far = 0, bad = 0;
+    double sum = 0.0, worst = 0.0, *f = malloc(sizeof *f * n);
+    for (uint32_t x = 0; x < n && f; ++x) {
+        CHECK(gs_db_field(bare, x, f, NULL) == GS_OK);
+        for (uint32_t y = 0; y < n; ++y) {
+            double a = gs_db_distance(bare, x, y), b = gs_db_distance(cached, x, y);
+            bad += memcmp(&a, &f[y], 8) != 0 || a != gs_db_distance(bare, y, x) || (x == y && a != 0.0);
+            if (x == y || !isfinite(b)) continue;
+            double r = (b - a) / a;
+            above += r < -1e-9;
+            far += r > 1e-3;
+            sum += r, worst = fmax(worst, fabs(r));
+        }
+    }
+    printf("  %s without the query cache: cached answers above by %.2g on average, worst %.2g\n", spec,
+           sum / ((double)n * (n - 1)), worst);
+    CHECK_MSG(bad == 0, "%s: %u answers differ between field and pair, or asymmetric", spec, bad);
+    CHECK_MSG(above == 0, "%s: %u cached answers below the robust minimiser's", spec, above);
+    CHECK_MSG(far * 1000 <= (uint64_t)n * n && sum / ((double)n * (n - 1)) < 1e-5, "%s: %u answers differ by > 1e-3",
+              spec, far);
+    free(f);
+done:
+    gs_db_free(cached);
+    gs_db_free(bare);
+    gs_mesh_free(m);
+}
+
 int main(void)
 {
     test_pairs(0);
@@ -212,5 +256,7 @@ int main(void)
     test_slot_layout("torus:40,20");  /* loops */
     test_slot_layout("plate:1400");   /* paths, holes */
     test_slot_layout("two:10");       /* two components: unreachable pairs */
+    test_no_cache("torus:40,20");
+    test_no_cache("plate:1400");
     return gs_test_finish("test_query");
 }

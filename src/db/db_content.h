@@ -60,6 +60,8 @@ typedef struct gs_db_content {
     uint32_t heat_refine;         /* gs_solver_options, 0..3                 */
     double avg_depth;
     uint32_t max_depth, n_leaves;
+    uint32_t no_query_cache;      /* 1: the packed database gets no query    */
+                                  /*   cache (gs_build_options)              */
 } gs_db_content;
 
 #endif

@@ -234,10 +234,11 @@ void gs__db_grid_free(gs_db *db);
  * file reader's validation. *out: new database (gs_db_free). */
 int gs_db_pack(const gs_db_content *c, gs_db **out, gs_error *err);
 
-/* Validate `size` bytes and wrap them in a database. On success the
+/* Validate `size` bytes and wrap them in a database, with the query cache
+ * unless cache is 0 (queries then read the sections). On success the
  * database owns `storage` (munmap'ed if mapped, else freed); on failure the
  * caller keeps it. `name` prefixes messages ("db.gsdb: ..."). */
-int gs__db_attach(void *storage, size_t size, int mapped, const char *name, gs_db **out,
+int gs__db_attach(void *storage, size_t size, int mapped, const char *name, int cache, gs_db **out,
                   gs_error *err);
 
 /* The format's 64-bit checksum (doc/database-format.md "Checksum") of the

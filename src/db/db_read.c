@@ -487,7 +487,8 @@ static int validate(reader *r, const unsigned char *b, uint64_t size)
     return rc;
 }
 
-int gs__db_attach(void *storage, size_t size, int mapped, const char *name, gs_db **out, gs_error *err)
+int gs__db_attach(void *storage, size_t size, int mapped, const char *name, int cache, gs_db **out,
+                  gs_error *err)
 {
     *out = NULL;
     if (!gs__db_host_little_endian())
@@ -506,7 +507,7 @@ int gs__db_attach(void *storage, size_t size, int mapped, const char *name, gs_d
     db->mapped = mapped;
     db->bytes = storage;
     db->size = size;
-    rc = gs__db_grid_build(db, name, err);
+    rc = cache ? gs__db_grid_build(db, name, err) : GS_OK;
     if (rc) {
         free(db);
         return rc;
@@ -537,7 +538,7 @@ int gs_db_open(const char *path, gs_db **out, gs_error *err)
     void *map = mmap(NULL, size, PROT_READ, MAP_PRIVATE, fd, 0);
     close(fd);
     if (map == MAP_FAILED) return gs__fail(err, GS_EIO, "%s: cannot map: %s", path, strerror(errno));
-    int rc = gs__db_attach(map, size, 1, path, out, err);
+    int rc = gs__db_attach(map, size, 1, path, 1, out, err);
     if (rc) munmap(map, size);
     return rc;
 }
@@ -549,7 +550,7 @@ int gs_db_open_memory(const void *data, size_t size, gs_db **out, gs_error *err)
     void *copy = gs__malloc(size ? size : 1, 1); /* malloc: aligned for doubles */
     if (!copy) return gs__fail(err, GS_ENOMEM, "database: out of memory (%zu bytes)", size);
     memcpy(copy, data, size);
-    int rc = gs__db_attach(copy, size, 0, "database", out, err);
+    int rc = gs__db_attach(copy, size, 0, "database", 1, out, err);
     if (rc) free(copy);
     return rc;
 }

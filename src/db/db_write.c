@@ -296,7 +296,7 @@ int gs_db_pack(const gs_db_content *c, gs_db **out, gs_error *err)
     if (!buf) return gs__fail(err, GS_ENOMEM, "database: out of memory (%llu bytes)", (unsigned long long)total);
     write_header(buf, c, n_sec, total, n_words, leaf_entries, tables);
     write_sections(buf, c, size, n_sec);
-    rc = gs__db_attach(buf, (size_t)total, 0, "built database", out, err);
+    rc = gs__db_attach(buf, (size_t)total, 0, "built database", !c->no_query_cache, out, err);
     if (rc) free(buf);
     return rc;
 }
