@@ -122,7 +122,8 @@ typedef struct node_job {
     uint32_t *owned_local;    /* owned vertex -> patch-local id           */
     float *D;                 /* n_owned x n_samples distances (row = x)  */
     gs_source *src;           /* one per sample (patch-local)             */
-    /* per thread, created on first use: a solver and CHUNK fields */
+    /* per thread, created on first use: a solver (solver[0] first, the
+     * others its clones, sharing its factorisations) and CHUNK fields */
     uint32_t nthreads;
     gs_solver **solver;
     double **buf;
@@ -132,7 +133,7 @@ typedef struct node_job {
  * the node's fields are done. */
 static void job_free_solvers(node_job *j)
 {
-    for (uint32_t t = 0; t < j->nthreads; ++t) {
+    for (uint32_t t = j->nthreads; t-- > 0;) { /* clones before solver[0] */
         if (j->solver) gs_solver_free(j->solver[t]);
         if (j->buf) free(j->buf[t]);
     }
@@ -239,6 +240,10 @@ static int solve_block(builder *b, node_job *j, const gs_source *src, uint32_t n
     uint32_t nl = gs_patch_num_vertices(j->patch), nown = j->node->n_verts;
     uint32_t nchunks = (n + CHUNK - 1) / CHUNK;
     int rc = GS_OK;
+    /* one factorisation for all threads (heat): the first solver here, the
+     * others clone it */
+    if (!j->solver[0] && (rc = gs_solver_create_ex(j->patch, b->opt->method, &b->opt->solver, &j->solver[0], err)))
+        return rc;
 #pragma omp parallel num_threads(j->nthreads)
     {
         uint32_t tid = (uint32_t)omp_get_thread_num();
@@ -247,7 +252,7 @@ static int solve_block(builder *b, node_job *j, const gs_source *src, uint32_t n
 #pragma omp for schedule(dynamic, 1)
         for (uint32_t q = 0; q < nchunks; ++q) {
             if (my) continue;
-            if (!j->solver[tid]) my = gs_solver_create_ex(j->patch, b->opt->method, &b->opt->solver, &j->solver[tid], &e);
+            if (!j->solver[tid]) my = gs__solver_clone(j->solver[0], &j->solver[tid], &e);
             if (!my && !j->buf[tid] && !(j->buf[tid] = gs__malloc((size_t)CHUNK * nl + 1, sizeof(double))))
                 my = gs__fail(&e, GS_ENOMEM, "out of memory for %u fields of %u vertices", CHUNK, nl);
             if (my) continue;

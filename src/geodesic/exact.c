@@ -572,4 +572,4 @@ static int ex_solve(void *state, const gs_source *src, uint32_t n_src, double ma
     return GS_OK;
 }
 
-const gs_method_ops gs_exact_ops = {"exact", ex_create, ex_destroy, ex_solve, NULL};
+const gs_method_ops gs_exact_ops = {"exact", ex_create, ex_destroy, ex_solve, NULL, NULL};

@@ -396,4 +396,4 @@ static int fmm_solve(void *state, const gs_source *src, uint32_t n_src, double m
     return GS_OK;
 }
 
-const gs_method_ops gs_fmm_ops = {"fmm", fmm_create, fmm_destroy, fmm_solve, NULL};
+const gs_method_ops gs_fmm_ops = {"fmm", fmm_create, fmm_destroy, fmm_solve, NULL, NULL};

@@ -28,6 +28,10 @@ typedef struct gs_method_ops {
      * faster (the heat method's batched linear solves) */
     int (*solve_each)(void *state, const gs_source *src, uint32_t n_src, double *dist,
                       gs_solve_stats *stats, gs_error *err);
+    /* optional (NULL: create anew): state for another thread that gives the
+     * same fields and shares what it can read-only with `state`, which
+     * must outlive it (the heat method's factorisations) */
+    int (*clone)(const void *state, void **out, gs_error *err);
 } gs_method_ops;
 
 extern const gs_method_ops gs_exact_ops; /* exact.c  */
@@ -41,6 +45,14 @@ extern const gs_method_ops gs_heat_ops;  /* heat.c   */
  * solve (heat). Sources are validated like gs_solver_solve's. */
 int gs__solver_solve_each(gs_solver *solver, const gs_source *sources, uint32_t n, double *dist,
                           gs_error *err);
+
+/* A solver of the same patch, method and options for another thread: it
+ * gives the same fields bit for bit and shares with src what it only reads
+ * (the heat method: its factorisations, a CHOLMOD workspace per solver), so
+ * that n threads do not cost n factorisations' memory and time. src must
+ * outlive it; each solver is used by one thread at a time. *out: new solver
+ * (gs_solver_free). */
+int gs__solver_clone(const gs_solver *src, gs_solver **out, gs_error *err);
 
 /* Position of a source point: p = sum_i bary[i] * corner_i. */
 void gs_source_position(const gs_topo *t, const gs_source *s, double p[3]);

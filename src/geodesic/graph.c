@@ -71,4 +71,4 @@ static int graph_solve(void *state, const gs_source *src, uint32_t n_src, double
     return GS_OK;
 }
 
-const gs_method_ops gs_graph_ops = {"graph", graph_create, graph_destroy, graph_solve, NULL};
+const gs_method_ops gs_graph_ops = {"graph", graph_create, graph_destroy, graph_solve, NULL, NULL};

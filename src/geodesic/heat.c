@@ -92,6 +92,10 @@
 enum { HEAT_BATCH = 16 };
 
 typedef struct heat_state {
+    /* a clone (heat_clone): base, whose topology, geometry, maps and
+     * factorisations it shares read-only; its own: the factor views, work
+     * arrays, start-ball solver and batch buffers. NULL: the original */
+    const struct heat_state *base;
     const gs_topo *t;   /* the mesh solved on: the patch's, or refined_t    */
     /* refined solve (heat_refine > 0): the patch's topology t0 (nv0
      * vertices), subdivided `refine` times into refined_t (own arrays); the
@@ -368,10 +372,31 @@ static void build_divergence_geometry(heat_state *s)
     }
 }
 
+/* What a clone owns (and the original too). */
+static void free_own(heat_state *s)
+{
+    gs_sparse_factor_free(s->heat_n);
+    gs_sparse_factor_free(s->heat_d);
+    gs_sparse_factor_free(s->poisson);
+    gs_sparse_factor_free(s->heat_n2);
+    gs_sparse_factor_free(s->heat_d2);
+    if (s->exact) gs_exact_ops.destroy(s->exact);
+    free(s->edist), free(s->fmark);
+    free(s->ball_v), free(s->ball_d), free(s->csum);
+    free(s->b), free(s->x), free(s->u), free(s->w), free(s->div), free(s->phi), free(s->cmin);
+    free(s->kb), free(s->ku), free(s->kx), free(s->kw);
+    free(s->rdist), free(s->rsrc);
+}
+
 static void heat_destroy(void *state)
 {
     heat_state *s = state;
     if (!s) return;
+    if (s->base) {
+        free_own(s);
+        free(s);
+        return;
+    }
     gs_sparse_factor_free(s->heat_n);
     gs_sparse_factor_free(s->heat_d);
     gs_sparse_factor_free(s->poisson);
@@ -603,6 +628,46 @@ static int heat_create(const gs_topo *t, const gs_solver_options *opt, void **st
         return e->status ? e->status : GS_EINTERNAL;
     }
     *state = s;
+    return GS_OK;
+}
+
+/* A solver for another thread: the same fields, bit for bit, from base's
+ * factorisations (views with their own workspace) and geometry; only the
+ * work arrays are new. base must outlive it. */
+static int heat_clone(const void *state, void **out, gs_error *err)
+{
+    const heat_state *src = state;
+    heat_state *s = malloc(sizeof *s);
+    if (!s) return gs__fail(err, GS_ENOMEM, "out of memory cloning a heat solver");
+    *s = *src;
+    s->base = src->base ? src->base : src;
+    s->heat_n = s->heat_d = s->poisson = s->heat_n2 = s->heat_d2 = NULL;
+    s->b = s->x = s->u = s->w = s->div = s->phi = s->cmin = s->csum = NULL;
+    s->kb = s->ku = s->kx = s->kw = NULL, s->kcap = 0;
+    s->exact = NULL, s->edist = NULL, s->fmark = NULL, s->stamp = 0;
+    s->ball_v = NULL, s->ball_d = NULL, s->ball_n = s->ball_cap = 0;
+    s->rdist = NULL, s->rsrc = NULL, s->rcap = s->rsrc_cap = 0;
+    size_t nv = s->nv ? s->nv : 1;
+    int ok = (s->b = gs__malloc(nv, sizeof(double))) && (s->x = gs__malloc(nv, sizeof(double))) &&
+             (s->u = gs__malloc(nv, sizeof(double))) && (s->w = gs__malloc(nv, sizeof(double))) &&
+             (s->div = gs__malloc(nv, sizeof(double))) && (s->phi = gs__malloc(nv, sizeof(double))) &&
+             (s->cmin = gs__malloc(nv, sizeof(double))) && (s->csum = gs__malloc(2 * nv, sizeof(double)));
+    if (ok && s->refine) {
+        s->rsrc_cap = 16, s->rcap = 1;
+        ok = (s->rsrc = gs__malloc(s->rsrc_cap, sizeof *s->rsrc)) && (s->rdist = gs__malloc(nv, sizeof *s->rdist));
+    }
+    if (!ok) {
+        heat_destroy(s);
+        return gs__fail(err, GS_ENOMEM, "out of memory cloning a heat solver");
+    }
+    gs_sparse_factor *const *from[5] = {&src->heat_n, &src->heat_d, &src->poisson, &src->heat_n2, &src->heat_d2};
+    gs_sparse_factor **to[5] = {&s->heat_n, &s->heat_d, &s->poisson, &s->heat_n2, &s->heat_d2};
+    for (int i = 0; i < 5; ++i)
+        if (*from[i] && !(*to[i] = gs_sparse_factor_share(*from[i], err))) {
+            heat_destroy(s);
+            return err && err->status ? err->status : GS_ENOMEM;
+        }
+    *out = s;
     return GS_OK;
 }
 
@@ -973,4 +1038,4 @@ static int heat_solve_each(void *state, const gs_source *src, uint32_t n_src, do
     return rc;
 }
 
-const gs_method_ops gs_heat_ops = {"heat", heat_create, heat_destroy, heat_solve, heat_solve_each};
+const gs_method_ops gs_heat_ops = {"heat", heat_create, heat_destroy, heat_solve, heat_solve_each, heat_clone};

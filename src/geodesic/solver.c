@@ -14,6 +14,7 @@ struct gs_solver {
     uint32_t src_cap;
     gs_solve_stats stats;
     double seconds;
+    gs_solver_options opt; /* as created (gs__solver_clone)               */
 };
 
 static const gs_method_ops *ops_of(gs_method m)
@@ -124,7 +125,27 @@ int gs_solver_create_ex(const gs_patch *patch, gs_method method, const gs_solver
     if (!s) return gs__fail(err, GS_ENOMEM, "out of memory");
     s->patch = patch;
     s->ops = ops;
+    s->opt = o;
     int rc = ops->create(patch->topo, &o, &s->state, err);
+    if (rc) {
+        free(s);
+        return rc;
+    }
+    *out = s;
+    return GS_OK;
+}
+
+int gs__solver_clone(const gs_solver *src, gs_solver **out, gs_error *err)
+{
+    if (!src || !out) return gs__fail(err, GS_EARG, "gs__solver_clone: NULL argument");
+    *out = NULL;
+    gs_solver *s = gs__calloc(1, sizeof *s);
+    if (!s) return gs__fail(err, GS_ENOMEM, "out of memory");
+    s->patch = src->patch;
+    s->ops = src->ops;
+    s->opt = src->opt;
+    int rc = s->ops->clone ? s->ops->clone(src->state, &s->state, err)
+                           : s->ops->create(s->patch->topo, &s->opt, &s->state, err);
     if (rc) {
         free(s);
         return rc;

@@ -13,8 +13,9 @@
 struct gs_sparse_factor {
     uint32_t n;
     int started;         /* cholmod_l_start was called on c              */
-    cholmod_common c;    /* one common per factor: no shared state       */
-    cholmod_factor *L;
+    cholmod_common c;    /* one common per factor or view: its workspace */
+    cholmod_factor *L;   /* a view's is its owner's (solves only read it) */
+    int view;            /* 1: L belongs to another factor               */
     cholmod_dense *B;    /* right-hand side, allocated once              */
     cholmod_dense *Bk;   /* k right-hand sides (solve_many), grown once  */
     cholmod_dense *X, *Y, *E; /* solve2 workspace, reused across solves */
@@ -24,7 +25,7 @@ void gs_sparse_factor_free(gs_sparse_factor *f)
 {
     if (!f) return;
     if (f->started) {
-        cholmod_l_free_factor(&f->L, &f->c);
+        if (!f->view) cholmod_l_free_factor(&f->L, &f->c);
         cholmod_l_free_dense(&f->B, &f->c);
         cholmod_l_free_dense(&f->Bk, &f->c);
         cholmod_l_free_dense(&f->X, &f->c);
@@ -93,6 +94,22 @@ gs_sparse_factor *gs_sparse_factor_create(uint32_t n, size_t nnz, const uint32_t
     f->B = cholmod_l_zeros(n, 1, CHOLMOD_REAL, &f->c);
     if (!f->B) return fail(f, err, GS_ENOMEM, "out of memory (dense buffer)");
     return f;
+}
+
+gs_sparse_factor *gs_sparse_factor_share(const gs_sparse_factor *f, gs_error *err)
+{
+    gs_sparse_factor *v = calloc(1, sizeof *v);
+    if (!v) return fail(NULL, err, GS_ENOMEM, "out of memory");
+    v->n = f->n;
+    v->view = 1;
+    if (v->n == 0) return v;
+    if (!cholmod_l_start(&v->c)) return fail(v, err, GS_ENOMEM, "cholmod_l_start failed");
+    v->started = 1;
+    v->c.print = 0;
+    v->L = f->L;
+    v->B = cholmod_l_zeros(v->n, 1, CHOLMOD_REAL, &v->c);
+    if (!v->B) return fail(v, err, GS_ENOMEM, "out of memory (dense buffer)");
+    return v;
 }
 
 int gs_sparse_factor_solve(gs_sparse_factor *f, const double *b, double *x, gs_error *err)

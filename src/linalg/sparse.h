@@ -24,6 +24,12 @@ gs_sparse_factor *gs_sparse_factor_create(uint32_t n, size_t nnz, const uint32_t
                                           const uint32_t *tj, const double *tx,
                                           const gs_sparse_factor *like, gs_error *err);
 
+/* A view of f: its factor, shared and read-only, with a workspace of its
+ * own, so that several threads can solve with one factorisation at once
+ * (one thread per view, or per factor). f must outlive its views; freeing a
+ * view leaves f's factor alone. NULL on failure with err set (GS_ENOMEM). */
+gs_sparse_factor *gs_sparse_factor_share(const gs_sparse_factor *f, gs_error *err);
+
 /* Solve A x = b (b and x: n doubles; they may alias). Allocation-free after
  * the first call. */
 int gs_sparse_factor_solve(gs_sparse_factor *f, const double *b, double *x, gs_error *err);
