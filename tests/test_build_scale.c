@@ -225,9 +225,30 @@ static void solve_each(void)
             CHECK_MSG(worst < 1e-9, "heat: batched and single solves differ by %g", worst);
         else
             CHECK_MSG(worst == 0, "%s: batched and single solves differ by %g", gs_method_name(methods[q]), worst);
+        /* clones (the heat method's share the factorisations): the same
+         * fields bit for bit, solved by two threads at once with the
+         * original, and from a clone of a clone */
+        gs_solver *c1 = NULL, *c2 = NULL;
+        CHECK(gs__solver_clone(s, &c1, &err) == GS_OK && c1);
+        CHECK(c1 && gs__solver_clone(c1, &c2, &err) == GS_OK && c2);
+        double *par = malloc(3 * (size_t)n * nv * sizeof *par);
+        int prc[3] = {-1, -1, -1};
+        gs_solver *use[3] = {s, c1, c2};
+#pragma omp parallel for num_threads(3)
+        for (int t = 0; t < 3; ++t)
+            if (use[t] && par) prc[t] = gs__solver_solve_each(use[t], src, n, par + (size_t)t * n * nv, NULL);
+        for (int t = 0; t < 3 && par; ++t)
+            CHECK_MSG(prc[t] == GS_OK && memcmp(par + (size_t)t * n * nv, all, (size_t)n * nv * sizeof *all) == 0,
+                      "%s%s: solver %d of 3 (0: the original) gives other fields", gs_method_name(methods[q]),
+                      q == 3 ? " refined" : "", t);
+        free(par);
+        gs_solver_free(c2);
+        gs_solver_free(c1);
         gs_solver_free(s);
     }
     CHECK(gs__solver_solve_each(NULL, src, n, all, &err) == GS_EARG);
+    gs_solver *none = NULL;
+    CHECK(gs__solver_clone(NULL, &none, &err) == GS_EARG && none == NULL);
     free(src);
     free(all);
     free(one);
