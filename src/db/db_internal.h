@@ -169,6 +169,18 @@ static inline uint64_t gs__qent_doubles(uint64_t n)
     return (n + 1) / 2;
 }
 
+/* Where curve c's record starts, in doubles: from the slot for a curve of
+ * depth < qlev, from the block of a vertex with nf functions otherwise. */
+static inline size_t gs__qrec_in_slot(const gs_db *db, uint32_t c)
+{
+    return GS_QSLOT_HEAD + gs__qent_doubles(db->qnroot) + db->qcoff[c];
+}
+
+static inline size_t gs__qrec_in_block(const gs_db *db, uint64_t nf, uint32_t c)
+{
+    return gs__qent_doubles(nf) + db->qcoff[c];
+}
+
 /* A reachable function's record (none for unreachable ones), doubles:
  *   [0]    shift (loops; 0 for paths)
  *   [1]    float: the dip's u (gs_fun_dip; NaN: not sharp), then uint32:

@@ -388,29 +388,34 @@ static void free_own(heat_state *s)
     free(s->rdist), free(s->rsrc);
 }
 
+/* The work arrays every solver (original or clone) allocates up front, for
+ * s->nv vertices; 0 on failure (free_own frees what was allocated). */
+static int alloc_own(heat_state *s)
+{
+    size_t nv = s->nv ? s->nv : 1;
+    int ok = (s->b = gs__malloc(nv, sizeof(double))) && (s->x = gs__malloc(nv, sizeof(double))) &&
+             (s->u = gs__malloc(nv, sizeof(double))) && (s->w = gs__malloc(nv, sizeof(double))) &&
+             (s->div = gs__malloc(nv, sizeof(double))) && (s->phi = gs__malloc(nv, sizeof(double))) &&
+             (s->cmin = gs__malloc(nv, sizeof(double))) && (s->csum = gs__malloc(2 * nv, sizeof(double)));
+    if (ok && s->refine) {
+        s->rsrc_cap = 16, s->rcap = 1;
+        ok = (s->rsrc = gs__malloc(s->rsrc_cap, sizeof *s->rsrc)) && (s->rdist = gs__malloc(nv, sizeof *s->rdist));
+    }
+    return ok;
+}
+
 static void heat_destroy(void *state)
 {
     heat_state *s = state;
     if (!s) return;
-    if (s->base) {
-        free_own(s);
-        free(s);
-        return;
+    free_own(s);
+    if (!s->base) { /* the original: what its clones share too */
+        free(s->vf_start), free(s->vf);
+        free(s->itri), free(s->iopp), free(s->ilen), free(s->cot), free(s->area), free(s->dgeo);
+        free(s->mass), free(s->comp), free(s->map_n), free(s->map_d), free(s->map_p);
+        if (s->refine) gs_topo_free(&s->refined_t);
+        free(s->rxyz), free(s->rtri);
     }
-    gs_sparse_factor_free(s->heat_n);
-    gs_sparse_factor_free(s->heat_d);
-    gs_sparse_factor_free(s->poisson);
-    gs_sparse_factor_free(s->heat_n2);
-    gs_sparse_factor_free(s->heat_d2);
-    if (s->exact) gs_exact_ops.destroy(s->exact);
-    free(s->edist), free(s->fmark), free(s->vf_start), free(s->vf);
-    free(s->ball_v), free(s->ball_d), free(s->csum);
-    free(s->itri), free(s->iopp), free(s->ilen), free(s->cot), free(s->area), free(s->dgeo);
-    free(s->mass), free(s->comp), free(s->map_n), free(s->map_d), free(s->map_p);
-    free(s->b), free(s->x), free(s->u), free(s->w), free(s->div), free(s->phi), free(s->cmin);
-    free(s->kb), free(s->ku), free(s->kx), free(s->kw);
-    if (s->refine) gs_topo_free(&s->refined_t);
-    free(s->rxyz), free(s->rtri), free(s->rdist), free(s->rsrc);
     free(s);
 }
 
@@ -482,14 +487,6 @@ static int heat_create(const gs_topo *t, const gs_solver_options *opt, void **st
         }
         s->refine = opt->heat_refine;
         t = &s->refined_t;
-        s->rsrc_cap = 16;
-        s->rsrc = gs__malloc(s->rsrc_cap, sizeof *s->rsrc);
-        s->rcap = 1;
-        s->rdist = gs__malloc(t->nv ? t->nv : 1, sizeof *s->rdist);
-        if (!s->rsrc || !s->rdist) {
-            heat_destroy(s);
-            return gs__fail(err, GS_ENOMEM, "out of memory creating a heat solver");
-        }
     }
     s->t = t;
     s->nv = t->nv;
@@ -506,19 +503,10 @@ static int heat_create(const gs_topo *t, const gs_solver_options *opt, void **st
     s->map_n = gs__malloc(nv, sizeof *s->map_n);
     s->map_d = gs__malloc(nv, sizeof *s->map_d);
     s->map_p = gs__malloc(nv, sizeof *s->map_p);
-    s->b = gs__malloc(nv, sizeof(double));
-    s->x = gs__malloc(nv, sizeof(double));
-    s->u = gs__malloc(nv, sizeof(double));
-    s->w = gs__malloc(nv, sizeof(double));
     s->vf_start = gs__malloc(nv + 1, sizeof *s->vf_start);
     s->vf = gs__malloc(nh + 1, sizeof *s->vf);
-    s->div = gs__malloc(nv, sizeof(double));
-    s->phi = gs__malloc(nv, sizeof(double));
-    s->cmin = gs__malloc(nv, sizeof(double));
-    s->csum = gs__malloc(2 * nv, sizeof(double));
     if (!s->itri || !s->iopp || !s->ilen || !s->cot || !s->area || !s->dgeo || !s->mass || !s->comp ||
-        !s->map_n || !s->map_d || !s->map_p || !s->b || !s->x || !s->u || !s->w || !s->div ||
-        !s->phi || !s->cmin || !s->csum || !s->vf_start || !s->vf) {
+        !s->map_n || !s->map_d || !s->map_p || !s->vf_start || !s->vf || !alloc_own(s)) {
         heat_destroy(s);
         return gs__fail(err, GS_ENOMEM, "out of memory creating a heat solver");
     }
@@ -647,16 +635,7 @@ static int heat_clone(const void *state, void **out, gs_error *err)
     s->exact = NULL, s->edist = NULL, s->fmark = NULL, s->stamp = 0;
     s->ball_v = NULL, s->ball_d = NULL, s->ball_n = s->ball_cap = 0;
     s->rdist = NULL, s->rsrc = NULL, s->rcap = s->rsrc_cap = 0;
-    size_t nv = s->nv ? s->nv : 1;
-    int ok = (s->b = gs__malloc(nv, sizeof(double))) && (s->x = gs__malloc(nv, sizeof(double))) &&
-             (s->u = gs__malloc(nv, sizeof(double))) && (s->w = gs__malloc(nv, sizeof(double))) &&
-             (s->div = gs__malloc(nv, sizeof(double))) && (s->phi = gs__malloc(nv, sizeof(double))) &&
-             (s->cmin = gs__malloc(nv, sizeof(double))) && (s->csum = gs__malloc(2 * nv, sizeof(double)));
-    if (ok && s->refine) {
-        s->rsrc_cap = 16, s->rcap = 1;
-        ok = (s->rsrc = gs__malloc(s->rsrc_cap, sizeof *s->rsrc)) && (s->rdist = gs__malloc(nv, sizeof *s->rdist));
-    }
-    if (!ok) {
+    if (!alloc_own(s)) {
         heat_destroy(s);
         return gs__fail(err, GS_ENOMEM, "out of memory cloning a heat solver");
     }

@@ -86,8 +86,7 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     if (root) ((float *)(fc->slot + GS_QSLOT_HEAD))[k] = mv;
     if (!f.coef) return; /* unreachable: never minimised */
     uint32_t g = db->qgrid[c];
-    double *rec = root ? fc->slot + GS_QSLOT_HEAD + gs__qent_doubles(db->qnroot) + db->qcoff[c]
-                       : fc->block + gs__qent_doubles(fc->nf) + db->qcoff[c];
+    double *rec = root ? fc->slot + gs__qrec_in_slot(db, c) : fc->block + gs__qrec_in_block(db, fc->nf, c);
     gs_fun_dip dip = {NAN, NAN, NAN, 0.0, NAN};
     if (g) gs_fun_dip_find(&f, &dip);
     /* offsets as floats from u as a float (so that the edges do not move

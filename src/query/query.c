@@ -136,8 +136,7 @@ static inline qview view_of(const gs_db *db, uint32_t x)
  * shallow curves, else in the block. */
 static inline const double *record_of(const gs_db *db, const qview *v, uint32_t k, uint32_t c)
 {
-    return (k < v->ns ? v->s + GS_QSLOT_HEAD + gs__qent_doubles(db->qnroot) : v->b + gs__qent_doubles(v->nf)) +
-           db->qcoff[c];
+    return k < v->ns ? v->s + gs__qrec_in_slot(db, c) : v->b + gs__qrec_in_block(db, v->nf, c);
 }
 
 /* The function of a record (reachable: minval finite); g its grid. */
@@ -170,7 +169,7 @@ static inline void prefetch_record(const gs_db *db, const qview *v, uint32_t c)
     /* small caches (qlev 0) keep every record in the block: no need to look
      * up the curve's depth */
     if (!db->qlev || db->nodes[db->curves[c].node].depth >= db->qlev)
-        prefetch_lines(v->b + gs__qent_doubles(v->nf) + db->qcoff[c], 8 * (size_t)db->qclen[c]);
+        prefetch_lines(v->b + gs__qrec_in_block(db, v->nf, c), 8 * (size_t)db->qclen[c]);
 }
 
 /* min over curve c (function k) of f_x + f_y; x < y (the order of the two
