@@ -194,6 +194,36 @@ static void test_slot_layout(const char *spec)
     CHECK(gs_db_distances(small, pairs, 1000, o1, NULL) == GS_OK);
     CHECK(gs_db_distances(large, pairs, 1000, o2, NULL) == GS_OK);
     CHECK(memcmp(o1, o2, sizeof o1) == 0);
+    /* The batch prefetches pairs ahead of the one it answers: with bad ids
+     * (at the start, inside and at the end of its look-ahead), equal ids
+     * and batches shorter than the look-ahead, it still gives the single
+     * queries' answers bit for bit and names the first bad pair. */
+    pairs[2 * 0] = n, pairs[2 * 3 + 1] = n, pairs[2 * 7] = GS_NONE, pairs[2 * 998 + 1] = n + 5;
+    pairs[2 * 8] = pairs[2 * 8 + 1], pairs[2 * 999] = pairs[2 * 999 + 1];
+    static const uint32_t lens[] = {1, 2, 3, 4, 5, 7, 8, 9, 12, 17, 100, 998};
+    for (int layout = 0; layout < 2; ++layout) {
+        const gs_db *db = layout ? large : small;
+        for (uint32_t from = 0; from < 2; ++from)
+            for (size_t q = 0; q < sizeof lens / sizeof *lens; ++q) {
+                uint32_t len = lens[q], diff = 0, first_bad = GS_NONE;
+                for (uint32_t i = 0; i < len && first_bad == GS_NONE; ++i)
+                    if (pairs[2 * (from + i)] >= n || pairs[2 * (from + i) + 1] >= n) first_bad = i;
+                char want[32];
+                snprintf(want, sizeof want, "pair %u (", first_bad);
+                int rc = gs_db_distances(db, pairs + 2 * from, len, o1, &err);
+                CHECK_MSG(first_bad == GS_NONE ? rc == GS_OK : rc == GS_EARG && strstr(err.message, want),
+                          "%s: layout %d, batch of %u from %u: status %d (%s)", spec, layout, len, from, rc,
+                          rc ? err.message : "");
+                for (uint32_t i = 0; i < len; ++i) {
+                    double d = gs_db_distance(db, pairs[2 * (from + i)], pairs[2 * (from + i) + 1]);
+                    diff += memcmp(&d, &o1[i], 8) != 0;
+                }
+                CHECK_MSG(diff == 0, "%s: layout %d, batch of %u from %u: %u answers differ from single queries",
+                          spec, layout, len, from, diff);
+            }
+        CHECK(gs_db_distances(db, pairs, 1000, o1, &err) == GS_EARG);
+        CHECK(isnan(o1[0]) && isnan(o1[3]) && isnan(o1[7]) && isnan(o1[998]) && o1[8] == 0.0 && o1[999] == 0.0);
+    }
     free(f1);
     free(f2);
 done:

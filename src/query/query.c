@@ -188,27 +188,36 @@ static double cached_pair(const gs_db *db, const qview *vx, const qview *vy, uin
     return gs_fun_pair_min_grid(&fx, &fy, &gx, &gy, g, &dx, &dy, NULL);
 }
 
+/* Start fetching what cross_cached reads beyond the slots' heads: the rest
+ * of the slots (top below the root) and, for a top at least qlev deep, the
+ * entries gather reads and the records of top's first curves, which hold
+ * the minimum most often (they come while the entries arrive). Returns
+ * whether top is that deep (its curves' entries are in the blocks). */
+static inline int prefetch_cross(const gs_db *db, const qview *vx, const qview *vy, uint32_t top)
+{
+    int deep = db->nodes[top].depth >= db->qlev;
+    if (db->nodes[top].depth && db->qslot0 < db->qslot) /* below the root: the rest of the slots */
+        prefetch_lines(vx->s + db->qslot0, 8 * (size_t)(db->qslot - db->qslot0)),
+            prefetch_lines(vy->s + db->qslot0, 8 * (size_t)(db->qslot - db->qslot0));
+    if (deep) { /* the entries of top's curves and its ancestors' */
+        size_t ne = sizeof(float) * ((size_t)db->nodes[top].curve_prefix + db->nodes[top].n_curves);
+        prefetch_lines(vx->b, ne), prefetch_lines(vy->b, ne);
+    }
+    for (uint32_t j = 0; deep && j < db->nodes[top].n_curves && j < 2; ++j) {
+        uint32_t c = db->nodes[top].curve_start + j;
+        prefetch_record(db, vx, c), prefetch_record(db, vy, c);
+    }
+    return deep;
+}
+
 /* eq. 4-5 with the quick reject, x < y. When the lowest common ancestor
  * is shallower than db->qlev, the slots hold all that is needed. */
 static double cross_cached(const gs_db *db, uint32_t x, uint32_t y, uint32_t top)
 {
     qview vx = view_of(db, x), vy = view_of(db, y);
-    int deep = db->nodes[top].depth >= db->qlev;
-    if (db->nodes[top].depth && db->qslot0 < db->qslot) /* below the root: the rest of the slots */
-        prefetch_lines(vx.s + db->qslot0, 8 * (size_t)(db->qslot - db->qslot0)),
-            prefetch_lines(vy.s + db->qslot0, 8 * (size_t)(db->qslot - db->qslot0));
+    int deep = prefetch_cross(db, &vx, &vy, top);
     const float *ex = (const float *)(deep ? vx.b : vx.s + GS_QSLOT_HEAD);
     const float *ey = (const float *)(deep ? vy.b : vy.s + GS_QSLOT_HEAD);
-    if (deep) { /* the entries gather reads: those of top's curves and its ancestors' */
-        size_t ne = sizeof(float) * ((size_t)db->nodes[top].curve_prefix + db->nodes[top].n_curves);
-        prefetch_lines(vx.b, ne), prefetch_lines(vy.b, ne);
-    }
-    /* the lowest common separator's curves hold the minimum most often:
-     * their records are on their way while the entries arrive */
-    for (uint32_t j = 0; deep && j < db->nodes[top].n_curves && j < 2; ++j) {
-        uint32_t c = db->nodes[top].curve_start + j;
-        prefetch_record(db, &vx, c), prefetch_record(db, &vy, c);
-    }
     candidate c[MAX_CANDIDATES];
     uint32_t rest, n = gather_cached(db, ex, ey, top, c, &rest);
     if (n && db->curves[c[0].curve].node != top) prefetch_record(db, &vx, c[0].curve), prefetch_record(db, &vy, c[0].curve);
@@ -272,29 +281,77 @@ static double cross_leaf(const gs_db *db, uint32_t x, uint32_t y, uint32_t top)
     return at_least_euclidean(db, x, y, d);
 }
 
+/* With the query cache: start fetching the heads of x's and y's slots (their
+ * addresses need no lookup) and, for small caches, the coordinates. */
+static inline void prefetch_slots(const gs_db *db, uint32_t x, uint32_t y)
+{
+    prefetch_lines(slot_of(db, x), 8 * (size_t)db->qslot0), prefetch_lines(slot_of(db, y), 8 * (size_t)db->qslot0);
+    if (!db->qlev) __builtin_prefetch(db->xyz + 3 * (size_t)x), __builtin_prefetch(db->xyz + 3 * (size_t)y);
+}
+
+/* The first line of x's and y's slots: their headers. */
+static inline void prefetch_headers(const gs_db *db, uint32_t x, uint32_t y)
+{
+    __builtin_prefetch(slot_of(db, x)), __builtin_prefetch(slot_of(db, y));
+}
+
+/* Header-only slots (qlev 0), different leaves: start fetching the blocks'
+ * entries and root records. */
+static inline void prefetch_blocks(const gs_db *db, const gs_qvert *hx, const gs_qvert *hy)
+{
+    prefetch_lines(db->qbuf + hx->start, 8 * (gs__qent_doubles(hx->nf) + db->qhead));
+    prefetch_lines(db->qbuf + hy->start, 8 * (gs__qent_doubles(hy->nf) + db->qhead));
+}
+
+static inline uint32_t lca_cached(const gs_db *db, const gs_qvert *hx, const gs_qvert *hy)
+{
+    return db->qlev ? lca_of_slots(db, hx, hy) : lowest_common_ancestor(db->nodes, hx->leaf, hy->leaf);
+}
+
 double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y)
 {
     if (!db || x >= db->nv || y >= db->nv) return NAN;
     if (x == y) return 0.0;
-    uint32_t lx, ly;
-    const gs_qvert *hx = NULL, *hy = NULL;
-    if (db->qbuf) { /* both slots on their way (their addresses need no lookup) */
-        const double *sx = slot_of(db, x), *sy = slot_of(db, y);
-        prefetch_lines(sx, 8 * (size_t)db->qslot0), prefetch_lines(sy, 8 * (size_t)db->qslot0);
-        if (!db->qlev) __builtin_prefetch(db->xyz + 3 * (size_t)x), __builtin_prefetch(db->xyz + 3 * (size_t)y);
-        hx = (const gs_qvert *)sx, hy = (const gs_qvert *)sy;
-        lx = hx->leaf, ly = hy->leaf;
-        if (!db->qlev && lx != ly && lx != GS_NONE && ly != GS_NONE) { /* header-only slots: the blocks' */
-            prefetch_lines(db->qbuf + hx->start, 8 * (gs__qent_doubles(hx->nf) + db->qhead)); /* entries and */
-            prefetch_lines(db->qbuf + hy->start, 8 * (gs__qent_doubles(hy->nf) + db->qhead)); /* root record */
-        }
-    } else {
-        lx = db->leaf[x], ly = db->leaf[y];
+    if (!db->qbuf) {
+        uint32_t lx = db->leaf[x], ly = db->leaf[y];
+        if (lx == GS_NONE || ly == GS_NONE) return INFINITY;
+        if (lx == ly) return same_leaf(db, lx, x, y);
+        return cross_leaf(db, x, y, lowest_common_ancestor(db->nodes, lx, ly));
     }
+    prefetch_slots(db, x, y);
+    const gs_qvert *hx = (const gs_qvert *)slot_of(db, x), *hy = (const gs_qvert *)slot_of(db, y);
+    uint32_t lx = hx->leaf, ly = hy->leaf;
     if (lx == GS_NONE || ly == GS_NONE) return INFINITY;
     if (lx == ly) return same_leaf(db, lx, x, y);
-    return cross_leaf(db, x, y, db->qlev ? lca_of_slots(db, hx, hy) : lowest_common_ancestor(db->nodes, lx, ly));
+    if (!db->qlev) prefetch_blocks(db, hx, hy);
+    return cross_leaf(db, x, y, lca_cached(db, hx, hy));
 }
+
+/* The batch's second stage for a pair whose slot headers were requested
+ * earlier: the rest of the slot heads and, from the headers (there by now,
+ * most often), what its query will read next (gs_db_distance's and
+ * cross_cached's prefetches, done ahead). */
+static inline void prefetch_pair(const gs_db *db, uint32_t x, uint32_t y)
+{
+    if (x >= db->nv || y >= db->nv || x == y) return;
+    prefetch_slots(db, x, y);
+    const gs_qvert *hx = (const gs_qvert *)slot_of(db, x), *hy = (const gs_qvert *)slot_of(db, y);
+    if (hx->leaf == GS_NONE || hy->leaf == GS_NONE || hx->leaf == hy->leaf) return;
+    if (!db->qlev) prefetch_blocks(db, hx, hy);
+    qview vx = view_of(db, x), vy = view_of(db, y);
+    prefetch_cross(db, &vx, &vy, lca_cached(db, hx, hy));
+}
+
+/* Pipeline of the batch: while pair i is answered, the slot headers (one
+ * line each) of pair i + 2 BATCH_AHEAD are requested, and pair i +
+ * BATCH_AHEAD's second stage (prefetch_pair) runs: so a batch waits for
+ * memory in parallel over several pairs, where a single query waits for
+ * its misses one after the other. Requesting whole slot heads at the first
+ * stage was slower (homer-960k: too many lines in flight at once). The
+ * answers are gs_db_distance's, bit for bit (only prefetches are added). */
+#ifndef BATCH_AHEAD
+#define BATCH_AHEAD 4
+#endif
 
 /* Out-of-range ids give NaN in out[] and GS_EARG naming the first one; the
  * other pairs are still answered. */
@@ -302,7 +359,17 @@ int gs_db_distances(const gs_db *db, const uint32_t *pairs, size_t n, double *ou
 {
     if (!db || (n && (!pairs || !out))) return gs__fail(err, GS_EARG, "gs_db_distances: NULL argument");
     size_t bad = SIZE_MAX;
+    const size_t a = BATCH_AHEAD;
+    if (db->qbuf)
+        for (size_t i = 0; i < 2 * a && i < n; ++i)
+            if (pairs[2 * i] < db->nv && pairs[2 * i + 1] < db->nv) prefetch_headers(db, pairs[2 * i], pairs[2 * i + 1]);
     for (size_t i = 0; i < n; ++i) {
+        if (db->qbuf) {
+            size_t j = i + 2 * a, k = i + a;
+            if (j < n && pairs[2 * j] < db->nv && pairs[2 * j + 1] < db->nv)
+                prefetch_headers(db, pairs[2 * j], pairs[2 * j + 1]);
+            if (k < n) prefetch_pair(db, pairs[2 * k], pairs[2 * k + 1]);
+        }
         out[i] = gs_db_distance(db, pairs[2 * i], pairs[2 * i + 1]);
         if (bad == SIZE_MAX && (pairs[2 * i] >= db->nv || pairs[2 * i + 1] >= db->nv)) bad = i;
     }
