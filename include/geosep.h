@@ -424,10 +424,12 @@ const double *gs_db_positions(const gs_db *db);
  * corner[] the three vertices of one face of the mesh (the database stores
  * positions, not faces, so the caller names the corners; gs_surface_point_
  * from_face does it from a mesh) and weight[] its barycentric coordinates.
- * Valid when: every corner < n_vertices and used by some face (not an
- * unreferenced vertex), every weight finite and >= GS_POINT_WEIGHT_MIN,
- * and |sum of the weights - 1| <= GS_POINT_WEIGHT_SUM_TOL. Weights are then
- * clamped at 0 and divided by their sum. A corner repeated adds its
+ * Valid when: every corner < n_vertices, every weight finite and >=
+ * GS_POINT_WEIGHT_MIN, |sum of the weights - 1| <= GS_POINT_WEIGHT_SUM_TOL,
+ * and, if two or more corners have nonzero weight, each of those is used by
+ * some face (a vertex on its own may be an unreferenced one: it is then
+ * answered as gs_db_distance answers it, +INFINITY to everything else).
+ * Weights are then clamped at 0 and divided by their sum. A corner repeated adds its
  * weights; only corners of nonzero weight are used, so a vertex v is
  * {v, v, v} with weights {1, 0, 0} (gs_surface_point_vertex), and a point
  * on an edge gives the same answers whichever of the edge's two faces
@@ -462,7 +464,10 @@ int gs_db_point_check(const gs_db *db, const gs_surface_point *p, gs_error *err)
  * with geodesic distances in place of the first sum (the interpolation the
  * paper uses for separator samples, sec. 4.2, after Rustamov et al. 2009):
  *   d(p, q)^2 ~ sum_ij l_i m_j d(v_i, w_j)^2 - (the same two edge terms).
- * Exact on a flat surface when the vertex queries are. Details:
+ * With exact vertex distances it is exact where the geodesics from p's
+ * corners to q's unfold into one plane with p and q (a flat region away
+ * from cut loci), and a close estimate elsewhere (README, "Distances
+ * between surface points", gives the measured errors). Details:
  *  - two corners (of nonzero weight) of one point are an edge of its face
  *    (or one vertex): their distance is the straight one (exact), not a
  *    vertex query; so a point and a corner of its face, or two points of
@@ -475,7 +480,8 @@ int gs_db_point_check(const gs_db *db, const gs_surface_point *p, gs_error *err)
  *  - a negative square is clamped at 0, and the answer is never below the
  *    straight |p - q| (vertex queries never are either);
  *  - two vertices (one corner each) give gs_db_distance exactly; the same
- *    point twice gives 0; d(p, q) == d(q, p) bit for bit;
+ *    point twice (the same corners of nonzero weight with the same
+ *    weights) gives 0; d(p, q) == d(q, p) bit for bit;
  *  - +INFINITY if p and q are not connected; NaN if db, p or q is NULL or
  *    a point is invalid (gs_db_point_check says why).
  * At most 9 vertex queries. Thread-safe, allocation free. */

@@ -75,11 +75,9 @@ static int canonical(const gs_db *db, const gs_surface_point *p, spt *s, int *ba
     if (!(fabs(sum - 1.0) <= GS_POINT_WEIGHT_SUM_TOL)) return PT_SUM;
     /* merge repeated corners, drop zero weights, sort by id (insertion) */
     s->n = 0;
-    double total = 0.0;
     for (int k = 0; k < 3; ++k) {
         double w = p->weight[k] > 0.0 ? p->weight[k] : 0.0;
         if (w == 0.0) continue;
-        total += w;
         uint32_t v = p->corner[k], i = 0;
         while (i < s->n && s->v[i] < v) ++i;
         if (i < s->n && s->v[i] == v) {
@@ -97,6 +95,8 @@ static int canonical(const gs_db *db, const gs_surface_point *p, spt *s, int *ba
                 if (p->corner[k] == s->v[i]) *bad = k;
             return PT_UNUSED;
         }
+    double total = 0.0; /* in id order: the corners' order does not matter */
+    for (uint32_t i = 0; i < s->n; ++i) total += s->w[i];
     s->x[0] = s->x[1] = s->x[2] = 0.0;
     for (uint32_t i = 0; i < s->n; ++i) {
         s->w[i] /= total;
@@ -118,7 +118,7 @@ static int explain(gs_error *err, const gs_db *db, const gs_surface_point *p, in
         return gs__fail(err, GS_EARG, "%s: weight %d is %g (must be >= %g)", where, k, p->weight[k],
                         GS_POINT_WEIGHT_MIN);
     case PT_SUM:
-        return gs__fail(err, GS_EARG, "%s: weights sum to %.12g (must be 1 within %g)", where,
+        return gs__fail(err, GS_EARG, "%s: weights sum to %.15g (must be 1 within %g)", where,
                         p->weight[0] + p->weight[1] + p->weight[2], GS_POINT_WEIGHT_SUM_TOL);
     default: return GS_OK;
     }
