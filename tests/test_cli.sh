@@ -228,6 +228,8 @@ printf '0 1 21 0.2 0.3 0.5  399 398 378 1 0 0\n\n5 5 5 1 0 0  6 6 6 1 0 0\n' >"$
 run query "$T/grid.gsdb" --points "$T/pts.txt"
 { [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/out")" -eq 2 ] && [ "$(sed -n 2p "$T/out")" = "$("$BIN" query "$T/grid.gsdb" 5 6)" ]; }; verdict "query --points: a point at a vertex is the vertex query"
 p1=$(head -1 "$T/out")
+"$BIN" query "$T/grid.gsdb" --points - <"$T/pts.txt" >"$T/out2" 2>"$T/err"
+{ cmp -s "$T/out" "$T/out2"; }; verdict "query --points - reads stdin"
 printf '0 0.2 0.3 0.5  %s\n' "$(awk '$1 == "f" { n++; if ($2 == 400 || $3 == 400 || $4 == 400) { print n - 1, ($2 == 400), ($3 == 400), ($4 == 400); exit } }' "$D")" >"$T/fpts.txt"
 run query "$T/grid.gsdb" --points "$T/fpts.txt" --mesh "$D"
 { [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = "$p1" ]; }; verdict "query --points --mesh: faces name the same points"

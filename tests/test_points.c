@@ -159,6 +159,13 @@ static void test_invariants(const gs_mesh *m, const gs_db *db, const char *what)
         bad_perm += !same_bits(d, gs_db_point_distance(db, &pa, &b.p));
     }
     CHECK_MSG(bad == 0, "%s: %u point pairs not symmetric (or negative)", what, bad);
+    /* the batch answers what the single queries do */
+    gs_surface_point pairs[200];
+    double out[100];
+    for (int k = 0; k < 200; ++k) pairs[k] = random_point(m).p;
+    CHECK(gs_db_point_distances(db, pairs, 100, out, NULL) == GS_OK);
+    for (int k = 0; k < 100; ++k) bad += !same_bits(out[k], gs_db_point_distance(db, &pairs[2 * k], &pairs[2 * k + 1]));
+    CHECK_MSG(bad == 0, "%s: %u batch answers differ from the single queries", what, bad);
     CHECK_MSG(bad_self == 0, "%s: %u points not at distance 0 from themselves", what, bad_self);
     CHECK_MSG(bad_perm == 0, "%s: %u answers change with the order of the corners", what, bad_perm);
     /* a point on an edge, named by each of the edge's two faces: the same point */
