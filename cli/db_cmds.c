@@ -34,14 +34,27 @@ const char usage_build[] =
     "  Shows progress on a terminal; prints the stage times and the size.\n";
 const char usage_query[] =
     "usage: geosep query DB X Y\n"
-    "       geosep query DB --pairs FILE   (FILE: lines 'X Y'; '-' = stdin)\n"
+    "       geosep query DB --pairs FILE                (FILE: lines 'X Y')\n"
+    "       geosep query DB --points FILE               (lines 'v0 v1 v2 l0 l1 l2  w0 w1 w2 m0 m1 m2')\n"
+    "       geosep query DB --points FILE --mesh MESH   (lines 'f b0 b1 b2  g c0 c1 c2')\n"
     "  Approximate geodesic distance between vertices X and Y, one per line\n"
-    "  (\"inf\" if they are not connected).\n";
+    "  (\"inf\" if they are not connected; FILE '-' = stdin, blank lines skipped).\n"
+    "  --points: between two surface points per line, each a face's three corner\n"
+    "  vertex ids and barycentric weights (l0 v0 + l1 v1 + l2 v2), or with\n"
+    "  --mesh (the mesh the database was built from) a face id of MESH and\n"
+    "  three barycentric weights. Weights: finite, >= -1e-12, summing to 1\n"
+    "  within 1e-9. A vertex v is 'v v v 1 0 0' (or any face of it with\n"
+    "  weight 1 at v).\n";
 const char usage_field[] =
     "usage: geosep field DB --source X [-o OUT]\n"
+    "       geosep field DB --point V0,V1,V2:L0,L1,L2 [-o OUT]\n"
+    "       geosep field DB --mesh MESH --source-point F:b0,b1,b2 [-o OUT]\n"
     "       geosep field DB --format gt --sources-from FILE.gt -o OUT.gt\n"
     "  Database distances from X to every vertex, one per line (or, with\n"
-    "  --format gt, for every source of FILE.gt, written as GEOGT1).\n";
+    "  --format gt, for every source of FILE.gt, written as GEOGT1).\n"
+    "  --point: from the surface point L0 V0 + L1 V1 + L2 V2 (a face's corners\n"
+    "  and barycentric weights); --source-point: from the point of face F of\n"
+    "  MESH (the database's mesh) with barycentric weights b0,b1,b2.\n";
 const char usage_eval[] =
     "usage: geosep eval DB --groundtruth FILE.gt\n"
     "  Compare the database with exact distances (GEOGT1): ME and RMSE of the\n"
@@ -238,21 +251,119 @@ static int query_pairs(const gs_db *db, uint32_t n, const char *path)
     return rc;
 }
 
+/* ---- surface points -------------------------------------------------------- */
+
+/* The mesh must be the database's: same vertex count, same positions. */
+static int load_db_mesh(const char *path, const gs_db *db, uint32_t n, gs_mesh **m)
+{
+    int rc = load_mesh(path, m);
+    if (rc) return rc;
+    uint32_t nm = gs_mesh_num_vertices(*m);
+    const double *a = gs_mesh_positions(*m), *b = gs_db_positions(db);
+    if (nm != n) rc = fail(EXIT_RUNTIME, "%s: %u vertices, the database has %u: not the mesh it was built from", path, nm, n);
+    for (uint32_t v = 0; !rc && v < n; ++v)
+        if (memcmp(a + 3 * (size_t)v, b + 3 * (size_t)v, 3 * sizeof *a))
+            rc = fail(EXIT_RUNTIME, "%s: vertex %u is not where the database has it: not the mesh it was built from", path, v);
+    if (rc) gs_mesh_free(*m), *m = NULL;
+    return rc;
+}
+
+/* A validation message without the library's "surface point: " prefix. */
+static const char *point_message(const gs_error *e)
+{
+    static const char prefix[] = "surface point: ";
+    return strncmp(e->message, prefix, sizeof prefix - 1) ? e->message : e->message + sizeof prefix - 1;
+}
+
+/* A point from text: with a mesh, a face id and three weights (t[0..3]);
+ * without, three vertex ids and three weights (t[0..5]). 0, or -1 with
+ * the reason in why. */
+static int make_point(const gs_db *db, const gs_mesh *mesh, char **t, gs_surface_point *p, char *why, size_t n)
+{
+    int nid = mesh ? 1 : 3;
+    uint32_t id[3];
+    double w[3];
+    for (int k = 0; k < nid; ++k)
+        if (parse_u32(t[k], &id[k]))
+            return snprintf(why, n, "'%s' is not a %s id", t[k], mesh ? "face" : "vertex"), -1;
+    for (int k = 0; k < 3; ++k)
+        if (parse_double(t[nid + k], &w[k])) return snprintf(why, n, "weight '%s' is not a number", t[nid + k]), -1;
+    gs_error e = {0};
+    if (mesh && gs_surface_point_from_face(mesh, id[0], w[0], w[1], w[2], p, &e))
+        return snprintf(why, n, "%s", e.message), -1;
+    if (!mesh) *p = gs_surface_point_make(id[0], id[1], id[2], w[0], w[1], w[2]);
+    if (gs_db_point_check(db, p, &e)) return snprintf(why, n, "%s", point_message(&e)), -1;
+    return 0;
+}
+
+static int query_points(const gs_db *db, const gs_mesh *mesh, const char *path)
+{
+    FILE *f = strcmp(path, "-") ? fopen(path, "r") : stdin;
+    if (!f) return fail(EXIT_RUNTIME, "%s: cannot open", path);
+    const int per = mesh ? 4 : 6;
+    const char *form = mesh ? "'f b0 b1 b2  g c0 c1 c2' (face id and three weights, twice)"
+                            : "'v0 v1 v2 l0 l1 l2  w0 w1 w2 m0 m1 m2' (three vertex ids and three weights, twice)";
+    char line[4096];
+    int rc = 0;
+    for (unsigned long ln = 1; !rc && fgets(line, sizeof line, f); ++ln) {
+        size_t len = strlen(line);
+        if (len == sizeof line - 1 && line[len - 1] != '\n' && !feof(f)) {
+            rc = fail(EXIT_RUNTIME, "%s:%lu: line too long", path, ln);
+            break;
+        }
+        char *t[13], *save = NULL;
+        int k = 0;
+        for (char *tok = strtok_r(line, " \t\r\n", &save); tok && k < 13; tok = strtok_r(NULL, " \t\r\n", &save))
+            t[k++] = tok;
+        if (k == 0) continue;
+        if (k != 2 * per) {
+            rc = fail(EXIT_RUNTIME, "%s:%lu: expected %d fields %s, got %s%d", path, ln, 2 * per, form,
+                      k > 2 * per ? "more than " : "", k > 2 * per ? 2 * per : k);
+            break;
+        }
+        gs_surface_point p[2];
+        char why[600];
+        for (int j = 0; j < 2 && !rc; ++j)
+            if (make_point(db, mesh, t + j * per, &p[j], why, sizeof why))
+                rc = fail(EXIT_RUNTIME, "%s:%lu: %s point: %s", path, ln, j ? "second" : "first", why);
+        if (!rc) print_distance(stdout, gs_db_point_distance(db, &p[0], &p[1]));
+    }
+    if (!rc && ferror(f)) rc = fail(EXIT_RUNTIME, "%s: read error", path);
+    if (f != stdin) fclose(f);
+    return rc;
+}
+
 int cmd_query(int argc, char **argv)
 {
-    for (int i = 1; i < argc; ++i)
+    const char *dbp = NULL, *pairs = NULL, *points = NULL, *meshp = NULL, *ids[2] = {NULL, NULL}, *v;
+    int n_ids = 0;
+    for (int i = 1; i < argc; ++i) {
         if (is_help(argv[i])) return fputs(usage_query, stdout), 0;
-    if (argc != 4) return fail(EXIT_USAGE, "query: need DB X Y or DB --pairs FILE");
+        if ((v = opt_value(argc, argv, &i, "--pairs"))) pairs = v;
+        else if ((v = opt_value(argc, argv, &i, "--points"))) points = v;
+        else if ((v = opt_value(argc, argv, &i, "--mesh"))) meshp = v;
+        else if (argv[i][0] == '-' && argv[i][1]) return fail(EXIT_USAGE, "query: unknown or incomplete option '%s'", argv[i]);
+        else if (!dbp) dbp = argv[i];
+        else if (n_ids < 2) ids[n_ids++] = argv[i];
+        else return fail(EXIT_USAGE, "query: unexpected argument '%s'", argv[i]);
+    }
+    if (!dbp || (!!pairs + !!points + (n_ids > 0)) != 1 || (n_ids && n_ids != 2))
+        return fail(EXIT_USAGE, "query: need DB X Y, DB --pairs FILE or DB --points FILE [--mesh MESH]");
+    if (meshp && !points) return fail(EXIT_USAGE, "query: --mesh goes with --points");
     gs_db *db = NULL;
-    int rc = open_db(argv[1], &db);
+    int rc = open_db(dbp, &db);
     if (rc) return rc;
     gs_db_info info;
     gs_db_get_info(db, &info, NULL);
-    if (!strcmp(argv[2], "--pairs"))
-        rc = query_pairs(db, info.n_vertices, argv[3]);
-    else {
+    if (pairs)
+        rc = query_pairs(db, info.n_vertices, pairs);
+    else if (points) {
+        gs_mesh *m = NULL;
+        if (!meshp || !(rc = load_db_mesh(meshp, db, info.n_vertices, &m))) rc = query_points(db, m, points);
+        gs_mesh_free(m);
+    } else {
         uint32_t x, y;
-        if (!(rc = query_id(argv[2], info.n_vertices, &x)) && !(rc = query_id(argv[3], info.n_vertices, &y)))
+        if (!(rc = query_id(ids[0], info.n_vertices, &x)) && !(rc = query_id(ids[1], info.n_vertices, &y)))
             print_distance(stdout, gs_db_distance(db, x, y));
     }
     gs_db_free(db);
@@ -278,15 +389,59 @@ static int field_gt(const gs_db *db, uint32_t n, const char *from, const char *o
     return rc;
 }
 
+/* "V0,V1,V2:L0,L1,L2" (no mesh) or "F:b0,b1,b2" (with the mesh) into the
+ * tokens make_point reads. */
+static int split_point(char *s, int mesh, char **t)
+{
+    int k = 0, want = mesh ? 4 : 6, commas = 0;
+    char *c = strchr(s, ':');
+    if (!c) return -1;
+    for (char *r = s; r < c; ++r) commas += *r == ',';
+    if (commas != (mesh ? 0 : 2)) return -1;
+    *c = ',';
+    for (char *save = NULL, *tok = strtok_r(s, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        if (k == want) return -1;
+        t[k++] = tok;
+    }
+    return k == want && !strchr(t[k - 1], ':') ? 0 : -1;
+}
+
+static int field_point(const gs_db *db, uint32_t n, const char *opt, const char *spec, const char *meshp,
+                       const char *out)
+{
+    char buf[512], *t[6], why[600];
+    gs_mesh *m = NULL;
+    int rc = 0;
+    const char *form = meshp ? "F:b0,b1,b2 (face id, three barycentric weights)"
+                             : "V0,V1,V2:L0,L1,L2 (three vertex ids, three barycentric weights)";
+    if (strlen(spec) >= sizeof buf || (strcpy(buf, spec), split_point(buf, meshp != NULL, t)))
+        return fail(EXIT_USAGE, "field: %s '%s': expected %s", opt, spec, form);
+    if (meshp && (rc = load_db_mesh(meshp, db, n, &m))) return rc;
+    gs_surface_point p;
+    if (make_point(db, m, t, &p, why, sizeof why)) rc = fail(EXIT_USAGE, "field: %s %s: %s", opt, spec, why);
+    double *d = rc ? NULL : malloc((n ? n : 1) * sizeof *d);
+    gs_error err = {0};
+    if (!rc && !d) rc = fail(EXIT_RUNTIME, "out of memory");
+    else if (!rc && (rc = gs_db_point_field(db, &p, d, &err))) rc = lib_fail("field", rc, &err);
+    else if (!rc) rc = write_text(out, d, n);
+    free(d);
+    gs_mesh_free(m);
+    return rc;
+}
+
 int cmd_field(int argc, char **argv)
 {
-    const char *dbp = NULL, *out = NULL, *from = NULL, *src = NULL, *fmt = NULL, *v;
+    const char *dbp = NULL, *out = NULL, *from = NULL, *src = NULL, *fmt = NULL, *point = NULL, *spoint = NULL,
+               *meshp = NULL, *v;
     for (int i = 1; i < argc; ++i) {
         if (is_help(argv[i])) return fputs(usage_field, stdout), 0;
         if ((v = opt_value(argc, argv, &i, "-o"))) out = v;
+        else if ((v = opt_value(argc, argv, &i, "--source-point"))) spoint = v;
         else if ((v = opt_value(argc, argv, &i, "--source"))) src = v;
         else if ((v = opt_value(argc, argv, &i, "--sources-from"))) from = v;
         else if ((v = opt_value(argc, argv, &i, "--format"))) fmt = v;
+        else if ((v = opt_value(argc, argv, &i, "--point"))) point = v;
+        else if ((v = opt_value(argc, argv, &i, "--mesh"))) meshp = v;
         else if (argv[i][0] == '-' && argv[i][1]) return fail(EXIT_USAGE, "field: unknown option '%s'", argv[i]);
         else if (!dbp) dbp = argv[i];
         else return fail(EXIT_USAGE, "field: unexpected argument '%s'", argv[i]);
@@ -294,8 +449,11 @@ int cmd_field(int argc, char **argv)
     if (fmt && strcmp(fmt, "gt") && strcmp(fmt, "text"))
         return fail(EXIT_USAGE, "field: unknown --format '%s' (text or gt)", fmt);
     int gt = fmt && !strcmp(fmt, "gt");
-    if (!dbp || (gt ? (!from || !out || src) : (!src || from)))
-        return fail(EXIT_USAGE, "field: need DB --source X, or DB --format gt --sources-from FILE.gt -o OUT.gt");
+    int n_src = !!src + !!point + !!spoint;
+    if (!dbp || (gt ? (!from || !out || n_src) : (n_src != 1 || from)))
+        return fail(EXIT_USAGE, "field: need DB --source X, DB --point V0,V1,V2:L0,L1,L2, DB --mesh MESH "
+                                "--source-point F:b0,b1,b2, or DB --format gt --sources-from FILE.gt -o OUT.gt");
+    if (!meshp != !spoint) return fail(EXIT_USAGE, "field: --source-point and --mesh go together");
     gs_db *db = NULL;
     int rc = open_db(dbp, &db);
     if (rc) return rc;
@@ -304,6 +462,8 @@ int cmd_field(int argc, char **argv)
     uint32_t n = info.n_vertices, x;
     if (gt)
         rc = field_gt(db, n, from, out);
+    else if (point || spoint)
+        rc = field_point(db, n, point ? "--point" : "--source-point", point ? point : spoint, meshp, out);
     else if (!(rc = query_id(src, n, &x))) {
         double *d = malloc((n ? n : 1) * sizeof *d);
         gs_error err = {0};

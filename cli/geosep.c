@@ -65,6 +65,7 @@ static void print_usage(FILE *f)
             "  solve MESH --source V ...       distance field from sources\n"
             "  build MESH -o DB                build a query database\n"
             "  query DB X Y                    approximate geodesic distance\n"
+            "  query DB --points FILE          ... between surface points (face, weights)\n"
             "  field DB --source X             distances from X through the database\n"
             "  eval DB --groundtruth F.gt      accuracy against exact distances\n"
             "  land MESH --landmarks M ...     the LAND baseline, evaluated\n"

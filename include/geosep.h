@@ -413,6 +413,93 @@ int gs_db_distances(const gs_db *db, const uint32_t *pairs, size_t n, double *ou
 /* Distances from x to every vertex (out: n_vertices doubles). */
 int gs_db_field(const gs_db *db, uint32_t x, double *out, gs_error *err);
 
+/* Borrowed: the vertex positions the database was built from (3 *
+ * n_vertices doubles, x y z per vertex), valid while db lives; NULL if db
+ * is NULL. (To check that a mesh is the database's.) */
+const double *gs_db_positions(const gs_db *db);
+
+/* ---- Distances between surface points (src/query/points.c) ------------- */
+
+/* A point of the surface: p = sum_i weight[i] * position(corner[i]), with
+ * corner[] the three vertices of one face of the mesh (the database stores
+ * positions, not faces, so the caller names the corners; gs_surface_point_
+ * from_face does it from a mesh) and weight[] its barycentric coordinates.
+ * Valid when: every corner < n_vertices, every weight finite and >=
+ * GS_POINT_WEIGHT_MIN, |sum of the weights - 1| <= GS_POINT_WEIGHT_SUM_TOL,
+ * and, if two or more corners have nonzero weight, each of those is used by
+ * some face (a vertex on its own may be an unreferenced one: it is then
+ * answered as gs_db_distance answers it, +INFINITY to everything else).
+ * Weights are then clamped at 0 and divided by their sum. A corner repeated adds its
+ * weights; only corners of nonzero weight are used, so a vertex v is
+ * {v, v, v} with weights {1, 0, 0} (gs_surface_point_vertex), and a point
+ * on an edge gives the same answers whichever of the edge's two faces
+ * names it. */
+typedef struct gs_surface_point {
+    uint32_t corner[3];
+    double weight[3];
+} gs_surface_point;
+
+#define GS_POINT_WEIGHT_MIN (-1e-12)
+#define GS_POINT_WEIGHT_SUM_TOL 1e-9
+
+/* Constructors (no validation). */
+gs_surface_point gs_surface_point_make(uint32_t v0, uint32_t v1, uint32_t v2, double w0, double w1, double w2);
+gs_surface_point gs_surface_point_vertex(uint32_t v);
+
+/* The point sum_i bary[i] * corner_i of face `face` of mesh (its corners in
+ * the mesh's order). GS_EARG if face >= gs_mesh_num_faces or a NULL
+ * argument; the weights are checked by the queries, not here. */
+int gs_surface_point_from_face(const gs_mesh *mesh, uint32_t face, double b0, double b1, double b2,
+                               gs_surface_point *out, gs_error *err);
+
+/* GS_OK if p is valid for db (rules above), else GS_EARG with a message
+ * naming the bad corner or weight. */
+int gs_db_point_check(const gs_db *db, const gs_surface_point *p, gs_error *err);
+
+/* Approximate geodesic distance between two surface points p = sum_i l_i v_i
+ * and q = sum_j m_j w_j (nonzero weights only), from the database's vertex
+ * queries d(v_i, w_j) by the identity that holds for points in a plane,
+ *   |p - q|^2 = sum_ij l_i m_j |v_i - w_j|^2 - sum_{i<k} l_i l_k |v_i - v_k|^2
+ *                                           - sum_{j<k} m_j m_k |w_j - w_k|^2,
+ * with geodesic distances in place of the first sum (the interpolation the
+ * paper uses for separator samples, sec. 4.2, after Rustamov et al. 2009):
+ *   d(p, q)^2 ~ sum_ij l_i m_j d(v_i, w_j)^2 - (the same two edge terms).
+ * With exact vertex distances it is exact where the geodesics from p's
+ * corners to q's unfold into one plane with p and q (a flat region away
+ * from cut loci), and a close estimate elsewhere (README, "Distances
+ * between surface points", gives the measured errors). Details:
+ *  - two corners (of nonzero weight) of one point are an edge of its face
+ *    (or one vertex): their distance is the straight one (exact), not a
+ *    vertex query; so a point and a corner of its face, or two points of
+ *    one face, get their straight distance in the face (when the corners
+ *    involved have nonzero weights);
+ *  - when every corner pair's distance is the straight one (same face, or
+ *    same leaf without leaf tables), the answer is |p - q| itself (the
+ *    identity then holds exactly; computed directly, it avoids the
+ *    cancellation of nearby points);
+ *  - a negative square is clamped at 0, and the answer is never below the
+ *    straight |p - q| (vertex queries never are either);
+ *  - two vertices (one corner each) give gs_db_distance exactly; the same
+ *    point twice (the same corners of nonzero weight with the same
+ *    weights) gives 0; d(p, q) == d(q, p) bit for bit;
+ *  - +INFINITY if p and q are not connected; NaN if db, p or q is NULL or
+ *    a point is invalid (gs_db_point_check says why).
+ * At most 9 vertex queries. Thread-safe, allocation free. */
+double gs_db_point_distance(const gs_db *db, const gs_surface_point *p, const gs_surface_point *q);
+
+/* n pairs (pairs[2i], pairs[2i+1]) -> out[i]. Invalid points give NaN in
+ * out[] and GS_EARG naming the first one (pair, point and what is wrong);
+ * the other pairs are still answered. Thread-safe, allocation free. */
+int gs_db_point_distances(const gs_db *db, const gs_surface_point *pairs, size_t n, double *out,
+                          gs_error *err);
+
+/* Distances from p to every vertex (out: n_vertices doubles), each equal
+ * bit for bit to gs_db_point_distance(db, p, vertex y); from the corners'
+ * gs_db_field. GS_EARG for an invalid p or NULL argument, GS_ENOMEM if the
+ * work arrays (8 bytes x n_vertices per corner after the first, freed
+ * before returning) cannot be allocated. Thread-safe. */
+int gs_db_point_field(const gs_db *db, const gs_surface_point *p, double *out, gs_error *err);
+
 /* ======================================================================== */
 /* Evaluation (paper section 5) and the LAND baseline                       */
 /* ======================================================================== */

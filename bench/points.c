@@ -1,0 +1,258 @@
+/* bench/points.c - accuracy of the surface-point queries (gs_db_point_*,
+ * src/query/points.c) against exact polyhedral distances:
+ *  - point -> vertex: N random points of random faces (uniform in the face)
+ *    x every vertex, the database's gs_db_point_field against the exact
+ *    solver started at the point (gs_source_point); beside it the same
+ *    interpolation fed with exact vertex distances (its own error), the
+ *    plain formula without the straight corner pairs, and the vertex
+ *    queries' error from each point's first corner (vertex -> vertex);
+ *  - point -> point: N points x N other points, the second set inserted as
+ *    vertices (their faces split 1-to-3: the same surface) so that the
+ *    exact solver started at each first point gives the exact distances.
+ * Relative error |d^ - d| / d over pairs with exact d > 0 and finite:
+ * mean, 99th percentile, max. Also the point pairs' query time.
+ * Usage: bench_points MESH DB [--points N] [--seed S]   (N 200, S 1) */
+#include "geosep.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static uint64_t rng_state;
+static double urand(void)
+{
+    rng_state ^= rng_state << 13, rng_state ^= rng_state >> 7, rng_state ^= rng_state << 17;
+    return (double)(rng_state >> 11) / 9007199254740992.0;
+}
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double dist2(const double *a, const double *b)
+{
+    return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
+}
+
+/* relative errors, kept for the percentile */
+typedef struct errs {
+    double *e;
+    size_t n, cap;
+} errs;
+
+static void add(errs *s, double got, double want)
+{
+    if (!(want > 0) || !isfinite(want)) return;
+    if (s->n == s->cap) {
+        s->cap = s->cap ? 2 * s->cap : 1 << 16;
+        s->e = realloc(s->e, sizeof *s->e * s->cap);
+        if (!s->e) {
+            fprintf(stderr, "out of memory\n");
+            exit(1);
+        }
+    }
+    s->e[s->n++] = fabs(got - want) / want;
+}
+
+static void show(const char *what, errs *s)
+{
+    double sum = 0;
+    qsort(s->e, s->n, sizeof *s->e, cmp_double);
+    for (size_t i = 0; i < s->n; ++i) sum += s->e[i];
+    printf("  %-58s mean %.3f%%  p99 %.3f%%  max %.2f%%  (%zu pairs)\n", what, 100 * sum / s->n,
+           100 * s->e[s->n * 99 / 100], 100 * s->e[s->n - 1], s->n);
+    free(s->e);
+    memset(s, 0, sizeof *s);
+}
+
+typedef struct pt {
+    uint32_t face, c[3];
+    double b[3], x[3];
+} pt;
+
+static pt random_point(const gs_mesh *m, const char *avoid)
+{
+    pt p;
+    uint32_t nf = gs_mesh_num_faces(m);
+    do p.face = (uint32_t)(urand() * nf) % nf;
+    while (avoid && avoid[p.face]);
+    double r1 = urand(), r2 = urand();
+    if (r1 + r2 > 1) r1 = 1 - r1, r2 = 1 - r2;
+    p.b[0] = 1 - r1 - r2, p.b[1] = r1, p.b[2] = r2;
+    memcpy(p.c, gs_mesh_faces(m) + 3 * (size_t)p.face, sizeof p.c);
+    const double *xyz = gs_mesh_positions(m);
+    for (int j = 0; j < 3; ++j) p.x[j] = p.b[0] * xyz[3 * p.c[0] + j] + p.b[1] * xyz[3 * p.c[1] + j] + p.b[2] * xyz[3 * p.c[2] + j];
+    return p;
+}
+
+static gs_surface_point sp(const pt *p)
+{
+    return gs_surface_point_make(p->c[0], p->c[1], p->c[2], p->b[0], p->b[1], p->b[2]);
+}
+
+static void die(const char *what, const gs_error *e)
+{
+    fprintf(stderr, "%s: %s\n", what, e->message);
+    exit(1);
+}
+
+/* sum_{i<k} b_i b_k |c_i - c_k|^2 */
+static double edge_term(const double *xyz, const pt *p)
+{
+    double s = 0;
+    for (int i = 0; i < 3; ++i)
+        for (int k = i + 1; k < 3; ++k) s += p->b[i] * p->b[k] * dist2(xyz + 3 * p->c[i], xyz + 3 * p->c[k]);
+    return s;
+}
+
+static void point_to_vertex(const gs_mesh *m, const gs_db *db, int np)
+{
+    uint32_t n = gs_mesh_num_vertices(m);
+    const double *xyz = gs_mesh_positions(m);
+    gs_error e = {0};
+    gs_patch *all = NULL;
+    gs_solver *s = NULL;
+    if (gs_patch_create(m, NULL, 0, &all, &e) || gs_solver_create(all, GS_METHOD_EXACT, &s, &e)) die("solver", &e);
+    double *ex = malloc(sizeof *ex * n), *f = malloc(sizeof *f * n), *ev[3], *dv[3];
+    for (int i = 0; i < 3; ++i) ev[i] = malloc(sizeof *ev[i] * n), dv[i] = malloc(sizeof *dv[i] * n);
+    errs api = {0}, floor_ = {0}, plain = {0}, vv = {0};
+    for (int k = 0; k < np; ++k) {
+        pt p = random_point(m, NULL);
+        gs_source src = gs_source_point(p.face, p.b[0], p.b[1], p.b[2]);
+        gs_surface_point q = sp(&p);
+        if (gs_solver_solve(s, &src, 1, 0, ex, &e)) die("solve", &e);
+        if (gs_db_point_field(db, &q, f, &e)) die("point field", &e);
+        for (int i = 0; i < 3; ++i) {
+            gs_source sv = gs_source_vertex(p.c[i]);
+            if (gs_solver_solve(s, &sv, 1, 0, ev[i], &e) || gs_db_field(db, p.c[i], dv[i], &e)) die("corner", &e);
+        }
+        double cross = edge_term(xyz, &p);
+        for (uint32_t y = 0; y < n; ++y) {
+            double lo = sqrt(dist2(p.x, xyz + 3 * (size_t)y)), se = -cross, sd = -cross;
+            for (int i = 0; i < 3; ++i) se += p.b[i] * ev[i][y] * ev[i][y], sd += p.b[i] * dv[i][y] * dv[i][y];
+            add(&api, f[y], ex[y]);
+            add(&floor_, fmax(se > 0 ? sqrt(se) : 0, lo), ex[y]);
+            add(&plain, fmax(sd > 0 ? sqrt(sd) : 0, lo), ex[y]);
+            add(&vv, dv[0][y], ev[0][y]);
+        }
+    }
+    printf("point -> vertex (%d random points x %u vertices):\n", np, n);
+    show("database (gs_db_point_field)", &api);
+    show("same formula, every corner pair a vertex query", &plain);
+    show("same formula with exact vertex distances (its own error)", &floor_);
+    show("vertex -> vertex, database, from each point's first corner", &vv);
+    free(ex);
+    free(f);
+    for (int i = 0; i < 3; ++i) free(ev[i]), free(dv[i]);
+    gs_solver_free(s);
+    gs_patch_free(all);
+}
+
+static void point_to_point(const gs_mesh *m, const gs_db *db, int np)
+{
+    uint32_t n = gs_mesh_num_vertices(m), nf = gs_mesh_num_faces(m);
+    const double *xyz = gs_mesh_positions(m);
+    const uint32_t *tri = gs_mesh_faces(m);
+    if ((uint32_t)np > nf / 4) np = (int)(nf / 4);
+    char *taken = calloc(nf, 1);
+    pt *q = malloc(sizeof *q * np);
+    for (int k = 0; k < np; ++k) q[k] = random_point(m, taken), taken[q[k].face] = 1;
+    /* the mesh with q[k] as vertex n + k: its face split 1-to-3 (face ids of
+     * the other faces kept) */
+    double *x2 = malloc(sizeof *x2 * 3 * (n + np));
+    uint32_t *t2 = malloc(sizeof *t2 * 3 * (nf + 2 * (size_t)np));
+    memcpy(x2, xyz, sizeof *x2 * 3 * n);
+    memcpy(t2, tri, sizeof *t2 * 3 * nf);
+    for (int k = 0; k < np; ++k) {
+        uint32_t v = n + k, a = q[k].c[0], b = q[k].c[1], c = q[k].c[2], *t = t2 + 3 * (size_t)q[k].face;
+        memcpy(x2 + 3 * (size_t)v, q[k].x, sizeof q[k].x);
+        t[0] = a, t[1] = b, t[2] = v;
+        t = t2 + 3 * (nf + 2 * (size_t)k);
+        t[0] = b, t[1] = c, t[2] = v, t[3] = c, t[4] = a, t[5] = v;
+    }
+    gs_error e = {0};
+    gs_mesh *m2 = NULL;
+    gs_patch *all = NULL;
+    gs_solver *s = NULL;
+    if (gs_mesh_create(x2, n + np, t2, nf + 2 * np, &m2, &e) || gs_patch_create(m2, NULL, 0, &all, &e) ||
+        gs_solver_create(all, GS_METHOD_EXACT, &s, &e))
+        die("split mesh", &e);
+    double *ex = malloc(sizeof *ex * (n + np)), *ec = malloc(sizeof *ec * (n + np)), tq = 0;
+    errs api = {0}, vv = {0};
+    for (int k = 0; k < np; ++k) {
+        pt p = random_point(m, taken); /* not a split face: same face id in m2 */
+        gs_source src = gs_source_point(p.face, p.b[0], p.b[1], p.b[2]), sv = gs_source_vertex(p.c[0]);
+        if (gs_solver_solve(s, &src, 1, 0, ex, &e) || gs_solver_solve(s, &sv, 1, 0, ec, &e)) die("solve", &e);
+        gs_surface_point a = sp(&p);
+        for (int j = 0; j < np; ++j) {
+            gs_surface_point b = sp(&q[j]);
+            double t = now(), d = gs_db_point_distance(db, &a, &b);
+            tq += now() - t;
+            add(&api, d, ex[n + j]);
+            add(&vv, gs_db_distance(db, p.c[0], q[j].c[0]), ec[q[j].c[0]]);
+        }
+    }
+    printf("point -> point (%d x %d random points, exact distances on the mesh with the second set inserted):\n", np, np);
+    show("database (gs_db_point_distance)", &api);
+    show("vertex -> vertex, database, first corner to first corner", &vv);
+    printf("  (%.0f ns per point pair, timed with the exact pairs in between: see bench_query)\n",
+           1e9 * tq / ((double)np * np));
+    free(ex);
+    free(ec);
+    free(x2);
+    free(t2);
+    free(q);
+    free(taken);
+    gs_solver_free(s);
+    gs_patch_free(all);
+    gs_mesh_free(m2);
+}
+
+int main(int argc, char **argv)
+{
+    const char *mp = NULL, *dp = NULL;
+    int np = 200;
+    uint64_t seed = 1;
+    for (int i = 1; i < argc; ++i) {
+        if (!strcmp(argv[i], "--points") && i + 1 < argc) np = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--seed") && i + 1 < argc) seed = strtoull(argv[++i], NULL, 10);
+        else if (!mp) mp = argv[i];
+        else if (!dp) dp = argv[i];
+    }
+    if (!mp || !dp || np < 1) {
+        printf("usage: %s MESH DB [--points N] [--seed S]\n"
+               "  DB built from MESH, e.g. geosep build ../shared/meshes/bunny-5k.obj -o bunny-5k.gsdb\n",
+               argv[0]);
+        return 2;
+    }
+    rng_state = 0x9E3779B97F4A7C15ull ^ (seed * 0xD1B54A32D192ED03ull);
+    gs_error e = {0};
+    gs_mesh *m = NULL;
+    gs_db *db = NULL;
+    if (gs_mesh_load(mp, GS_FORMAT_AUTO, &m, &e)) die(mp, &e);
+    if (gs_db_open(dp, &db, &e)) die(dp, &e);
+    gs_db_info info;
+    gs_db_get_info(db, &info, NULL);
+    if (info.n_vertices != gs_mesh_num_vertices(m) ||
+        memcmp(gs_db_positions(db), gs_mesh_positions(m), sizeof(double) * 3 * info.n_vertices)) {
+        fprintf(stderr, "%s is not the mesh of %s\n", mp, dp);
+        return 1;
+    }
+    printf("%s (%u vertices), %s, seed %llu\n", mp, gs_mesh_num_vertices(m), dp, (unsigned long long)seed);
+    point_to_vertex(m, db, np);
+    point_to_point(m, db, np);
+    gs_db_free(db);
+    gs_mesh_free(m);
+    return 0;
+}

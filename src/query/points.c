@@ -1,0 +1,270 @@
+/* points.c - distances between arbitrary surface points (a face's corners and
+ * barycentric weights) from the database's vertex queries, by the planar
+ * identity of the paper's sec. 4.2 (Rustamov et al. 2009) applied on both
+ * sides. Uses only the public query functions and the stored positions. */
+#include "../db/db_internal.h"
+#include "../core/internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+/* A validated point: its n distinct corners of nonzero weight in increasing
+ * id order, weights summing to 1, and its position. */
+typedef struct spt {
+    uint32_t n;
+    uint32_t v[3];
+    double w[3];
+    double x[3];
+} spt;
+
+/* Why a point is invalid (0: it is not), and which corner or weight. */
+enum { PT_OK, PT_RANGE, PT_UNUSED, PT_NONFINITE, PT_NEGATIVE, PT_SUM };
+
+gs_surface_point gs_surface_point_make(uint32_t v0, uint32_t v1, uint32_t v2, double w0, double w1, double w2)
+{
+    gs_surface_point p = {{v0, v1, v2}, {w0, w1, w2}};
+    return p;
+}
+
+gs_surface_point gs_surface_point_vertex(uint32_t v)
+{
+    return gs_surface_point_make(v, v, v, 1.0, 0.0, 0.0);
+}
+
+int gs_surface_point_from_face(const gs_mesh *mesh, uint32_t face, double b0, double b1, double b2,
+                               gs_surface_point *out, gs_error *err)
+{
+    if (!mesh || !out) return gs__fail(err, GS_EARG, "gs_surface_point_from_face: NULL argument");
+    uint32_t nf = gs_mesh_num_faces(mesh);
+    if (face >= nf) return gs__fail(err, GS_EARG, "face %u >= n_faces %u", face, nf);
+    const uint32_t *t = gs_mesh_faces(mesh) + 3 * (size_t)face;
+    *out = gs_surface_point_make(t[0], t[1], t[2], b0, b1, b2);
+    return GS_OK;
+}
+
+const double *gs_db_positions(const gs_db *db)
+{
+    return db ? db->xyz : NULL;
+}
+
+static double dist2(const double *a, const double *b)
+{
+    double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    return dx * dx + dy * dy + dz * dz;
+}
+
+static const double *pos(const gs_db *db, uint32_t v)
+{
+    return db->xyz + 3 * (size_t)v;
+}
+
+/* Validate p and bring it to its canonical form; *bad: the corner or
+ * weight at fault. */
+static int canonical(const gs_db *db, const gs_surface_point *p, spt *s, int *bad)
+{
+    double sum = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        *bad = k;
+        if (p->corner[k] >= db->nv) return PT_RANGE;
+        if (!isfinite(p->weight[k])) return PT_NONFINITE;
+        if (p->weight[k] < GS_POINT_WEIGHT_MIN) return PT_NEGATIVE;
+        sum += p->weight[k];
+    }
+    *bad = -1;
+    if (!(fabs(sum - 1.0) <= GS_POINT_WEIGHT_SUM_TOL)) return PT_SUM;
+    /* merge repeated corners, drop zero weights, sort by id (insertion) */
+    s->n = 0;
+    for (int k = 0; k < 3; ++k) {
+        double w = p->weight[k] > 0.0 ? p->weight[k] : 0.0;
+        if (w == 0.0) continue;
+        uint32_t v = p->corner[k], i = 0;
+        while (i < s->n && s->v[i] < v) ++i;
+        if (i < s->n && s->v[i] == v) {
+            s->w[i] += w;
+            continue;
+        }
+        for (uint32_t j = s->n; j > i; --j) s->v[j] = s->v[j - 1], s->w[j] = s->w[j - 1];
+        s->v[i] = v, s->w[i] = w, s->n++;
+    }
+    /* a vertex on its own may be unreferenced (it is then as gs_db_distance
+     * answers it); corners of a face never are */
+    for (uint32_t i = 0; s->n > 1 && i < s->n; ++i)
+        if (db->leaf[s->v[i]] == GS_NONE) {
+            for (int k = 0; k < 3; ++k)
+                if (p->corner[k] == s->v[i]) *bad = k;
+            return PT_UNUSED;
+        }
+    double total = 0.0; /* in id order: the corners' order does not matter */
+    for (uint32_t i = 0; i < s->n; ++i) total += s->w[i];
+    s->x[0] = s->x[1] = s->x[2] = 0.0;
+    for (uint32_t i = 0; i < s->n; ++i) {
+        s->w[i] /= total;
+        for (int c = 0; c < 3; ++c) s->x[c] += s->w[i] * pos(db, s->v[i])[c];
+    }
+    return PT_OK;
+}
+
+static int explain(gs_error *err, const gs_db *db, const gs_surface_point *p, int why, int k, const char *where)
+{
+    switch (why) {
+    case PT_RANGE:
+        return gs__fail(err, GS_EARG, "%s: corner %d is vertex %u >= n_vertices %u", where, k, p->corner[k], db->nv);
+    case PT_UNUSED:
+        return gs__fail(err, GS_EARG, "%s: corner %d (vertex %u) is used by no face, so it is not a face's corner",
+                        where, k, p->corner[k]);
+    case PT_NONFINITE: return gs__fail(err, GS_EARG, "%s: weight %d is %g (must be finite)", where, k, p->weight[k]);
+    case PT_NEGATIVE:
+        return gs__fail(err, GS_EARG, "%s: weight %d is %g (must be >= %g)", where, k, p->weight[k],
+                        GS_POINT_WEIGHT_MIN);
+    case PT_SUM:
+        return gs__fail(err, GS_EARG, "%s: weights sum to %.15g (must be 1 within %g)", where,
+                        p->weight[0] + p->weight[1] + p->weight[2], GS_POINT_WEIGHT_SUM_TOL);
+    default: return GS_OK;
+    }
+}
+
+int gs_db_point_check(const gs_db *db, const gs_surface_point *p, gs_error *err)
+{
+    if (!db || !p) return gs__fail(err, GS_EARG, "gs_db_point_check: NULL argument");
+    spt s;
+    int k, why = canonical(db, p, &s, &k);
+    return explain(err, db, p, why, k, "surface point");
+}
+
+/* Vertex distance d(x, y) for a corner pair: a database query, or a
+ * lookup in precomputed fields. */
+typedef double (*vdist_fn)(const void *ctx, uint32_t x, uint32_t y);
+
+static double vdist_query(const void *ctx, uint32_t x, uint32_t y)
+{
+    return gs_db_distance(ctx, x, y);
+}
+
+static int has(const spt *s, uint32_t v)
+{
+    for (uint32_t i = 0; i < s->n; ++i)
+        if (s->v[i] == v) return 1;
+    return 0;
+}
+
+/* Total order on canonical points: count, ids, weights. */
+static int compare(const spt *a, const spt *b)
+{
+    if (a->n != b->n) return a->n < b->n ? -1 : 1;
+    for (uint32_t i = 0; i < a->n; ++i)
+        if (a->v[i] != b->v[i]) return a->v[i] < b->v[i] ? -1 : 1;
+    for (uint32_t i = 0; i < a->n; ++i)
+        if (a->w[i] != b->w[i]) return a->w[i] < b->w[i] ? -1 : 1;
+    return 0;
+}
+
+/* sum_{i<k} w_i w_k |v_i - v_k|^2: the point's own edge term */
+static double edge_term(const gs_db *db, const spt *s)
+{
+    double c = 0.0;
+    for (uint32_t i = 0; i < s->n; ++i)
+        for (uint32_t k = i + 1; k < s->n; ++k) c += s->w[i] * s->w[k] * dist2(pos(db, s->v[i]), pos(db, s->v[k]));
+    return c;
+}
+
+/* The estimate for a <= b (compare order), a != b. */
+static double estimate(const gs_db *db, const spt *a, const spt *b, vdist_fn vd, const void *ctx)
+{
+    if (a->n == 1 && b->n == 1) return vd(ctx, a->v[0], b->v[0]);
+    double s = 0.0;
+    int straight = 1;
+    for (uint32_t i = 0; i < a->n; ++i)
+        for (uint32_t j = 0; j < b->n; ++j) {
+            uint32_t x = a->v[i], y = b->v[j];
+            double e2 = dist2(pos(db, x), pos(db, y)), d2 = e2;
+            if (!has(a, y) && !has(b, x)) { /* not an edge of either face: ask the database */
+                double d = vd(ctx, x, y);
+                if (d == INFINITY) return INFINITY;
+                straight &= d <= sqrt(e2);
+                d2 = d * d;
+            }
+            s += a->w[i] * b->w[j] * d2;
+        }
+    double e = sqrt(dist2(a->x, b->x));
+    if (straight) return e;
+    s = s - edge_term(db, a) - edge_term(db, b);
+    double d = s > 0.0 ? sqrt(s) : 0.0;
+    return d < e ? e : d;
+}
+
+static double ordered(const gs_db *db, const spt *p, const spt *q, vdist_fn vd, const void *ctx)
+{
+    int c = compare(p, q);
+    if (c == 0) return 0.0;
+    return c < 0 ? estimate(db, p, q, vd, ctx) : estimate(db, q, p, vd, ctx);
+}
+
+double gs_db_point_distance(const gs_db *db, const gs_surface_point *p, const gs_surface_point *q)
+{
+    if (!db || !p || !q) return NAN;
+    spt a, b;
+    int k;
+    if (canonical(db, p, &a, &k) || canonical(db, q, &b, &k)) return NAN;
+    return ordered(db, &a, &b, vdist_query, db);
+}
+
+int gs_db_point_distances(const gs_db *db, const gs_surface_point *pairs, size_t n, double *out, gs_error *err)
+{
+    if (!db || (n && (!pairs || !out))) return gs__fail(err, GS_EARG, "gs_db_point_distances: NULL argument");
+    size_t bad = SIZE_MAX;
+    int bad_why = PT_OK, bad_k = -1;
+    for (size_t i = 0; i < n; ++i) {
+        spt a, b;
+        int ka, kb, wa = canonical(db, &pairs[2 * i], &a, &ka), wb = wa ? PT_OK : canonical(db, &pairs[2 * i + 1], &b, &kb);
+        if (wa || wb) {
+            out[i] = NAN;
+            if (bad == SIZE_MAX) bad = 2 * i + (wa ? 0 : 1), bad_why = wa ? wa : wb, bad_k = wa ? ka : kb;
+            continue;
+        }
+        out[i] = ordered(db, &a, &b, vdist_query, db);
+    }
+    if (bad == SIZE_MAX) return GS_OK;
+    char where[96];
+    snprintf(where, sizeof where, "gs_db_point_distances: pair %zu, point %d", bad / 2, (int)(bad % 2));
+    return explain(err, db, &pairs[bad], bad_why, bad_k, where);
+}
+
+/* ---- fields ---- */
+
+typedef struct field_ctx {
+    const spt *p;
+    const double *f[3]; /* the fields of p's corners */
+} field_ctx;
+
+/* One of x, y is a corner of p (the other is the field's vertex). */
+static double vdist_field(const void *ctx, uint32_t x, uint32_t y)
+{
+    const field_ctx *c = ctx;
+    for (uint32_t i = 0; i < c->p->n; ++i) {
+        if (c->p->v[i] == x) return c->f[i][y];
+        if (c->p->v[i] == y) return c->f[i][x];
+    }
+    return NAN; /* not reached */
+}
+
+int gs_db_point_field(const gs_db *db, const gs_surface_point *p, double *out, gs_error *err)
+{
+    if (!db || !p || !out) return gs__fail(err, GS_EARG, "gs_db_point_field: NULL argument");
+    spt a;
+    int k, why = canonical(db, p, &a, &k);
+    if (why) return explain(err, db, p, why, k, "gs_db_point_field");
+    if (a.n == 1) return gs_db_field(db, a.v[0], out, err); /* a vertex */
+    double *work = gs__malloc((size_t)(a.n - 1) * db->nv, sizeof *work);
+    if (!work) return gs__fail(err, GS_ENOMEM, "gs_db_point_field: out of memory (%u fields)", a.n - 1);
+    field_ctx c = {&a, {out, work, work + db->nv}};
+    int rc = GS_OK;
+    for (uint32_t i = 0; i < a.n && !rc; ++i) rc = gs_db_field(db, a.v[i], (double *)c.f[i], err);
+    for (uint32_t y = 0; y < db->nv && !rc; ++y) { /* out[y] is read (f[0][y]) before it is written */
+        spt b = {1, {y, 0, 0}, {1.0, 0, 0}, {0, 0, 0}}; /* as canonical() makes vertex y */
+        for (int i = 0; i < 3; ++i) b.x[i] += 1.0 * pos(db, y)[i];
+        out[y] = ordered(db, &a, &b, vdist_field, &c);
+    }
+    free(work);
+    return rc;
+}
