@@ -132,13 +132,17 @@ int gs_db_point_check(const gs_db *db, const gs_surface_point *p, gs_error *err)
     return explain(err, db, p, why, k, "surface point");
 }
 
-/* Vertex distance d(x, y) for a corner pair: a database query, or a
- * lookup in precomputed fields. */
-typedef double (*vdist_fn)(const void *ctx, uint32_t x, uint32_t y);
+/* Vertex distances d(x, y) of m corner pairs (pairs[2k], pairs[2k + 1]) ->
+ * out[k]: database queries, or lookups in precomputed fields. */
+typedef void (*vdist_fn)(const void *ctx, const uint32_t *pairs, uint32_t m, double *out);
 
-static double vdist_query(const void *ctx, uint32_t x, uint32_t y)
+/* One batch (gs_db_distances answers as gs_db_distance, bit for bit, and
+ * fetches the pairs' data from memory in parallel: the corners of a point
+ * pair usually lie far from each other's, but close to their own). The
+ * ids are valid (canonical() checked them). */
+static void vdist_query(const void *ctx, const uint32_t *pairs, uint32_t m, double *out)
 {
-    return gs_db_distance(ctx, x, y);
+    gs_db_distances(ctx, pairs, m, out, NULL);
 }
 
 static int has(const spt *s, uint32_t v)
@@ -171,26 +175,34 @@ static double edge_term(const gs_db *db, const spt *s)
 /* The estimate for a <= b (compare order), a != b. */
 static double estimate(const gs_db *db, const spt *a, const spt *b, vdist_fn vd, const void *ctx)
 {
-    if (a->n == 1 && b->n == 1) return vd(ctx, a->v[0], b->v[0]);
+    uint32_t pairs[18], m = 0;
+    double d[9];
+    for (uint32_t i = 0; i < a->n; ++i) /* the pairs that are not an edge of either face */
+        for (uint32_t j = 0; j < b->n; ++j)
+            if (!has(a, b->v[j]) && !has(b, a->v[i])) pairs[2 * m] = a->v[i], pairs[2 * m + 1] = b->v[j], m++;
+    if (m) vd(ctx, pairs, m, d);
+    if (a->n == 1 && b->n == 1) return d[0]; /* two vertices: the vertex query itself */
+    for (uint32_t k = 0; k < m; ++k)
+        if (d[k] == INFINITY) return INFINITY;
     double s = 0.0;
     int straight = 1;
+    m = 0;
     for (uint32_t i = 0; i < a->n; ++i)
         for (uint32_t j = 0; j < b->n; ++j) {
             uint32_t x = a->v[i], y = b->v[j];
             double e2 = dist2(pos(db, x), pos(db, y)), d2 = e2;
-            if (!has(a, y) && !has(b, x)) { /* not an edge of either face: ask the database */
-                double d = vd(ctx, x, y);
-                if (d == INFINITY) return INFINITY;
-                straight &= d <= sqrt(e2);
-                d2 = d * d;
+            if (!has(a, y) && !has(b, x)) { /* a database distance */
+                double dk = d[m++];
+                straight &= dk <= sqrt(e2);
+                d2 = dk * dk;
             }
             s += a->w[i] * b->w[j] * d2;
         }
     double e = sqrt(dist2(a->x, b->x));
     if (straight) return e;
     s = s - edge_term(db, a) - edge_term(db, b);
-    double d = s > 0.0 ? sqrt(s) : 0.0;
-    return d < e ? e : d;
+    double r = s > 0.0 ? sqrt(s) : 0.0;
+    return r < e ? e : r;
 }
 
 static double ordered(const gs_db *db, const spt *p, const spt *q, vdist_fn vd, const void *ctx)
@@ -237,15 +249,25 @@ typedef struct field_ctx {
     const double *f[3]; /* the fields of p's corners */
 } field_ctx;
 
-/* One of x, y is a corner of p (the other is the field's vertex). */
-static double vdist_field(const void *ctx, uint32_t x, uint32_t y)
+/* In each pair one of x, y is a corner of p (the other is the field's
+ * vertex). */
+static void vdist_field(const void *ctx, const uint32_t *pairs, uint32_t m, double *out)
 {
     const field_ctx *c = ctx;
-    for (uint32_t i = 0; i < c->p->n; ++i) {
-        if (c->p->v[i] == x) return c->f[i][y];
-        if (c->p->v[i] == y) return c->f[i][x];
+    for (uint32_t k = 0; k < m; ++k) {
+        uint32_t x = pairs[2 * k], y = pairs[2 * k + 1];
+        out[k] = NAN; /* not reached */
+        for (uint32_t i = 0; i < c->p->n; ++i) {
+            if (c->p->v[i] == x) {
+                out[k] = c->f[i][y];
+                break;
+            }
+            if (c->p->v[i] == y) {
+                out[k] = c->f[i][x];
+                break;
+            }
+        }
     }
-    return NAN; /* not reached */
 }
 
 int gs_db_point_field(const gs_db *db, const gs_surface_point *p, double *out, gs_error *err)
