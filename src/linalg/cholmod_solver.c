@@ -78,7 +78,21 @@ gs_sparse_factor *gs_sparse_factor_create(uint32_t n, size_t nnz, const uint32_t
 
     /* a copy of like's factor carries its ordering and symbolic structure;
      * cholmod_l_factorize overwrites the numeric part */
-    f->L = like ? cholmod_l_copy_factor(like->L, &f->c) : cholmod_l_analyze(A, &f->c);
+    if (like)
+        f->L = cholmod_l_copy_factor(like->L, &f->c);
+    else {
+        /* The analysis tries METIS when AMD's fill is large (homer-960k's
+         * whole mesh: METIS chosen; homer-240k's: AMD). METIS keeps its
+         * random generator in global state (GKlib), seeded at the start of
+         * each call, so two threads analysing at once race on it and get
+         * orderings that differ from run to run, and with them factors
+         * that differ in the last bits: 960k builds whose threads each
+         * factored their patch moved 26-63 functions per build. Analyses
+         * take turns with the partitioner's METIS calls (src/partition/
+         * split.c, the same critical section). */
+#pragma omp critical(gs_metis)
+        f->L = cholmod_l_analyze(A, &f->c);
+    }
     if (!f->L) {
         cholmod_l_free_sparse(&A, &f->c);
         return fail(f, err, GS_ENOMEM, "analysis failed");
