@@ -175,24 +175,28 @@ static double edge_term(const gs_db *db, const spt *s)
 /* The estimate for a <= b (compare order), a != b. */
 static double estimate(const gs_db *db, const spt *a, const spt *b, vdist_fn vd, const void *ctx)
 {
+    /* the corner pairs that are not an edge of either face go to the
+     * database, in one batch; q[i][j]: pair (i, j)'s place in it, -1 for an
+     * edge (its straight length) */
     uint32_t pairs[18], m = 0;
+    int q[3][3];
     double d[9];
-    for (uint32_t i = 0; i < a->n; ++i) /* the pairs that are not an edge of either face */
-        for (uint32_t j = 0; j < b->n; ++j)
-            if (!has(a, b->v[j]) && !has(b, a->v[i])) pairs[2 * m] = a->v[i], pairs[2 * m + 1] = b->v[j], m++;
+    for (uint32_t i = 0; i < a->n; ++i)
+        for (uint32_t j = 0; j < b->n; ++j) {
+            q[i][j] = has(a, b->v[j]) || has(b, a->v[i]) ? -1 : (int)m;
+            if (q[i][j] >= 0) pairs[2 * m] = a->v[i], pairs[2 * m + 1] = b->v[j], m++;
+        }
     if (m) vd(ctx, pairs, m, d);
     if (a->n == 1 && b->n == 1) return d[0]; /* two vertices: the vertex query itself */
     for (uint32_t k = 0; k < m; ++k)
         if (d[k] == INFINITY) return INFINITY;
     double s = 0.0;
     int straight = 1;
-    m = 0;
     for (uint32_t i = 0; i < a->n; ++i)
         for (uint32_t j = 0; j < b->n; ++j) {
-            uint32_t x = a->v[i], y = b->v[j];
-            double e2 = dist2(pos(db, x), pos(db, y)), d2 = e2;
-            if (!has(a, y) && !has(b, x)) { /* a database distance */
-                double dk = d[m++];
+            double e2 = dist2(pos(db, a->v[i]), pos(db, b->v[j])), d2 = e2;
+            if (q[i][j] >= 0) { /* a database distance */
+                double dk = d[q[i][j]];
                 straight &= dk <= sqrt(e2);
                 d2 = dk * dk;
             }

@@ -289,10 +289,11 @@ static inline void prefetch_slots(const gs_db *db, uint32_t x, uint32_t y)
     if (!db->qlev) __builtin_prefetch(db->xyz + 3 * (size_t)x), __builtin_prefetch(db->xyz + 3 * (size_t)y);
 }
 
-/* The first line of x's and y's slots: their headers. */
+/* The batch's first stage: the first line of x's and y's slots, their
+ * headers (nothing for an out-of-range id). */
 static inline void prefetch_headers(const gs_db *db, uint32_t x, uint32_t y)
 {
-    __builtin_prefetch(slot_of(db, x)), __builtin_prefetch(slot_of(db, y));
+    if (x < db->nv && y < db->nv) __builtin_prefetch(slot_of(db, x)), __builtin_prefetch(slot_of(db, y));
 }
 
 /* Header-only slots (qlev 0), different leaves: start fetching the blocks'
@@ -349,9 +350,7 @@ static inline void prefetch_pair(const gs_db *db, uint32_t x, uint32_t y)
  * its misses one after the other. Requesting whole slot heads at the first
  * stage was slower (homer-960k: too many lines in flight at once). The
  * answers are gs_db_distance's, bit for bit (only prefetches are added). */
-#ifndef BATCH_AHEAD
-#define BATCH_AHEAD 4
-#endif
+enum { BATCH_AHEAD = 4 };
 
 /* Out-of-range ids give NaN in out[] and GS_EARG naming the first one; the
  * other pairs are still answered. */
@@ -360,15 +359,11 @@ int gs_db_distances(const gs_db *db, const uint32_t *pairs, size_t n, double *ou
     if (!db || (n && (!pairs || !out))) return gs__fail(err, GS_EARG, "gs_db_distances: NULL argument");
     size_t bad = SIZE_MAX;
     const size_t a = BATCH_AHEAD;
-    if (db->qbuf)
-        for (size_t i = 0; i < 2 * a && i < n; ++i)
-            if (pairs[2 * i] < db->nv && pairs[2 * i + 1] < db->nv) prefetch_headers(db, pairs[2 * i], pairs[2 * i + 1]);
+    for (size_t i = 0; db->qbuf && i < 2 * a && i < n; ++i) prefetch_headers(db, pairs[2 * i], pairs[2 * i + 1]);
     for (size_t i = 0; i < n; ++i) {
         if (db->qbuf) {
-            size_t j = i + 2 * a, k = i + a;
-            if (j < n && pairs[2 * j] < db->nv && pairs[2 * j + 1] < db->nv)
-                prefetch_headers(db, pairs[2 * j], pairs[2 * j + 1]);
-            if (k < n) prefetch_pair(db, pairs[2 * k], pairs[2 * k + 1]);
+            if (i + 2 * a < n) prefetch_headers(db, pairs[2 * (i + 2 * a)], pairs[2 * (i + 2 * a) + 1]);
+            if (i + a < n) prefetch_pair(db, pairs[2 * (i + a)], pairs[2 * (i + a) + 1]);
         }
         out[i] = gs_db_distance(db, pairs[2 * i], pairs[2 * i + 1]);
         if (bad == SIZE_MAX && (pairs[2 * i] >= db->nv || pairs[2 * i + 1] >= db->nv)) bad = i;
