@@ -157,6 +157,11 @@ run solve "$G" --source 66 -o "$T/keep.txt"
 run solve "$T/missing.obj" --source 0 -o "$T/none.txt"
 { [ "$rc" -eq 1 ] && [ ! -e "$T/none.txt" ]; }; verdict "failed solve creates no OUT"
 expect_fail 1 "cannot create|No such" "OUT in a missing folder" solve "$G" --source 0 -o "$T/nodir/d.txt"
+# a path that is not a regular file is refused, never replaced by one
+mkfifo "$T/pipe" && mkdir "$T/folder"
+expect_fail 1 "pipe: exists and is not a regular file" "solve -o a named pipe: refused" solve "$G" --source 0 -o "$T/pipe"
+{ [ -p "$T/pipe" ]; }; verdict "solve -o a named pipe: the pipe is left in place"
+expect_fail 1 "folder: exists and is not a regular file" "solve -o a folder: refused" solve "$G" --source 0 -o "$T/folder"
 { [ -z "$(find "$T" -name '*.tmp.*')" ]; }; verdict "no temporary files left behind"
 
 # ---- --format gt ---------------------------------------------------------
@@ -221,6 +226,8 @@ expect_fail 1 "checksum|section" "query: corrupted database is refused" query "$
 run field "$T/grid.gsdb" --source 0 -o "$T/f0.txt"
 { [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/f0.txt")" -eq 400 ] && [ "$(head -1 "$T/f0.txt")" = "0" ]; }; verdict "field writes one distance per vertex"
 { [ "$(sed -n 400p "$T/f0.txt")" = "$("$BIN" query "$T/grid.gsdb" 0 399)" ]; }; verdict "field agrees with query"
+expect_fail 1 "pipe: exists and is not a regular file" "field -o a named pipe: refused" field "$T/grid.gsdb" --source 0 -o "$T/pipe"
+{ [ -p "$T/pipe" ]; }; verdict "field -o a named pipe: the pipe is left in place"
 run field "$T/grid.gsdb" --format gt --sources-from "$T/grid.gt" -o "$T/dbf.gt"
 { [ "$rc" -eq 0 ] && [ "$(stat -c %s "$T/dbf.gt")" -eq "$(stat -c %s "$T/grid.gt")" ]; }; verdict "field --format gt writes every source"
 # surface points: lines of corner ids + weights, or faces of the mesh
