@@ -24,14 +24,17 @@ const char usage_build[] =
     "  the sampled values (SEPsam) instead of polynomials. --spacing: separator\n"
     "  sample spacing in mean edge lengths (0.5). --max-samples: longer curves\n"
     "  are thinned to this many samples (96; 0 = no cap). --field-memory: MiB\n"
-    "  for one block of distance fields (384; two live at a time). --leaf-exact: also store the\n"
-    "  exact distances between the vertices of each leaf (paper sec. 3.1, matrix\n"
-    "  D; at most vmax numbers per vertex) instead of answering same-leaf queries\n"
-    "  with the Euclidean distance. --threads 0 = all cores. --heat-time,\n"
+    "  for one block of distance fields (384, also for 0; two live at a time).\n"
+    "  --leaf-exact: also store the exact distances between the vertices of each\n"
+    "  leaf (paper sec. 3.1, matrix D; at most vmax numbers per vertex) instead\n"
+    "  of answering same-leaf queries with the Euclidean distance. --threads:\n"
+    "  build threads (0 = all cores, the default). --seed: the partitioning\n"
+    "  seed (1). --heat-time,\n"
     "  --heat-refine and --fmm-start: the field method's parameters (see geosep\n"
     "  solve --help; --heat-refine subdivides each patch while its fields are\n"
     "  solved).\n"
-    "  Shows progress on a terminal; prints the stage times and the size.\n";
+    "  Shows progress on a terminal; prints the stage times and the size\n"
+    "  (--quiet: neither).\n";
 const char usage_query[] =
     "usage: geosep query DB X Y\n"
     "       geosep query DB --pairs FILE                (FILE: lines 'X Y')\n"
@@ -442,7 +445,8 @@ int cmd_field(int argc, char **argv)
         else if ((v = opt_value(argc, argv, &i, "--format"))) fmt = v;
         else if ((v = opt_value(argc, argv, &i, "--point"))) point = v;
         else if ((v = opt_value(argc, argv, &i, "--mesh"))) meshp = v;
-        else if (argv[i][0] == '-' && argv[i][1]) return fail(EXIT_USAGE, "field: unknown option '%s'", argv[i]);
+        else if (argv[i][0] == '-' && argv[i][1])
+            return fail(EXIT_USAGE, "field: unknown or incomplete option '%s' (see geosep field --help)", argv[i]);
         else if (!dbp) dbp = argv[i];
         else return fail(EXIT_USAGE, "field: unexpected argument '%s'", argv[i]);
     }
@@ -553,7 +557,8 @@ int cmd_eval(int argc, char **argv)
     for (int i = 1; i < argc; ++i) {
         if (is_help(argv[i])) return fputs(usage_eval, stdout), 0;
         if ((v = opt_value(argc, argv, &i, "--groundtruth"))) gtp = v;
-        else if (argv[i][0] == '-') return fail(EXIT_USAGE, "eval: unknown option '%s'", argv[i]);
+        else if (argv[i][0] == '-')
+            return fail(EXIT_USAGE, "eval: unknown or incomplete option '%s' (see geosep eval --help)", argv[i]);
         else if (!dbp) dbp = argv[i];
         else return fail(EXIT_USAGE, "eval: unexpected argument '%s'", argv[i]);
     }
@@ -592,7 +597,8 @@ int cmd_land(int argc, char **argv)
         } else if ((v = opt_value(argc, argv, &i, "--method"))) {
             gs_error e = {0};
             if (gs_method_from_name(v, &method, &e)) return fail(EXIT_USAGE, "land: %s", e.message);
-        } else if (argv[i][0] == '-') return fail(EXIT_USAGE, "land: unknown option '%s'", argv[i]);
+        } else if (argv[i][0] == '-')
+            return fail(EXIT_USAGE, "land: unknown or incomplete option '%s' (see geosep land --help)", argv[i]);
         else if (!mp) mp = argv[i];
         else return fail(EXIT_USAGE, "land: unexpected argument '%s'", argv[i]);
     }

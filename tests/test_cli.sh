@@ -228,6 +228,7 @@ run field "$T/grid.gsdb" --source 0 -o "$T/f0.txt"
 { [ "$(sed -n 400p "$T/f0.txt")" = "$("$BIN" query "$T/grid.gsdb" 0 399)" ]; }; verdict "field agrees with query"
 expect_fail 1 "pipe: exists and is not a regular file" "field -o a named pipe: refused" field "$T/grid.gsdb" --source 0 -o "$T/pipe"
 { [ -p "$T/pipe" ]; }; verdict "field -o a named pipe: the pipe is left in place"
+expect_fail 2 "incomplete option '--source'" "field: --source without a value" field "$T/grid.gsdb" --source
 run field "$T/grid.gsdb" --format gt --sources-from "$T/grid.gt" -o "$T/dbf.gt"
 { [ "$rc" -eq 0 ] && [ "$(stat -c %s "$T/dbf.gt")" -eq "$(stat -c %s "$T/grid.gt")" ]; }; verdict "field --format gt writes every source"
 # surface points: lines of corner ids + weights, or faces of the mesh
@@ -263,6 +264,8 @@ run eval "$T/grid.gsdb" --groundtruth "$T/grid.gt"
 { [ "$rc" -eq 0 ] && awk '/^ME / { me = $2 + 0; ok = (me < 0.5) } END { exit !ok }' "$T/out" && grep -q "^cost" "$T/out"; }; verdict "eval: ME below 0.5% on the grid, cost printed"
 run land "$D" --landmarks 8 --groundtruth "$T/grid.gt"
 { [ "$rc" -eq 0 ] && grep -q "^LAND m=8" "$T/out" && grep -q "^ME " "$T/out"; }; verdict "land evaluates the baseline"
+expect_fail 2 "incomplete option '--groundtruth'" "eval: --groundtruth without a value" eval "$T/grid.gsdb" --groundtruth
+expect_fail 2 "incomplete option '--groundtruth'" "land: --groundtruth without a value" land "$D" --landmarks 8 --groundtruth
 expect_fail 1 "made for" "eval: ground truth of another mesh" eval "$T/grid.gsdb" --groundtruth "$T/out.gt"
 expect_fail 2 "vmax" "build: vmax too small" build "$D" -o "$T/x.gsdb" --vmax 1
 { [ ! -e "$T/x.gsdb" ]; }; verdict "build: failure leaves no database"
