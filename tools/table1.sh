@@ -47,8 +47,9 @@ add_row() { # name mesh gt
 for spec in "Square grid:30,30" "Holes plate:1400" "Peaks peaks:50" "Peaks-surf peaks:50,49"; do
   name=${spec% *}; s=${spec#* }
   "$g" generate "$s" -o "$out/$name.obj"
-  [ -f "$out/$name.gt" ] || "$g" solve "$out/$name.obj" --format gt --random $k --seed 1 -o "$out/$name.gt"
-  add_row "$name" "$out/$name.obj" "$out/$name.gt"
+  gt="$out/$name-$k.gt" # by source count: --quick's 20 are not reused for 100
+  [ -f "$gt" ] || "$g" solve "$out/$name.obj" --format gt --random $k --seed 1 -o "$gt"
+  add_row "$name" "$out/$name.obj" "$gt"
 done
 if [ -d "$shared/meshes" ]; then
   for m in spot bunny-5k homer fandisk rocker-arm bunny-10k bunny-20k stanford-bunny homer-60k; do
