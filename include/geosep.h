@@ -139,7 +139,9 @@ int gs_mesh_get_report(const gs_mesh *mesh, gs_mesh_report *report,
 /* Generate a test or demo mesh from a spec string (all sizes in mesh units;
  * defaults in brackets). Flat meshes face +z, closed ones face outwards.
  *   "grid:NX,NY[,W,H]"        flat NX x NY vertex grid on [0,W]x[0,H] [1,1]; NX,NY >= 2
- *   "peaks:N"                 N x N grid of MATLAB's peaks surface on [-3,3]^2; N >= 2
+ *   "peaks:N[,W]"             N x N grid of MATLAB's peaks surface on [-3,3]^2; N >= 2;
+ *                             with W, the same heights on a W x W grid centred on the
+ *                             origin [6] ("peaks:50,49": the mesh surf(peaks(50)) draws)
  *   "plate:N"                 flat plate [0,1]^2 with three round (polygonal)
  *                             holes, about N vertices; N >= 50
  *   "cylinder:NU,NV[,R,H]"    open prism-cylinder, NU >= 3 around, NV >= 2 rings [1,1]
