@@ -73,6 +73,11 @@ int out_open(out_file *o, const char *path)
     o->tmp = NULL;
     o->path = (path && strcmp(path, "-")) ? path : NULL;
     if (!o->path) return 0;
+    /* the rename would replace whatever the path names: a device, a pipe or
+     * a folder is refused (as gs_db_save and gs_gt_write refuse it) */
+    struct stat old;
+    if (stat(path, &old) == 0 && !S_ISREG(old.st_mode))
+        return fail(EXIT_RUNTIME, "%s: exists and is not a regular file (not replaced)", path);
     size_t n = strlen(path) + 16;
     o->tmp = malloc(n);
     if (!o->tmp) return fail(EXIT_RUNTIME, "out of memory");

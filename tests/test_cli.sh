@@ -252,6 +252,20 @@ run field "$T/grid.gsdb" --mesh "$D" --source-point 0:0.2,0.3,0.5 -o "$T/fp2.txt
 expect_fail 2 "expected V0,V1,V2:L0,L1,L2" "field --point: malformed" field "$T/grid.gsdb" --point 0,1:21,0.2,0.3,0.5
 expect_fail 2 "weight 1 is nan|not a number" "field --point: NaN weight" field "$T/grid.gsdb" --point 0,1,21:0.2,nan,0.8
 expect_fail 2 "go together" "field --source-point without --mesh" field "$T/grid.gsdb" --source-point 0:0.2,0.3,0.5
+# output: a failed write to stdout is an error; -o never replaces what is not a regular file
+if [ -w /dev/full ]; then
+    "$BIN" query "$T/grid.gsdb" --points "$T/pts.txt" >/dev/full 2>"$T/err"; rc=$?
+    { [ "$rc" -eq 1 ] && grep -q "write error on stdout" "$T/err"; }; verdict "query --points: a failed write to stdout is an error"
+    "$BIN" query "$T/grid.gsdb" 0 1 >/dev/full 2>"$T/err"; rc=$?
+    { [ "$rc" -eq 1 ] && grep -q "write error on stdout" "$T/err"; }; verdict "query X Y: a failed write to stdout is an error"
+fi
+mkfifo "$T/fifo"
+expect_fail 1 "fifo: exists and is not a regular file" "field -o a pipe: refused" field "$T/grid.gsdb" --point 0,1,21:0.2,0.3,0.5 -o "$T/fifo"
+expect_fail 1 "fifo: exists and is not a regular file" "solve -o a pipe: refused" solve "$D" --source 0 -o "$T/fifo"
+{ [ -p "$T/fifo" ]; }; verdict "-o a pipe: the pipe is not replaced by a file"
+echo keep >"$T/keep.txt"
+expect_fail 2 "weights sum to 1.1" "field --point: bad weights" field "$T/grid.gsdb" --point 0,1,21:0.2,0.3,0.6 -o "$T/keep.txt"
+{ [ "$(cat "$T/keep.txt")" = keep ]; }; verdict "field --point: a failure keeps an existing OUT"
 run eval "$T/grid.gsdb" --groundtruth "$T/grid.gt"
 { [ "$rc" -eq 0 ] && awk '/^ME / { me = $2 + 0; ok = (me < 0.5) } END { exit !ok }' "$T/out" && grep -q "^cost" "$T/out"; }; verdict "eval: ME below 0.5% on the grid, cost printed"
 run land "$D" --landmarks 8 --groundtruth "$T/grid.gt"
