@@ -1,8 +1,9 @@
 /* test_points_props.c - randomized properties of the surface-point queries
  * (gs_db_point_*, src/query/points.c) over generated meshes and several
  * kinds of database (defaults, small leaves, leaf tables, sampled
- * functions, two components): thousands of random points inside faces, on
- * edges and at vertices, each also named another way (the other face of
+ * functions, two components, no query cache, the query cache's large
+ * layout): thousands of random points inside faces, on edges and at
+ * vertices, each also named another way (the other face of
  * its edge, another face of its vertex, the corners in another order, a
  * zero weight written as -0.0 or as a negative within GS_POINT_WEIGHT_MIN);
  * the invariants the header documents must hold bit for bit: symmetry, the
@@ -11,6 +12,7 @@
  * batch = the single queries (with bad pairs among them) and the field =
  * the single queries. */
 #include "check.h"
+#include "db/db_internal.h" /* gs__qslot_min_bytes: the large cache layout */
 #include "geosep.h"
 
 #include <math.h>
@@ -193,8 +195,9 @@ static void check_pair(const meshinfo *mi, const gs_db *db, const tpoint *a, con
     }
 }
 
-/* Every property on n random point pairs and nfields fields. */
-static void run(const char *spec, const gs_build_options *o, const char *what, int n, int nfields)
+/* Every property on n random point pairs and nfields fields; slots: the
+ * database reopened with the query cache's large layout. */
+static void run_ex(const char *spec, const gs_build_options *o, const char *what, int n, int nfields, int slots)
 {
     gs_mesh *m = NULL;
     gs_db *db = NULL;
@@ -206,6 +209,16 @@ static void run(const char *spec, const gs_build_options *o, const char *what, i
     CHECK_MSG(gs_mesh_generate(spec, &m, &e) == GS_OK, "%s: %s", spec, e.message);
     if (!m) goto done;
     CHECK_MSG(gs_db_build(m, o, &db, NULL, &e) == GS_OK, "%s (%s): build: %s", spec, what, e.message);
+    if (db && slots) {
+        gs_db *built = db;
+        uint64_t keep = gs__qslot_min_bytes;
+        gs__qslot_min_bytes = 0;
+        db = NULL;
+        CHECK(gs_db_open_memory(built->bytes, (size_t)built->size, &db, &e) == GS_OK);
+        CHECK(!db || db->qlev == GS_QSLOT_LEVELS);
+        gs__qslot_min_bytes = keep;
+        gs_db_free(built);
+    }
     if (!db || info_init(&mi, m)) goto done;
     pts = malloc(sizeof *pts * 2 * (size_t)n);
     pairs = malloc(sizeof *pairs * 2 * (size_t)n);
@@ -265,11 +278,17 @@ done:
     gs_mesh_free(m);
 }
 
+static void run(const char *spec, const gs_build_options *o, const char *what, int n, int nfields)
+{
+    run_ex(spec, o, what, n, nfields, 0);
+}
+
 int main(void)
 {
-    gs_build_options def, small, exact, sampled;
+    gs_build_options def, small, exact, sampled, bare;
     gs_build_options_default(&def);
     small = def, small.vmax = 6;
+    bare = def, bare.no_query_cache = 1;
     exact = def, exact.leaf_exact = 1;
     sampled = def, sampled.sampled = 1, sampled.vmax = 12;
     const char *q = getenv("GEOSEP_QUICK");
@@ -285,5 +304,8 @@ int main(void)
     run("cube:3", &small, "vmax 6", n, 8);
     run("two:5", &def, "two components", n, 8);
     run("two:5", &exact, "two, leaf tables", n, 8);
+    run("peaks:16", &bare, "no query cache", n, 8);
+    run_ex("peaks:16", &small, "large cache", n, 8, 1);
+    run_ex("two:8", &small, "two, large cache", n, 8, 1);
     return gs_test_finish("test_points_props");
 }
