@@ -252,7 +252,8 @@ static int query_pairs(const gs_db *db, uint32_t n, const char *path)
 
 /* ---- surface points -------------------------------------------------------- */
 
-/* The mesh must be the database's: same vertex count, same positions. */
+/* The mesh must be the database's: same vertex count, same positions (as
+ * numbers: -0 is where 0 is). */
 static int load_db_mesh(const char *path, const gs_db *db, uint32_t n, gs_mesh **m)
 {
     int rc = load_mesh(path, m);
@@ -261,7 +262,8 @@ static int load_db_mesh(const char *path, const gs_db *db, uint32_t n, gs_mesh *
     const double *a = gs_mesh_positions(*m), *b = gs_db_positions(db);
     if (nm != n) rc = fail(EXIT_RUNTIME, "%s: %u vertices, the database has %u: not the mesh it was built from", path, nm, n);
     for (uint32_t v = 0; !rc && v < n; ++v)
-        if (memcmp(a + 3 * (size_t)v, b + 3 * (size_t)v, 3 * sizeof *a))
+        if (a[3 * (size_t)v] != b[3 * (size_t)v] || a[3 * (size_t)v + 1] != b[3 * (size_t)v + 1] ||
+            a[3 * (size_t)v + 2] != b[3 * (size_t)v + 2])
             rc = fail(EXIT_RUNTIME, "%s: vertex %u is not where the database has it: not the mesh it was built from", path, v);
     if (rc) gs_mesh_free(*m), *m = NULL;
     return rc;

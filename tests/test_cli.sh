@@ -277,6 +277,9 @@ expect_fail 1 "adir: .*directory" "query --pairs: a directory" query "$T/grid.gs
 expect_fail 1 "adir: .*directory" "query --points: a directory" query "$T/grid.gsdb" --points "$T/adir"
 run query "$T/grid.gsdb" --points /dev/null
 { [ "$rc" -eq 0 ] && [ ! -s "$T/out" ]; }; verdict "query --points /dev/null: no pairs, no output"
+awk '$1 == "v" && $2 == 0 && !done { $2 = "-0"; done = 1 } { print }' "$D" >"$T/negzero.obj"
+run query "$T/grid.gsdb" --points "$T/fpts.txt" --mesh "$T/negzero.obj"
+{ [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = "$p1" ]; }; verdict "query --points --mesh: a coordinate written -0 is where the database has 0"
 awk '$1 == "v" && !done { $2 = $2 + 0.001; done = 1 } { print }' "$D" >"$T/moved.obj"
 expect_fail 1 "moved.obj: vertex 0 is not where the database has it" "query --points --mesh: a moved vertex" query "$T/grid.gsdb" --points "$T/fpts.txt" --mesh "$T/moved.obj"
 # output: a failed write to stdout is an error; -o never replaces what is not a regular file
