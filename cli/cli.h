@@ -55,6 +55,9 @@ int lines_open(line_reader *r, const char *path);
 /* 1: the next line is in r->line; 0: end of input; -1: an error (printed). */
 int lines_next(line_reader *r);
 void lines_close(line_reader *r);
+/* s for a message: printable ASCII as is, other bytes as \xNN, cut with
+ * "..." to fit buf (n >= 16 bytes). Returns buf. */
+const char *shown(const char *s, char *buf, size_t n);
 /* The blank-separated fields of s (modified in place) into t[0..max-1]:
  * their number, max if there are max or more. */
 int split_fields(char *s, char **t, int max);

@@ -284,11 +284,13 @@ static int make_point(const gs_db *db, const gs_mesh *mesh, char **t, gs_surface
     int nid = mesh ? 1 : 3;
     uint32_t id[3];
     double w[3];
+    char tok[80]; /* the field as the message shows it */
     for (int k = 0; k < nid; ++k)
         if (parse_u32(t[k], &id[k]))
-            return snprintf(why, n, "'%s' is not a %s id", t[k], mesh ? "face" : "vertex"), -1;
+            return snprintf(why, n, "'%s' is not a %s id", shown(t[k], tok, sizeof tok), mesh ? "face" : "vertex"), -1;
     for (int k = 0; k < 3; ++k)
-        if (parse_double(t[nid + k], &w[k])) return snprintf(why, n, "weight '%s' is not a number", t[nid + k]), -1;
+        if (parse_double(t[nid + k], &w[k]))
+            return snprintf(why, n, "weight '%s' is not a number", shown(t[nid + k], tok, sizeof tok)), -1;
     gs_error e = {0};
     if (mesh && gs_surface_point_from_face(mesh, id[0], w[0], w[1], w[2], p, &e))
         return snprintf(why, n, "%s", e.message), -1;

@@ -165,6 +165,19 @@ void lines_close(line_reader *r)
     r->f = NULL;
 }
 
+const char *shown(const char *s, char *buf, size_t n)
+{
+    size_t k = 0;
+    for (; *s && k + 8 < n; ++s) {
+        unsigned char c = (unsigned char)*s;
+        if (c >= 0x20 && c < 0x7f) buf[k++] = (char)c;
+        else k += (size_t)snprintf(buf + k, n - k, "\\x%02x", c);
+    }
+    if (*s) k += (size_t)snprintf(buf + k, n - k, "...");
+    buf[k < n ? k : n - 1] = 0;
+    return buf;
+}
+
 int split_fields(char *s, char **t, int max)
 {
     int k = 0;
