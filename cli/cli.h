@@ -40,6 +40,28 @@ int out_commit(out_file *o);
 /* One distance per line ("%.17g", "inf"). */
 int write_text(const char *path, const double *d, uint32_t n);
 
+/* Line-by-line text input: path or "-" (stdin); a folder is refused. Each
+ * line is read whole into line[] (without its '\n'): a NUL byte, a line
+ * longer than sizeof line - 1 bytes or a read error is an error naming the
+ * file and line, never a silently cut or split line. */
+typedef struct line_reader {
+    FILE *f;
+    const char *path;
+    unsigned long ln; /* number of the line in line[] (1-based) */
+    char line[4096];
+} line_reader;
+/* 0, or an exit code (message printed). */
+int lines_open(line_reader *r, const char *path);
+/* 1: the next line is in r->line; 0: end of input; -1: an error (printed). */
+int lines_next(line_reader *r);
+void lines_close(line_reader *r);
+/* s for a message: printable ASCII as is, other bytes as \xNN, cut with
+ * "..." to fit buf (n >= 16 bytes). Returns buf. */
+const char *shown(const char *s, char *buf, size_t n);
+/* The blank-separated fields of s (modified in place) into t[0..max-1]:
+ * their number, max if there are max or more. */
+int split_fields(char *s, char **t, int max);
+
 /* Database commands (db_cmds.c). */
 int cmd_build(int argc, char **argv);
 int cmd_query(int argc, char **argv);

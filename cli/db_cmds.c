@@ -41,7 +41,8 @@ const char usage_query[] =
     "       geosep query DB --points FILE               (lines 'v0 v1 v2 l0 l1 l2  w0 w1 w2 m0 m1 m2')\n"
     "       geosep query DB --points FILE --mesh MESH   (lines 'f b0 b1 b2  g c0 c1 c2')\n"
     "  Approximate geodesic distance between vertices X and Y, one per line\n"
-    "  (\"inf\" if they are not connected; FILE '-' = stdin, blank lines skipped).\n"
+    "  (\"inf\" if they are not connected; FILE '-' = stdin, blank lines skipped;\n"
+    "  fields separated by spaces or tabs, lines of at most 4095 bytes).\n"
     "  --points: between two surface points per line, each a face's three corner\n"
     "  vertex ids and barycentric weights (l0 v0 + l1 v1 + l2 v2), or with\n"
     "  --mesh (the mesh the database was built from) a face id of MESH and\n"
@@ -235,28 +236,27 @@ static int query_id(const char *s, uint32_t n, uint32_t *v)
 
 static int query_pairs(const gs_db *db, uint32_t n, const char *path)
 {
-    FILE *f = strcmp(path, "-") ? fopen(path, "r") : stdin;
-    if (!f) return fail(EXIT_RUNTIME, "%s: cannot open", path);
-    char line[256];
-    int rc = 0;
-    for (unsigned long ln = 1; !rc && fgets(line, sizeof line, f); ++ln) {
-        char a[64], b[64], extra[2];
-        int k = sscanf(line, "%63s %63s %1s", a, b, extra);
-        if (k <= 0) continue;
+    line_reader r;
+    int rc = lines_open(&r, path), got = 0;
+    while (!rc && (got = lines_next(&r)) > 0) {
+        char *t[3];
+        int k = split_fields(r.line, t, 3);
+        if (k == 0) continue;
         uint32_t x, y;
-        if (k != 2 || parse_u32(a, &x) || parse_u32(b, &y) || x >= n || y >= n) {
-            rc = fail(EXIT_RUNTIME, "%s:%lu: expected two vertex ids below %u", path, ln, n);
-            break;
-        }
-        print_distance(stdout, gs_db_distance(db, x, y));
+        if (k != 2 || parse_u32(t[0], &x) || parse_u32(t[1], &y) || x >= n || y >= n)
+            rc = fail(EXIT_RUNTIME, "%s:%lu: expected two vertex ids below %u", path, r.ln, n);
+        else
+            print_distance(stdout, gs_db_distance(db, x, y));
     }
-    if (f != stdin) fclose(f);
+    if (got < 0) rc = EXIT_RUNTIME;
+    lines_close(&r);
     return rc;
 }
 
 /* ---- surface points -------------------------------------------------------- */
 
-/* The mesh must be the database's: same vertex count, same positions. */
+/* The mesh must be the database's: same vertex count, same positions (as
+ * numbers: -0 is where 0 is). */
 static int load_db_mesh(const char *path, const gs_db *db, uint32_t n, gs_mesh **m)
 {
     int rc = load_mesh(path, m);
@@ -265,7 +265,8 @@ static int load_db_mesh(const char *path, const gs_db *db, uint32_t n, gs_mesh *
     const double *a = gs_mesh_positions(*m), *b = gs_db_positions(db);
     if (nm != n) rc = fail(EXIT_RUNTIME, "%s: %u vertices, the database has %u: not the mesh it was built from", path, nm, n);
     for (uint32_t v = 0; !rc && v < n; ++v)
-        if (memcmp(a + 3 * (size_t)v, b + 3 * (size_t)v, 3 * sizeof *a))
+        if (a[3 * (size_t)v] != b[3 * (size_t)v] || a[3 * (size_t)v + 1] != b[3 * (size_t)v + 1] ||
+            a[3 * (size_t)v + 2] != b[3 * (size_t)v + 2])
             rc = fail(EXIT_RUNTIME, "%s: vertex %u is not where the database has it: not the mesh it was built from", path, v);
     if (rc) gs_mesh_free(*m), *m = NULL;
     return rc;
@@ -286,11 +287,13 @@ static int make_point(const gs_db *db, const gs_mesh *mesh, char **t, gs_surface
     int nid = mesh ? 1 : 3;
     uint32_t id[3];
     double w[3];
+    char tok[80]; /* the field as the message shows it */
     for (int k = 0; k < nid; ++k)
         if (parse_u32(t[k], &id[k]))
-            return snprintf(why, n, "'%s' is not a %s id", t[k], mesh ? "face" : "vertex"), -1;
+            return snprintf(why, n, "'%s' is not a %s id", shown(t[k], tok, sizeof tok), mesh ? "face" : "vertex"), -1;
     for (int k = 0; k < 3; ++k)
-        if (parse_double(t[nid + k], &w[k])) return snprintf(why, n, "weight '%s' is not a number", t[nid + k]), -1;
+        if (parse_double(t[nid + k], &w[k]))
+            return snprintf(why, n, "weight '%s' is not a number", shown(t[nid + k], tok, sizeof tok)), -1;
     gs_error e = {0};
     if (mesh && gs_surface_point_from_face(mesh, id[0], w[0], w[1], w[2], p, &e))
         return snprintf(why, n, "%s", e.message), -1;
@@ -301,26 +304,17 @@ static int make_point(const gs_db *db, const gs_mesh *mesh, char **t, gs_surface
 
 static int query_points(const gs_db *db, const gs_mesh *mesh, const char *path)
 {
-    FILE *f = strcmp(path, "-") ? fopen(path, "r") : stdin;
-    if (!f) return fail(EXIT_RUNTIME, "%s: cannot open", path);
     const int per = mesh ? 4 : 6;
     const char *form = mesh ? "'f b0 b1 b2  g c0 c1 c2' (face id and three weights, twice)"
                             : "'v0 v1 v2 l0 l1 l2  w0 w1 w2 m0 m1 m2' (three vertex ids and three weights, twice)";
-    char line[4096];
-    int rc = 0;
-    for (unsigned long ln = 1; !rc && fgets(line, sizeof line, f); ++ln) {
-        size_t len = strlen(line);
-        if (len == sizeof line - 1 && line[len - 1] != '\n' && !feof(f)) {
-            rc = fail(EXIT_RUNTIME, "%s:%lu: line too long", path, ln);
-            break;
-        }
-        char *t[13], *save = NULL;
-        int k = 0;
-        for (char *tok = strtok_r(line, " \t\r\n", &save); tok && k < 13; tok = strtok_r(NULL, " \t\r\n", &save))
-            t[k++] = tok;
+    line_reader r;
+    int rc = lines_open(&r, path), got = 0;
+    while (!rc && (got = lines_next(&r)) > 0) {
+        char *t[13];
+        int k = split_fields(r.line, t, 2 * per + 1);
         if (k == 0) continue;
         if (k != 2 * per) {
-            rc = fail(EXIT_RUNTIME, "%s:%lu: expected %d fields %s, got %s%d", path, ln, 2 * per, form,
+            rc = fail(EXIT_RUNTIME, "%s:%lu: expected %d fields %s, got %s%d", path, r.ln, 2 * per, form,
                       k > 2 * per ? "more than " : "", k > 2 * per ? 2 * per : k);
             break;
         }
@@ -328,11 +322,11 @@ static int query_points(const gs_db *db, const gs_mesh *mesh, const char *path)
         char why[600];
         for (int j = 0; j < 2 && !rc; ++j)
             if (make_point(db, mesh, t + j * per, &p[j], why, sizeof why))
-                rc = fail(EXIT_RUNTIME, "%s:%lu: %s point: %s", path, ln, j ? "second" : "first", why);
+                rc = fail(EXIT_RUNTIME, "%s:%lu: %s point: %s", path, r.ln, j ? "second" : "first", why);
         if (!rc) print_distance(stdout, gs_db_point_distance(db, &p[0], &p[1]));
     }
-    if (!rc && ferror(f)) rc = fail(EXIT_RUNTIME, "%s: read error", path);
-    if (f != stdin) fclose(f);
+    if (got < 0) rc = EXIT_RUNTIME;
+    lines_close(&r);
     return rc;
 }
 
@@ -393,20 +387,24 @@ static int field_gt(const gs_db *db, uint32_t n, const char *from, const char *o
 }
 
 /* "V0,V1,V2:L0,L1,L2" (no mesh) or "F:b0,b1,b2" (with the mesh) into the
- * tokens make_point reads. */
+ * tokens make_point reads: exactly one ':', the counts of fields, none
+ * empty. */
 static int split_point(char *s, int mesh, char **t)
 {
-    int k = 0, want = mesh ? 4 : 6, commas = 0;
     char *c = strchr(s, ':');
-    if (!c) return -1;
-    for (char *r = s; r < c; ++r) commas += *r == ',';
-    if (commas != (mesh ? 0 : 2)) return -1;
+    if (!c || strchr(c + 1, ':')) return -1;
     *c = ',';
-    for (char *save = NULL, *tok = strtok_r(s, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    int k = 0, want = mesh ? 4 : 6, nid = mesh ? 1 : 3;
+    for (char *f = s;; ++k) {
         if (k == want) return -1;
-        t[k++] = tok;
+        t[k] = f;
+        if (!(f = strchr(f, ','))) break;
+        *f++ = 0;
     }
-    return k == want && !strchr(t[k - 1], ':') ? 0 : -1;
+    if (++k != want || t[nid] != c + 1) return -1;
+    for (int i = 0; i < want; ++i)
+        if (!*t[i]) return -1;
+    return 0;
 }
 
 static int field_point(const gs_db *db, uint32_t n, const char *opt, const char *spec, const char *meshp,

@@ -476,5 +476,8 @@ int main(int argc, char **argv)
     if (!strcmp(cmd, "version") || !strcmp(cmd, "--version")) return printf("geosep %s\n", gs_version_string()), 0;
     const command *c = find_command(cmd);
     if (!c) return fail(EXIT_USAGE, "unknown command '%s' (try geosep --help)", cmd);
-    return c->run(argc - 1, argv + 1);
+    int rc = c->run(argc - 1, argv + 1);
+    /* what went to stdout (answers, reports) must have arrived */
+    if ((fflush(stdout) != 0 || ferror(stdout)) && !rc) rc = fail(EXIT_RUNTIME, "write error on stdout");
+    return rc;
 }

@@ -2,6 +2,7 @@
  * parsing, option values, atomic text output, mesh loading. */
 #include "cli.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -58,6 +59,7 @@ int parse_u32(const char *s, uint32_t *out)
 int parse_double(const char *s, double *out)
 {
     char *end;
+    if (isspace((unsigned char)*s)) return -1; /* strtod would skip it */
     errno = 0;
     double v = strtod(s, &end);
     if (end == s || *end || isnan(v)) return -1;
@@ -124,6 +126,66 @@ int out_commit(out_file *o)
     if (bad) unlink(o->tmp);
     free(o->tmp);
     return bad ? fail(EXIT_RUNTIME, "%s: write failed: %s", o->path, strerror(e)) : 0;
+}
+
+/* ---- line-by-line input (query --pairs, --points) ------------------------ */
+
+int lines_open(line_reader *r, const char *path)
+{
+    r->path = path;
+    r->ln = 0;
+    r->f = strcmp(path, "-") ? fopen(path, "r") : stdin;
+    if (!r->f) return fail(EXIT_RUNTIME, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st; /* a folder opens, then fails to read */
+    if (fstat(fileno(r->f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        lines_close(r);
+        return fail(EXIT_RUNTIME, "%s: is a directory", path);
+    }
+    return 0;
+}
+
+int lines_next(line_reader *r)
+{
+    size_t n = 0;
+    int c;
+    r->ln++;
+    while ((c = getc(r->f)) != EOF && c != '\n') {
+        if (c == 0) return fail(EXIT_RUNTIME, "%s:%lu: NUL byte in the line", r->path, r->ln), -1;
+        if (n == sizeof r->line - 1)
+            return fail(EXIT_RUNTIME, "%s:%lu: line longer than %zu bytes", r->path, r->ln, sizeof r->line - 1), -1;
+        r->line[n++] = (char)c;
+    }
+    if (c == EOF && ferror(r->f)) return fail(EXIT_RUNTIME, "%s:%lu: read error: %s", r->path, r->ln, strerror(errno)), -1;
+    r->line[n] = 0;
+    return c == EOF && n == 0 ? 0 : 1;
+}
+
+void lines_close(line_reader *r)
+{
+    if (r->f && r->f != stdin) fclose(r->f);
+    r->f = NULL;
+}
+
+const char *shown(const char *s, char *buf, size_t n)
+{
+    size_t k = 0;
+    for (; *s && k + 8 < n; ++s) {
+        unsigned char c = (unsigned char)*s;
+        if (c >= 0x20 && c < 0x7f) buf[k++] = (char)c;
+        else k += (size_t)snprintf(buf + k, n - k, "\\x%02x", c);
+    }
+    if (*s) k += (size_t)snprintf(buf + k, n - k, "...");
+    buf[k < n ? k : n - 1] = 0;
+    return buf;
+}
+
+int split_fields(char *s, char **t, int max)
+{
+    int k = 0;
+    char *save = NULL;
+    for (char *tok = strtok_r(s, " \t\r\v\f", &save); tok && k < max; tok = strtok_r(NULL, " \t\r\v\f", &save))
+        t[k++] = tok;
+    return k;
 }
 
 int load_mesh(const char *path, gs_mesh **m)

@@ -427,7 +427,8 @@ const double *gs_db_positions(const gs_db *db);
  * positions, not faces, so the caller names the corners; gs_surface_point_
  * from_face does it from a mesh) and weight[] its barycentric coordinates.
  * Valid when: every corner < n_vertices, every weight finite and >=
- * GS_POINT_WEIGHT_MIN, |sum of the weights - 1| <= GS_POINT_WEIGHT_SUM_TOL,
+ * GS_POINT_WEIGHT_MIN, |sum of the weights - 1| <= GS_POINT_WEIGHT_SUM_TOL
+ * (the exact sum of the three doubles, not a rounded one),
  * and, if two or more corners have nonzero weight, each of those is used by
  * some face (a vertex on its own may be an unreferenced one: it is then
  * answered as gs_db_distance answers it, +INFINITY to everything else).

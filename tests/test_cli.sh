@@ -260,6 +260,58 @@ run field "$T/grid.gsdb" --mesh "$D" --source-point 0:0.2,0.3,0.5 -o "$T/fp2.txt
 expect_fail 2 "expected V0,V1,V2:L0,L1,L2" "field --point: malformed" field "$T/grid.gsdb" --point 0,1:21,0.2,0.3,0.5
 expect_fail 2 "weight 1 is nan|not a number" "field --point: NaN weight" field "$T/grid.gsdb" --point 0,1,21:0.2,nan,0.8
 expect_fail 2 "go together" "field --source-point without --mesh" field "$T/grid.gsdb" --source-point 0:0.2,0.3,0.5
+# point and pair files: what the format allows is read the same, the rest is refused by line
+printf '0\t1 21 0.2 0.3 0.5  399 398 378 1 0 0 \r\n\r\n\t\n5 5 5 1 0 0  6 6 6 1 0 0' >"$T/pts2.txt"
+run query "$T/grid.gsdb" --points "$T/pts2.txt"
+{ [ "$rc" -eq 0 ] && cmp -s "$T/out" <("$BIN" query "$T/grid.gsdb" --points "$T/pts.txt"); }; verdict "query --points: tabs, CRLF, blank lines, no final newline"
+printf '0 1 21 0.2 0.3 0.5  399 398 378 1 0 0\0 junk\n' >"$T/nul.txt"
+expect_fail 1 "nul.txt:1: NUL byte" "query --points: a NUL byte is refused, not the end of the line" query "$T/grid.gsdb" --points "$T/nul.txt"
+{ printf '0 1 21 0.2 0.3 0.5  399 398 378 1 0 0\0'; head -c 5000 /dev/zero | tr '\0' ' '; printf '5 5 5 1 0 0  6 6 6 1 0 0\n'; } >"$T/nul2.txt"
+expect_fail 1 "nul2.txt:1: NUL byte" "query --points: a NUL byte in a long line" query "$T/grid.gsdb" --points "$T/nul2.txt"
+{ [ ! -s "$T/out" ]; }; verdict "query --points: nothing answered from a line with a NUL byte"
+{ printf '0 1 21 0.2 0.3 0.5  399 398 378 1 0 0'; head -c 1048576 /dev/zero | tr '\0' ' '; printf '\n'; } >"$T/long.txt"
+expect_fail 1 "long.txt:1: line longer than" "query --points: a 1 MB line" query "$T/grid.gsdb" --points "$T/long.txt"
+{ printf '0 399'; head -c 300 /dev/zero | tr '\0' ' '; printf '5 6\n'; } >"$T/longpair.txt"
+expect_fail 1 "longpair.txt:1: expected two vertex ids" "query --pairs: a long line of 4 ids is not two pairs" query "$T/grid.gsdb" --pairs "$T/longpair.txt"
+{ head -c 64 /dev/zero | tr '\0' 0; printf '1\n'; } >"$T/longtok.txt"
+expect_fail 1 "longtok.txt:1: expected two vertex ids" "query --pairs: a 65-digit id is not two ids" query "$T/grid.gsdb" --pairs "$T/longtok.txt"
+printf '\xef\xbb\xbf0 1 21 0.2 0.3 0.5  399 398 378 1 0 0\n0 1 21 0.2 0.3 0.5  399 398 378 1 0 \x1b[2J\n' >"$T/bytes.txt"
+expect_fail 1 "bytes.txt:1: first point: '.xef.xbb.xbf0' is not a vertex id" "query --points: a byte-order mark is shown, not printed" query "$T/grid.gsdb" --points "$T/bytes.txt"
+sed -i 1d "$T/bytes.txt"
+expect_fail 1 "bytes.txt:1: second point: weight '.x1b\[2J' is not a number" "query --points: control bytes are shown, not printed" query "$T/grid.gsdb" --points "$T/bytes.txt"
+head -c 10000 /dev/zero >"$T/zeros.txt"
+expect_fail 1 "zeros.txt:1: NUL byte" "query --points: a file of NUL bytes is not blank lines" query "$T/grid.gsdb" --points "$T/zeros.txt"
+expect_fail 1 "zeros.txt:1: NUL byte" "query --pairs: a file of NUL bytes is not blank lines" query "$T/grid.gsdb" --pairs "$T/zeros.txt"
+printf '0 1\0 7\n' >"$T/nulpair.txt"
+expect_fail 1 "nulpair.txt:1: NUL byte" "query --pairs: a NUL byte" query "$T/grid.gsdb" --pairs "$T/nulpair.txt"
+mkdir -p "$T/adir"
+expect_fail 1 "adir: .*directory" "query --pairs: a directory" query "$T/grid.gsdb" --pairs "$T/adir"
+expect_fail 1 "adir: .*directory" "query --points: a directory" query "$T/grid.gsdb" --points "$T/adir"
+run query "$T/grid.gsdb" --points /dev/null
+{ [ "$rc" -eq 0 ] && [ ! -s "$T/out" ]; }; verdict "query --points /dev/null: no pairs, no output"
+awk '$1 == "v" && $2 == 0 && !done { $2 = "-0"; done = 1 } { print }' "$D" >"$T/negzero.obj"
+run query "$T/grid.gsdb" --points "$T/fpts.txt" --mesh "$T/negzero.obj"
+{ [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = "$p1" ]; }; verdict "query --points --mesh: a coordinate written -0 is where the database has 0"
+awk '$1 == "v" && !done { $2 = $2 + 0.001; done = 1 } { print }' "$D" >"$T/moved.obj"
+expect_fail 1 "moved.obj: vertex 0 is not where the database has it" "query --points --mesh: a moved vertex" query "$T/grid.gsdb" --points "$T/fpts.txt" --mesh "$T/moved.obj"
+# output: a failed write to stdout is an error; -o never replaces what is not a regular file
+if [ -w /dev/full ]; then
+    "$BIN" query "$T/grid.gsdb" --points "$T/pts.txt" >/dev/full 2>"$T/err"; rc=$?
+    { [ "$rc" -eq 1 ] && grep -q "write error on stdout" "$T/err"; }; verdict "query --points: a failed write to stdout is an error"
+    "$BIN" query "$T/grid.gsdb" 0 1 >/dev/full 2>"$T/err"; rc=$?
+    { [ "$rc" -eq 1 ] && grep -q "write error on stdout" "$T/err"; }; verdict "query X Y: a failed write to stdout is an error"
+fi
+mkfifo "$T/fifo"
+expect_fail 1 "fifo: exists and is not a regular file" "field -o a pipe: refused" field "$T/grid.gsdb" --point 0,1,21:0.2,0.3,0.5 -o "$T/fifo"
+expect_fail 1 "fifo: exists and is not a regular file" "solve -o a pipe: refused" solve "$D" --source 0 -o "$T/fifo"
+{ [ -p "$T/fifo" ]; }; verdict "-o a pipe: the pipe is not replaced by a file"
+echo keep >"$T/keep.txt"
+expect_fail 2 "weights sum to 1.1" "field --point: bad weights" field "$T/grid.gsdb" --point 0,1,21:0.2,0.3,0.6 -o "$T/keep.txt"
+{ [ "$(cat "$T/keep.txt")" = keep ]; }; verdict "field --point: a failure keeps an existing OUT"
+for spec in 0,1,21:0.2,,0.3,0.5 0,1,21:,0.2,0.3,0.5 0,1,21:0.2,0.3,0.5, 0,,1,21:0.2,0.3,0.5 "0,1,21: 0.2,0.3,0.5"; do
+    expect_fail 2 "expected V0,V1,V2:L0,L1,L2|is not a number" "field --point '$spec': refused" field "$T/grid.gsdb" --point "$spec"
+done
+expect_fail 2 "expected F:b0,b1,b2" "field --source-point with an empty field: refused" field "$T/grid.gsdb" --mesh "$D" --source-point 0:0.2,0.3,0.5,
 run eval "$T/grid.gsdb" --groundtruth "$T/grid.gt"
 { [ "$rc" -eq 0 ] && awk '/^ME / { me = $2 + 0; ok = (me < 0.5) } END { exit !ok }' "$T/out" && grep -q "^cost" "$T/out"; }; verdict "eval: ME below 0.5% on the grid, cost printed"
 run land "$D" --landmarks 8 --groundtruth "$T/grid.gt"

@@ -376,6 +376,13 @@ static void m_heat_time_big(unsigned char *b) { double v = 1e9; memcpy(b + 136, 
 static void m_build_flags(unsigned char *b) { uint32_t v = 1 | 2u << 2 | 1u << 4; memcpy(b + 92, &v, 4); }
 static void m_fmm_start(unsigned char *b) { double v = INFINITY; memcpy(b + 144, &v, 8); }
 static void m_pos_nan(unsigned char *b) { double v = NAN; memcpy(section(b, GS_SEC_POSITIONS) + 8, &v, 8); }
+/* finite but huge: surface points squared it to +inf, "not connected" */
+static void m_leaf_huge(unsigned char *b)
+{
+    double v = 1e300; /* both [0][1] and [1][0]: symmetric */
+    memcpy(section(b, GS_SEC_LEAF_DIST) + 8 * 1, &v, 8);
+    memcpy(section(b, GS_SEC_LEAF_DIST) + 8 * 2, &v, 8);
+}
 static void m_leaf_local(unsigned char *b) { uint32_t v = 0; memcpy(section(b, GS_SEC_LEAF_LOCAL) + 4 * 1, &v, 4); }
 static void m_leaf_dist(unsigned char *b) { double v = -1; memcpy(section(b, GS_SEC_LEAF_DIST) + 8 * 1, &v, 8); }
 static void m_leaf_dstart(unsigned char *b) { uint64_t v = 3; memcpy(section(b, GS_SEC_LEAF_DSTART) + 8 * 2, &v, 8); }
@@ -423,6 +430,7 @@ static void test_structure(void)
         {m_fmm_start, "fmm_exact_start inf"},
         {m_build_flags, "build_flags 0x19 has unknown bits"},
         {m_pos_nan, "vertex 0 has a non-finite coordinate"},
+        {m_leaf_huge, "section 'leaf_dist': entry 1 is 1e+300 (must be in [0, 1e+100] or inf)"},
         {m_leaf_local, "vertex 1 has number 0 in leaf 1"},
         {m_leaf_dist, "section 'leaf_dist': entry 1 is -1"},
         {m_leaf_dstart, "section 'leaf_dstart'"},

@@ -410,6 +410,45 @@ static void expect_bad(const gs_db *db, gs_surface_point bad, const char *needle
     CHECK_MSG(gs_db_point_field(db, &bad, f, &e) == GS_EARG && strstr(e.message, needle), "field: '%s'", e.message);
 }
 
+/* The weight rules at their bounds, in any corner order: the sum rule is
+ * |w0 + w1 + w2 - 1| <= GS_POINT_WEIGHT_SUM_TOL for the exact sum (0.5 +
+ * 0.5 + 1e-9, off by exactly the tolerance, rounds to 1 + 1.00000008e-9
+ * and was refused); a message shows the value that broke the rule with the
+ * digits that tell it from the bound ("weight 2 is -1e-12 (must be >=
+ * -1e-12)" and "weights sum to 1.000000001 (must be 1 within 1e-09)" were
+ * the messages for numbers one ulp beyond). */
+static void test_bounds(const gs_db *db)
+{
+    double tol = GS_POINT_WEIGHT_SUM_TOL, over = nextafter(tol, 1.0);
+    /* exactly 1 - tol: 0.5 + (0.5 - tol) rounded + the rounding's error */
+    double a = 0.5, b = -tol, s = a + b, bb = s - a, r = (a - (s - bb)) + (b - bb);
+    double ok[2][3] = {{0.5, 0.5, tol}, {0.5, s, r}}, bad[3] = {0.5, 0.5, over};
+    gs_error e = {0};
+    for (int k = 0; k < 3; ++k) {
+        int i = k, j = (k + 1) % 3, l = (k + 2) % 3;
+        for (int c = 0; c < 2; ++c) {
+            gs_surface_point p = gs_surface_point_make(0, 1, 21, ok[c][i], ok[c][j], ok[c][l]);
+            CHECK_MSG(gs_db_point_check(db, &p, &e) == GS_OK, "weights %.17g %.17g %.17g: %s", ok[c][i], ok[c][j],
+                      ok[c][l], e.message);
+        }
+        gs_surface_point p = gs_surface_point_make(0, 1, 21, bad[i], bad[j], bad[l]);
+        CHECK_MSG(gs_db_point_check(db, &p, &e) == GS_EARG && strstr(e.message, "weights sum to 1 + 1.0000000000000003e-09"),
+                  "sum over by one ulp: '%s'", e.message);
+    }
+    gs_surface_point p = gs_surface_point_make(0, 1, 21, 0.5, 0.5, GS_POINT_WEIGHT_MIN);
+    CHECK(gs_db_point_check(db, &p, NULL) == GS_OK);
+    p.weight[2] = nextafter(GS_POINT_WEIGHT_MIN, -1.0);
+    CHECK_MSG(gs_db_point_check(db, &p, &e) == GS_EARG && strstr(e.message, "weight 2 is -1.0000000000000002e-12 (must be >= -1e-12)"),
+              "weight one ulp below the bound: '%s'", e.message);
+    /* huge and tiny weights: no overflow into an accepted sum */
+    p = gs_surface_point_make(0, 1, 21, 1e308, 1e308, 1e308);
+    CHECK(gs_db_point_check(db, &p, &e) == GS_EARG && strstr(e.message, "weights sum to inf"));
+    p = gs_surface_point_make(0, 1, 21, 1e308, -1e-12, 0);
+    CHECK(gs_db_point_check(db, &p, &e) == GS_EARG && strstr(e.message, "weights sum to 1e+308"));
+    p = gs_surface_point_make(0, 1, 21, 1, 4.9e-324, -4.9e-324);
+    CHECK(gs_db_point_check(db, &p, NULL) == GS_OK);
+}
+
 static void test_bad_input(void)
 {
     gs_mesh *m = generate("grid:20,20,1,1");
@@ -433,6 +472,7 @@ static void test_bad_input(void)
     CHECK(gs_db_point_check(db, &p1, NULL) == GS_OK && gs_db_point_check(db, &p2, NULL) == GS_OK);
     CHECK_NEAR(gs_db_point_distance(db, &p1, &far), gs_db_point_distance(db, &q, &far), 1e-9);
     CHECK_NEAR(gs_db_point_distance(db, &p2, &far), gs_db_point_distance(db, &q, &far), 1e-9);
+    test_bounds(db);
     /* NULL arguments */
     double out[2], f[400];
     CHECK(isnan(gs_db_point_distance(NULL, &good, &good)) && isnan(gs_db_point_distance(db, NULL, &good)) &&

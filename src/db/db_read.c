@@ -406,10 +406,13 @@ static int check_leaf_locals(reader *r, unsigned char *seen)
                        r->name, x, k, l, nl);
         seen[db->leaf_vstart[l] + (uint64_t)k] = 1;
     }
+    /* bounded like coefficients: surface points square them (1e300 gave
+     * +inf, "not connected"); a leaf's geodesic distances on a mesh that
+     * loads are below n_vertices x GS_MESH_MAX_EDGE < 1e60 */
     for (uint64_t i = 0; i < db->leaf_entries; ++i)
-        if (!(db->leaf_dist[i] >= 0))
-            return BAD(r, "%s: section 'leaf_dist': entry %llu is %g (must be >= 0)", r->name, (unsigned long long)i,
-                       db->leaf_dist[i]);
+        if (!(db->leaf_dist[i] >= 0 && (db->leaf_dist[i] <= GS_DB_MAX_COEF || db->leaf_dist[i] == INFINITY)))
+            return BAD(r, "%s: section 'leaf_dist': entry %llu is %g (must be in [0, %g] or inf)", r->name,
+                       (unsigned long long)i, db->leaf_dist[i], GS_DB_MAX_COEF);
     /* d(x,y) == d(y,x) and d(x,x) == 0, as the cross-leaf answers are */
     for (uint32_t l = 0; l < db->n_nodes; ++l) {
         uint64_t nl = (uint64_t)db->leaf_vstart[l + 1] - db->leaf_vstart[l];

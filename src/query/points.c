@@ -59,20 +59,33 @@ static const double *pos(const gs_db *db, uint32_t v)
     return db->xyz + 3 * (size_t)v;
 }
 
+/* w[0] + w[1] + w[2] - 1 of the exact sum, whatever the order: each
+ * addition's rounding error is kept (Knuth's two-sum) and s - 1 is exact
+ * near 1 (Sterbenz). (Rounded, 0.5 + 0.5 + 1e-9 is 1 + 1.00000008e-9,
+ * beyond a tolerance of 1e-9 that the exact sum meets.) NaN on overflow. */
+static double sum_minus_one(const double *w)
+{
+    double s = 0.0, err = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        double t = s + w[k], b = t - s;
+        err += (s - (t - b)) + (w[k] - b);
+        s = t;
+    }
+    return (s - 1.0) + err;
+}
+
 /* Validate p and bring it to its canonical form; *bad: the corner or
  * weight at fault. */
 static int canonical(const gs_db *db, const gs_surface_point *p, spt *s, int *bad)
 {
-    double sum = 0.0;
     for (int k = 0; k < 3; ++k) {
         *bad = k;
         if (p->corner[k] >= db->nv) return PT_RANGE;
         if (!isfinite(p->weight[k])) return PT_NONFINITE;
         if (p->weight[k] < GS_POINT_WEIGHT_MIN) return PT_NEGATIVE;
-        sum += p->weight[k];
     }
     *bad = -1;
-    if (!(fabs(sum - 1.0) <= GS_POINT_WEIGHT_SUM_TOL)) return PT_SUM;
+    if (!(fabs(sum_minus_one(p->weight)) <= GS_POINT_WEIGHT_SUM_TOL)) return PT_SUM;
     /* merge repeated corners, drop zero weights, sort by id (insertion) */
     s->n = 0;
     for (int k = 0; k < 3; ++k) {
@@ -105,8 +118,21 @@ static int canonical(const gs_db *db, const gs_surface_point *p, spt *s, int *ba
     return PT_OK;
 }
 
+/* x with the fewest digits that read back as x: a value one ulp beyond a
+ * bound does not print as the bound. buf: 32 bytes. */
+static const char *shortest(double x, char *buf)
+{
+    for (int digits = 1; digits <= 17; ++digits) {
+        snprintf(buf, 32, "%.*g", digits, x);
+        if (strtod(buf, NULL) == x) break;
+    }
+    return buf;
+}
+
 static int explain(gs_error *err, const gs_db *db, const gs_surface_point *p, int why, int k, const char *where)
 {
+    char num[32];
+    double off = sum_minus_one(p->weight);
     switch (why) {
     case PT_RANGE:
         return gs__fail(err, GS_EARG, "%s: corner %d is vertex %u >= n_vertices %u", where, k, p->corner[k], db->nv);
@@ -115,11 +141,14 @@ static int explain(gs_error *err, const gs_db *db, const gs_surface_point *p, in
                         where, k, p->corner[k]);
     case PT_NONFINITE: return gs__fail(err, GS_EARG, "%s: weight %d is %g (must be finite)", where, k, p->weight[k]);
     case PT_NEGATIVE:
-        return gs__fail(err, GS_EARG, "%s: weight %d is %g (must be >= %g)", where, k, p->weight[k],
+        return gs__fail(err, GS_EARG, "%s: weight %d is %s (must be >= %g)", where, k, shortest(p->weight[k], num),
                         GS_POINT_WEIGHT_MIN);
-    case PT_SUM:
-        return gs__fail(err, GS_EARG, "%s: weights sum to %.15g (must be 1 within %g)", where,
-                        p->weight[0] + p->weight[1] + p->weight[2], GS_POINT_WEIGHT_SUM_TOL);
+    case PT_SUM: /* near 1: how far off, else the sum */
+        if (fabs(off) < 1e-6)
+            return gs__fail(err, GS_EARG, "%s: weights sum to 1 %c %s (must be 1 within %g)", where,
+                            off < 0 ? '-' : '+', shortest(fabs(off), num), GS_POINT_WEIGHT_SUM_TOL);
+        return gs__fail(err, GS_EARG, "%s: weights sum to %s (must be 1 within %g)", where,
+                        shortest(p->weight[0] + p->weight[1] + p->weight[2], num), GS_POINT_WEIGHT_SUM_TOL);
     default: return GS_OK;
     }
 }
