@@ -365,7 +365,11 @@ typedef struct gs_build_stats {
 } gs_build_stats;
 
 /* Build a database in memory. stats may be NULL. *out receives a new
- * database (caller frees with gs_db_free); save it with gs_db_save. */
+ * database (caller frees with gs_db_free); save it with gs_db_save. A mesh
+ * whose bounding box's centre lies more than 1000 of its diagonals from the
+ * origin is built from a copy moved to the origin (far out, positions lose
+ * the digits that tell nearby separator points apart); the database keeps
+ * the mesh's own positions. */
 int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt, gs_db **out,
                 gs_build_stats *stats, gs_error *err);
 

@@ -587,6 +587,70 @@ done:
     gs_mesh_free(m);
 }
 
+/* (d) far from the origin: the same grid at z = 1e90 (exactly representable
+ * offsets: the geometry is the same) and moved by 1e6 along x must build and
+ * answer as the grid at the origin does, vertices and points alike (a build
+ * at z = 1e90 failed: the separators' points, convex combinations of
+ * positions, lost their digits; a point's position summed from its corners
+ * lost those that tell nearby points apart). */
+static gs_mesh *moved(const gs_mesh *m, double dx, double dz)
+{
+    uint32_t n = gs_mesh_num_vertices(m), nf = gs_mesh_num_faces(m);
+    double *x = malloc(sizeof *x * 3 * n);
+    if (!x) return NULL;
+    const double *p = gs_mesh_positions(m);
+    for (uint32_t v = 0; v < n; ++v) x[3 * v] = p[3 * v] + dx, x[3 * v + 1] = p[3 * v + 1], x[3 * v + 2] = p[3 * v + 2] + dz;
+    gs_mesh *out = NULL;
+    gs_error e = {0};
+    CHECK_MSG(gs_mesh_create(x, n, gs_mesh_faces(m), nf, &out, &e) == GS_OK, "moved mesh: %s", e.message);
+    free(x);
+    return out;
+}
+
+static void test_far(void)
+{
+    gs_mesh *m = generate("grid:12,12,1,1"), *mz = m ? moved(m, 0.0, 1e90) : NULL, *mx = m ? moved(m, 1e6, 0.0) : NULL;
+    gs_db *db[3] = {m ? build(m, "grid") : NULL, mz ? build(mz, "grid at z = 1e90") : NULL,
+                    mx ? build(mx, "grid at x = 1e6") : NULL};
+    if (!db[0] || !db[1] || !db[2]) goto done;
+    uint32_t n = gs_mesh_num_vertices(m);
+    const double *xyz = gs_mesh_positions(m);
+    /* max relative errors against the plane's |p - q| (grid coordinates):
+     * vertex pairs, point pairs, two points of one face */
+    double ev[3] = {0, 0, 0}, ep[3] = {0, 0, 0}, ef[3] = {0, 0, 0};
+    for (uint32_t x = 0; x < n; ++x)
+        for (uint32_t y = x + 1; y < n; ++y) {
+            double e = dist3(xyz + 3 * (size_t)x, xyz + 3 * (size_t)y);
+            for (int i = 0; i < 3; ++i) ev[i] = fmax(ev[i], fabs(gs_db_distance(db[i], x, y) - e) / e);
+        }
+    for (int k = 0; k < 4000; ++k) {
+        rpoint a = random_point(m), b = random_point(m);
+        double w[3], cx[3] = {0, 0, 0}, e = dist3(a.x, b.x);
+        rand_bary(w);
+        gs_surface_point c = gs_surface_point_make(a.p.corner[0], a.p.corner[1], a.p.corner[2], w[0], w[1], w[2]);
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) cx[j] += w[i] * xyz[3 * (size_t)a.p.corner[i] + j];
+        double ec = dist3(a.x, cx);
+        for (int i = 0; i < 3; ++i) {
+            if (e > 0) ep[i] = fmax(ep[i], fabs(gs_db_point_distance(db[i], &a.p, &b.p) - e) / e);
+            if (ec > 0) ef[i] = fmax(ef[i], fabs(gs_db_point_distance(db[i], &a.p, &c) - ec) / ec);
+        }
+    }
+    printf("  far from the origin: max rel. error of vertex pairs %.3g, %.3g, %.3g; point pairs %.3g, %.3g, %.3g; "
+           "one face %.3g, %.3g, %.3g (at the origin, z = 1e90, x = 1e6)\n",
+           ev[0], ev[1], ev[2], ep[0], ep[1], ep[2], ef[0], ef[1], ef[2]);
+    /* as good as at the origin (another tree: rounding moves the cuts) */
+    for (int i = 1; i < 3; ++i) {
+        CHECK_MSG(ev[i] <= 2 * ev[0] + 1e-9, "far (%d): vertex pairs %.3g, at the origin %.3g", i, ev[i], ev[0]);
+        CHECK_MSG(ep[i] <= 2 * ep[0] + 1e-9, "far (%d): point pairs %.3g, at the origin %.3g", i, ep[i], ep[0]);
+    }
+    CHECK_MSG(ef[1] <= 1e-12, "far: points of one face at z = 1e90 are %.3g from |p - q|", ef[1]);
+    CHECK_MSG(ef[2] <= 1e-8, "far: points of one face at x = 1e6 are %.3g from |p - q|", ef[2]);
+done:
+    for (int i = 0; i < 3; ++i) gs_db_free(db[i]);
+    gs_mesh_free(m), gs_mesh_free(mz), gs_mesh_free(mx);
+}
+
 int main(void)
 {
     const char *specs[] = {"grid:20,20,1,1", "peaks:30", "cylinder:32,12,1,2"};
@@ -598,6 +662,7 @@ int main(void)
         gs_mesh_free(m);
     }
     test_flat();
+    test_far();
     /* Tolerances: about twice what was measured (2026-11-22, printed by the
      * test; mean / p99 / max relative error, [away from the cut locus]):
      * peaks:30: 0.58% / 5.3% / 170% (the vertex queries alone: 0.48% /

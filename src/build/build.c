@@ -65,6 +65,8 @@ static void thin_samples(gs_tree *t, uint32_t cap)
  * function's coefficients live in a per-node arena. */
 typedef struct builder {
     const gs_mesh *mesh;
+    const double *xyz_out;  /* the positions the database stores (the      */
+                            /*   caller's: mesh may be a centred copy)      */
     const gs_build_options *opt;
     const gs_tree *tree;
     uint32_t nthreads;
@@ -845,7 +847,7 @@ static int assemble(builder *b, const leaf_tables *lt, gs_db **out, gs_error *er
     gs_db_content c;
     memset(&c, 0, sizeof c);
     c.nv = b->mesh->nv;
-    c.xyz = b->mesh->xyz;
+    c.xyz = b->xyz_out;
     c.n_nodes = t->n_nodes;
     c.nodes = nodes;
     c.n_curves = t->n_curves;
@@ -906,12 +908,54 @@ static int check_options(const gs_build_options *o, gs_error *err)
     return GS_OK;
 }
 
+static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_options *opt_in, gs_db **out,
+                    gs_build_stats *stats, gs_error *err);
+
+/* A mesh farther from the origin than CENTRE_FAR times its bounding box's
+ * diagonal is built from a copy moved to the origin: the separators'
+ * points are convex combinations of positions, which far from the origin
+ * lose the digits that tell them apart (a flat grid at z = 1e90 failed
+ * with its curve parameters out of order). Geodesic distances do not
+ * change; the database keeps the caller's positions. Nearer meshes are
+ * built as they are (so their files do not change). */
+#define CENTRE_FAR 1e3
+
 int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt_in, gs_db **out,
                 gs_build_stats *stats, gs_error *err)
 {
     if (!out) return gs__fail(err, GS_EARG, "gs_db_build: out is NULL");
     *out = NULL;
     if (!mesh) return gs__fail(err, GS_EARG, "gs_db_build: mesh is NULL");
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t v = 0; v < mesh->nv; ++v)
+        for (int k = 0; k < 3; ++k) {
+            double x = mesh->xyz[3 * (size_t)v + k];
+            lo[k] = x < lo[k] ? x : lo[k], hi[k] = x > hi[k] ? x : hi[k];
+        }
+    double c[3], far = 0.0, diag = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        c[k] = mesh->nv ? lo[k] + 0.5 * (hi[k] - lo[k]) : 0.0;
+        far = fabs(c[k]) > far ? fabs(c[k]) : far;
+        diag += mesh->nv ? (hi[k] - lo[k]) * (hi[k] - lo[k]) : 0.0;
+    }
+    diag = sqrt(diag);
+    if (!(far > CENTRE_FAR * diag)) return build_db(mesh, mesh->xyz, opt_in, out, stats, err);
+    double *xyz = gs__malloc((size_t)mesh->nv, 3 * sizeof *xyz);
+    if (!xyz) return gs__fail(err, GS_ENOMEM, "gs_db_build: out of memory");
+    for (uint32_t v = 0; v < mesh->nv; ++v)
+        for (int k = 0; k < 3; ++k) xyz[3 * (size_t)v + k] = mesh->xyz[3 * (size_t)v + k] - c[k];
+    gs_mesh *moved = NULL;
+    int rc = gs_mesh_create(xyz, mesh->nv, mesh->tri, mesh->nf, &moved, err);
+    free(xyz);
+    if (rc) return rc;
+    rc = build_db(moved, mesh->xyz, opt_in, out, stats, err);
+    gs_mesh_free(moved);
+    return rc;
+}
+
+static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_options *opt_in, gs_db **out,
+                    gs_build_stats *stats, gs_error *err)
+{
     gs_build_options defaults;
     gs_build_options_default(&defaults);
     gs_build_options resolved = opt_in ? *opt_in : defaults;
@@ -925,6 +969,7 @@ int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt_in, gs_db **out
     builder b;
     memset(&b, 0, sizeof b);
     b.mesh = mesh;
+    b.xyz_out = xyz_out;
     b.opt = opt;
     b.nthreads = opt->threads ? opt->threads : (uint32_t)omp_get_max_threads();
     double t0 = gs__now();

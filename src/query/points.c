@@ -10,12 +10,11 @@
 #include <stdlib.h>
 
 /* A validated point: its n distinct corners of nonzero weight in increasing
- * id order, weights summing to 1, and its position. */
+ * id order, weights summing to 1. */
 typedef struct spt {
     uint32_t n;
     uint32_t v[3];
     double w[3];
-    double x[3];
 } spt;
 
 /* Why a point is invalid (0: it is not), and which corner or weight. */
@@ -110,11 +109,7 @@ static int canonical(const gs_db *db, const gs_surface_point *p, spt *s, int *ba
         }
     double total = 0.0; /* in id order: the corners' order does not matter */
     for (uint32_t i = 0; i < s->n; ++i) total += s->w[i];
-    s->x[0] = s->x[1] = s->x[2] = 0.0;
-    for (uint32_t i = 0; i < s->n; ++i) {
-        s->w[i] /= total;
-        for (int c = 0; c < 3; ++c) s->x[c] += s->w[i] * pos(db, s->v[i])[c];
-    }
+    for (uint32_t i = 0; i < s->n; ++i) s->w[i] /= total;
     return PT_OK;
 }
 
@@ -192,6 +187,20 @@ static int compare(const spt *a, const spt *b)
     return 0;
 }
 
+/* |p - q|, from the corners' offsets to one of p's corners (not from
+ * the points' positions: far from the origin, a position summed from its
+ * corners loses the digits that tell nearby points apart). */
+static double gap(const gs_db *db, const spt *a, const spt *b)
+{
+    const double *r = pos(db, a->v[0]);
+    double d[3] = {0.0, 0.0, 0.0};
+    for (uint32_t i = 0; i < a->n; ++i)
+        for (int c = 0; c < 3; ++c) d[c] += a->w[i] * (pos(db, a->v[i])[c] - r[c]);
+    for (uint32_t j = 0; j < b->n; ++j)
+        for (int c = 0; c < 3; ++c) d[c] -= b->w[j] * (pos(db, b->v[j])[c] - r[c]);
+    return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+
 /* sum_{i<k} w_i w_k |v_i - v_k|^2: the point's own edge term */
 static double edge_term(const gs_db *db, const spt *s)
 {
@@ -231,7 +240,7 @@ static double estimate(const gs_db *db, const spt *a, const spt *b, vdist_fn vd,
             }
             s += a->w[i] * b->w[j] * d2;
         }
-    double e = sqrt(dist2(a->x, b->x));
+    double e = gap(db, a, b);
     if (straight) return e;
     s = s - edge_term(db, a) - edge_term(db, b);
     double r = s > 0.0 ? sqrt(s) : 0.0;
@@ -316,8 +325,7 @@ int gs_db_point_field(const gs_db *db, const gs_surface_point *p, double *out, g
     int rc = GS_OK;
     for (uint32_t i = 0; i < a.n && !rc; ++i) rc = gs_db_field(db, a.v[i], (double *)c.f[i], err);
     for (uint32_t y = 0; y < db->nv && !rc; ++y) { /* out[y] is read (f[0][y]) before it is written */
-        spt b = {1, {y, 0, 0}, {1.0, 0, 0}, {0, 0, 0}}; /* as canonical() makes vertex y */
-        for (int i = 0; i < 3; ++i) b.x[i] += 1.0 * pos(db, y)[i];
+        spt b = {1, {y, 0, 0}, {1.0, 0, 0}}; /* as canonical() makes vertex y */
         out[y] = ordered(db, &a, &b, vdist_field, &c);
     }
     free(work);
