@@ -31,6 +31,14 @@ static const char usage_generate[] =
     "    grid:NX,NY[,W,H]  peaks:N[,W]  plate:N  cylinder:NU,NV[,R,H]  cone:NU,NV[,R,H]\n"
     "    cube:N[,S]  torus:NU,NV[,R,r]  sphere:N  two:N\n";
 
+static const char usage_subdivide[] =
+    "usage: geosep subdivide MESH -o OUT.obj [--times N]\n"
+    "  Split every face into four by its edge midpoints, N times (default 1, at\n"
+    "  most 4): the same polyhedral surface, so the same geodesic distances, with\n"
+    "  about 4^N times the faces. Vertex ids are kept; each level appends its\n"
+    "  edges' midpoints in order of first appearance. (The scaling benchmark's\n"
+    "  homer-60k x4 and x16 are `--times 1` and `--times 2` of homer-60k.)\n";
+
 static const char usage_solve[] =
     "usage: geosep solve MESH --source V [--source V ...] [--source-point F:b0,b1,b2 ...]\n"
     "                    [--method exact|graph|fmm|heat] [--max-distance D] [-o OUT] [--verbose]\n"
@@ -62,6 +70,7 @@ static void print_usage(FILE *f)
             "commands:\n"
             "  info MESH                       mesh health report\n"
             "  generate SPEC -o OUT.obj        write a generated test mesh\n"
+            "  subdivide MESH -o OUT.obj       1-to-4 midpoint subdivision (same surface)\n"
             "  solve MESH --source V ...       distance field from sources\n"
             "  build MESH -o DB                build a query database\n"
             "  query DB X Y                    approximate geodesic distance\n"
@@ -140,6 +149,47 @@ static int cmd_generate(int argc, char **argv)
     rc = gs_mesh_save_obj(m, out, &err);
     gs_mesh_free(m);
     return rc ? lib_fail("generate", rc, &err) : 0;
+}
+
+/* ---- subdivide ---------------------------------------------------------- */
+
+#define SUBDIVIDE_MAX 4
+
+static int cmd_subdivide(int argc, char **argv)
+{
+    const char *in = NULL, *out = NULL, *v;
+    uint32_t times = 1;
+    for (int i = 1; i < argc; ++i) {
+        if (is_help(argv[i])) return fputs(usage_subdivide, stdout), 0;
+        if ((v = opt_value(argc, argv, &i, "-o"))) out = v;
+        else if ((v = opt_value(argc, argv, &i, "--times"))) {
+            if (parse_u32(v, &times) || times < 1 || times > SUBDIVIDE_MAX)
+                return fail(EXIT_USAGE, "subdivide: --times '%s' must be an integer from 1 to %d", v, SUBDIVIDE_MAX);
+        } else if (argv[i][0] == '-' && argv[i][1])
+            return fail(EXIT_USAGE, "subdivide: unknown or incomplete option '%s' (see geosep subdivide --help)",
+                        argv[i]);
+        else if (!in) in = argv[i];
+        else return fail(EXIT_USAGE, "subdivide: unexpected argument '%s'", argv[i]);
+    }
+    if (!in || !out) {
+        fputs(usage_subdivide, stderr);
+        return fail(EXIT_USAGE, "subdivide: %s", !in ? "missing MESH" : "missing -o OUT.obj");
+    }
+    gs_mesh *m = NULL;
+    int rc = load_mesh(in, &m);
+    if (rc) return rc;
+    gs_error err = {0};
+    for (uint32_t k = 0; k < times && rc == GS_OK; ++k) {
+        gs_mesh *next = NULL;
+        rc = gs_mesh_subdivide(m, &next, &err);
+        gs_mesh_free(m);
+        m = next;
+    }
+    if (rc == GS_OK) rc = gs_mesh_save_obj(m, out, &err);
+    if (rc == GS_OK)
+        printf("%s: %u vertices, %u faces\n", out, gs_mesh_num_vertices(m), gs_mesh_num_faces(m));
+    gs_mesh_free(m);
+    return rc ? lib_fail("subdivide", rc, &err) : 0;
 }
 
 /* ---- solve: options ------------------------------------------------------ */
@@ -441,6 +491,7 @@ typedef struct command {
 static const command commands[] = {
     {"info", cmd_info, usage_info},
     {"generate", cmd_generate, usage_generate},
+    {"subdivide", cmd_subdivide, usage_subdivide},
     {"solve", cmd_solve, usage_solve},
     {"build", cmd_build, usage_build},
     {"query", cmd_query, usage_query},

@@ -55,7 +55,7 @@ run help
 { [ "$rc" -eq 0 ] && grep -q "usage: geosep" "$T/out"; }; verdict "help exits 0"
 run help solve
 { [ "$rc" -eq 0 ] && grep -q -- "--sources-from" "$T/out"; }; verdict "help solve"
-for c in info generate solve; do
+for c in info generate subdivide solve; do
     run "$c" --help
     { [ "$rc" -eq 0 ] && grep -q "usage: geosep $c" "$T/out"; }; verdict "$c --help"
 done
@@ -88,6 +88,26 @@ expect_fail 1 "cannot open|No such" "info: missing file" info "$T/missing.obj"
 printf 'v 0 0 0\nv 1 0 0\nf 1 2 7\n' >"$T/broken.obj"
 expect_fail 1 "broken.obj" "info: malformed file names the file" info "$T/broken.obj"
 expect_fail 2 "exactly one MESH" "info: no mesh" info
+
+# ---- subdivide -------------------------------------------------------------
+run subdivide "$T/grid.obj" -o "$T/grid4.obj"
+{ [ "$rc" -eq 0 ] && [ "$(grep -c '^v ' "$T/grid4.obj")" -eq 231 ] && [ "$(grep -c '^f ' "$T/grid4.obj")" -eq 400 ] &&
+  [ "$(grep '^v ' "$T/grid4.obj" | head -66)" = "$(grep '^v ' "$T/grid.obj")" ]; }
+verdict "subdivide: 66 + 165 edge midpoints, 4 x 100 faces, the first 66 vertices kept"
+run solve "$T/grid4.obj" --source 0 -o "$T/grid4.dist"
+{ [ "$rc" -eq 0 ] && euclid_ok "$T/grid4.dist" "$T/grid4.obj" $(vertex_xyz "$T/grid.obj" 0); }
+verdict "subdivide: the same flat surface (exact distances on it are Euclidean)"
+run subdivide "$T/grid.obj" -o "$T/grid16.obj" --times 2
+{ [ "$rc" -eq 0 ] && [ "$(grep -c '^f ' "$T/grid16.obj")" -eq 1600 ]; }; verdict "subdivide --times 2: 16 x the faces"
+expect_fail 2 "from 1 to 4" "subdivide: --times 0" subdivide "$T/grid.obj" -o "$T/bad.obj" --times 0
+expect_fail 2 "from 1 to 4" "subdivide: --times 5" subdivide "$T/grid.obj" -o "$T/bad.obj" --times 5
+expect_fail 2 "from 1 to 4" "subdivide: --times x" subdivide "$T/grid.obj" -o "$T/bad.obj" --times x
+expect_fail 2 "missing -o" "subdivide: no -o" subdivide "$T/grid.obj"
+expect_fail 2 "incomplete option" "subdivide: --times without a value" subdivide "$T/grid.obj" --times
+expect_fail 1 "cannot open|No such" "subdivide: missing mesh" subdivide "$T/missing.obj" -o "$T/bad.obj"
+{ [ ! -e "$T/bad.obj" ]; }; verdict "subdivide: failures leave no file"
+mkdir -p "$T/subdir"
+expect_fail 1 "not a regular file" "subdivide -o a folder: refused" subdivide "$T/grid.obj" -o "$T/subdir"
 
 # ---- solve: known distances on a flat grid (Euclidean) -------------------
 run solve "$T/grid.obj" --source 0
