@@ -467,10 +467,12 @@ static int cmd_solve(int argc, char **argv)
     if (rc) goto done;
     if ((rc = prepare(&o, &c)) || (rc = check_sources(&o, c.mesh))) goto done;
     rc = o.gt ? solve_gt(&o, &c) : solve_text(&o, &c);
-    if (!rc && o.verbose)
-        fprintf(stderr, "geosep: %s, %u vertices, %s: load %.3f s, solve %.3f s, %llu windows\n", o.mesh,
-                gs_mesh_num_vertices(c.mesh), gs_method_name(o.method), c.t_load, c.t_solve,
-                (unsigned long long)c.windows);
+    if (!rc && o.verbose) { /* windows: the exact solver's (fmm's exact start included) */
+        fprintf(stderr, "geosep: %s, %u vertices, %s: load %.3f s, solve %.3f s", o.mesh, gs_mesh_num_vertices(c.mesh),
+                gs_method_name(o.method), c.t_load, c.t_solve);
+        if (o.method == GS_METHOD_EXACT || c.windows) fprintf(stderr, ", %llu windows", (unsigned long long)c.windows);
+        fputc('\n', stderr);
+    }
 done:
     gs_solver_free(c.solver);
     gs_patch_free(c.patch);
