@@ -926,17 +926,12 @@ int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt_in, gs_db **out
     if (!out) return gs__fail(err, GS_EARG, "gs_db_build: out is NULL");
     *out = NULL;
     if (!mesh) return gs__fail(err, GS_EARG, "gs_db_build: mesh is NULL");
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (uint32_t v = 0; v < mesh->nv; ++v)
-        for (int k = 0; k < 3; ++k) {
-            double x = mesh->xyz[3 * (size_t)v + k];
-            lo[k] = x < lo[k] ? x : lo[k], hi[k] = x > hi[k] ? x : hi[k];
-        }
+    const double *lo = mesh->report.bbox_min, *hi = mesh->report.bbox_max; /* 0 without vertices */
     double c[3], far = 0.0, diag = 0.0;
     for (int k = 0; k < 3; ++k) {
-        c[k] = mesh->nv ? lo[k] + 0.5 * (hi[k] - lo[k]) : 0.0;
+        c[k] = lo[k] + 0.5 * (hi[k] - lo[k]);
         far = fabs(c[k]) > far ? fabs(c[k]) : far;
-        diag += mesh->nv ? (hi[k] - lo[k]) * (hi[k] - lo[k]) : 0.0;
+        diag += (hi[k] - lo[k]) * (hi[k] - lo[k]);
     }
     diag = sqrt(diag);
     if (!(far > CENTRE_FAR * diag)) return build_db(mesh, mesh->xyz, opt_in, out, stats, err);
