@@ -152,7 +152,16 @@ static inline void cached_fun(const double *rec, uint32_t g, gs_fun *f)
     f->coef = gs__qrec_coef(rec, g);
 }
 
-static inline void prefetch_lines(const void *p, size_t bytes)
+/* The prefetch helpers are always inlined: GCC counts __builtin_prefetch
+ * as free of side effects, so a helper left out of line is found "const"
+ * or "pure" and its calls are deleted (GCC 12 -O2 removed every one). */
+#if defined(__GNUC__)
+#define PREFETCH_FN inline __attribute__((always_inline))
+#else
+#define PREFETCH_FN inline
+#endif
+
+static PREFETCH_FN void prefetch_lines(const void *p, size_t bytes)
 {
     if (!bytes) return;
     const char *r = p, *e = r + bytes - 1;
@@ -164,7 +173,7 @@ static inline void prefetch_lines(const void *p, size_t bytes)
  * with the slot) in a vertex's block: all its lines (head, grid and
  * coefficients), so that the coefficients arrive while the grid is
  * scanned. */
-static inline void prefetch_record(const gs_db *db, const qview *v, uint32_t c)
+static PREFETCH_FN void prefetch_record(const gs_db *db, const qview *v, uint32_t c)
 {
     /* small caches (qlev 0) keep every record in the block: no need to look
      * up the curve's depth */
@@ -193,7 +202,7 @@ static double cached_pair(const gs_db *db, const qview *vx, const qview *vy, uin
  * entries gather reads and the records of top's first curves, which hold
  * the minimum most often (they come while the entries arrive). Returns
  * whether top is that deep (its curves' entries are in the blocks). */
-static inline int prefetch_cross(const gs_db *db, const qview *vx, const qview *vy, uint32_t top)
+static PREFETCH_FN int prefetch_cross(const gs_db *db, const qview *vx, const qview *vy, uint32_t top)
 {
     int deep = db->nodes[top].depth >= db->qlev;
     if (db->nodes[top].depth && db->qslot0 < db->qslot) /* below the root: the rest of the slots */
@@ -283,7 +292,7 @@ static double cross_leaf(const gs_db *db, uint32_t x, uint32_t y, uint32_t top)
 
 /* With the query cache: start fetching the heads of x's and y's slots (their
  * addresses need no lookup) and, for small caches, the coordinates. */
-static inline void prefetch_slots(const gs_db *db, uint32_t x, uint32_t y)
+static PREFETCH_FN void prefetch_slots(const gs_db *db, uint32_t x, uint32_t y)
 {
     prefetch_lines(slot_of(db, x), 8 * (size_t)db->qslot0), prefetch_lines(slot_of(db, y), 8 * (size_t)db->qslot0);
     if (!db->qlev) __builtin_prefetch(db->xyz + 3 * (size_t)x), __builtin_prefetch(db->xyz + 3 * (size_t)y);
@@ -291,14 +300,14 @@ static inline void prefetch_slots(const gs_db *db, uint32_t x, uint32_t y)
 
 /* The batch's first stage: the first line of x's and y's slots, their
  * headers (nothing for an out-of-range id). */
-static inline void prefetch_headers(const gs_db *db, uint32_t x, uint32_t y)
+static PREFETCH_FN void prefetch_headers(const gs_db *db, uint32_t x, uint32_t y)
 {
     if (x < db->nv && y < db->nv) __builtin_prefetch(slot_of(db, x)), __builtin_prefetch(slot_of(db, y));
 }
 
 /* Header-only slots (qlev 0), different leaves: start fetching the blocks'
  * entries and root records. */
-static inline void prefetch_blocks(const gs_db *db, const gs_qvert *hx, const gs_qvert *hy)
+static PREFETCH_FN void prefetch_blocks(const gs_db *db, const gs_qvert *hx, const gs_qvert *hy)
 {
     prefetch_lines(db->qbuf + hx->start, 8 * (gs__qent_doubles(hx->nf) + db->qhead));
     prefetch_lines(db->qbuf + hy->start, 8 * (gs__qent_doubles(hy->nf) + db->qhead));
@@ -332,7 +341,7 @@ double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y)
  * earlier: the rest of the slot heads and, from the headers (there by now,
  * most often), what its query will read next (gs_db_distance's and
  * cross_cached's prefetches, done ahead). */
-static inline void prefetch_pair(const gs_db *db, uint32_t x, uint32_t y)
+static PREFETCH_FN void prefetch_pair(const gs_db *db, uint32_t x, uint32_t y)
 {
     if (x >= db->nv || y >= db->nv || x == y) return;
     prefetch_slots(db, x, y);
