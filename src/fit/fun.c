@@ -38,11 +38,6 @@ typedef struct best {
     int seg;
 } best;
 
-double gs_fun_wrap(double u)
-{
-    double t = u - 2.0 * floor((u + 1.0) * 0.5);
-    return t < -1.0 ? -1.0 : (t >= 1.0 ? -1.0 : t);
-}
 
 static inline double clamp1(double t)
 {

@@ -57,7 +57,16 @@ uint32_t gs_fun_cost(const gs_fun *f);
 double gs_fun_min(const gs_fun *f, double *u_at);
 
 /* Wrap a curve parameter to the period [-1,1). */
-double gs_fun_wrap(double u);
+static inline double gs_fun_wrap(double u)
+{
+    /* already in [-1,1): the general rule's result, without floor (below
+     * 1 - 2^-53, the largest double under 1, whose u + 1 rounds to 2) */
+    if (u >= -1.0 && u < 1.0 - 0x1p-53) return u;
+    if (u >= 1.0 && u < 3.0) return u - 2.0; /* one period off: the rule's  */
+    if (u >= -3.0 && u < -1.0) return u + 2.0; /*   floor is +-1, exactly    */
+    double t = u - 2.0 * __builtin_floor((u + 1.0) * 0.5);
+    return t < -1.0 ? -1.0 : (t >= 1.0 ? -1.0 : t);
+}
 
 /* Largest grid of gs_fun_pair_min_grid. */
 #define GS_FUN_GRID_MAX 96
