@@ -2,9 +2,10 @@
  * several resolutions (bunny-5k, -10k, -20k, stanford-bunny from ../shared)
  * and homer-60k, subdivided 1-to-4 once and twice by the benchmark itself.
  * For each mesh, in a child process (so that its peak memory is its own):
- * n, build time per stage, peak memory, bytes per vertex, median query
- * time; then the fitted exponent of build time against n (the paper
- * expects 1.5). Usage:
+ * n, build time per stage, peak memory, bytes per vertex, query times
+ * (single queries: median; one after the other: median of 1000-query
+ * means; the batch API) and their ratios to the first mesh's; then the
+ * fitted exponent of build time against n (the paper expects 1.5). Usage:
  *   bench_scale [--method exact|graph|fmm|heat] [--threads N] [--max-samples N]
  *               [--max-n N] [MESH|SPEC ...] */
 #define _DEFAULT_SOURCE /* wait4: the peak memory of each child build */
@@ -61,24 +62,59 @@ static int load(const char *what, gs_mesh **m, gs_error *err)
     return rc;
 }
 
-static double median_query_ns(const gs_db *db, uint32_t n)
+/* Query times of n-vertex database db, ns, over random pairs: *single the
+ * median of individually timed queries (the clock's own cost subtracted),
+ * *seq the median of 1000-query batch means (queries one after the other),
+ * *batch the batch API (gs_db_distances, 1000 pairs a call) per pair. */
+enum { Q_BATCH = 1000, Q_NB = 300 };
+
+static uint64_t q_rng = 7;
+static void random_pairs(uint32_t *p, int k, uint32_t n)
 {
-    enum { BATCH = 1000, NB = 300 };
-    double t[NB], sink = 0;
-    uint64_t s = 7;
-    for (int b = 0; b < NB; ++b) {
-        uint32_t p[2 * BATCH];
-        for (int i = 0; i < 2 * BATCH; ++i) {
-            s = s * 6364136223846793005ull + 1442695040888963407ull;
-            p[i] = (uint32_t)((s >> 33) % n);
-        }
-        double t0 = now();
-        for (int i = 0; i < BATCH; ++i) sink += gs_db_distance(db, p[2 * i], p[2 * i + 1]);
-        t[b] = (now() - t0) / BATCH;
+    for (int i = 0; i < 2 * k; ++i) {
+        q_rng = q_rng * 6364136223846793005ull + 1442695040888963407ull;
+        p[i] = (uint32_t)((q_rng >> 33) % n);
     }
-    qsort(t, NB, sizeof *t, cmp_double);
-    if (sink == 42.4242) puts(""); /* keep the loop */
-    return 1e9 * t[NB / 2];
+}
+
+static void query_times(const gs_db *db, uint32_t n, double *single, double *seq, double *batch)
+{
+    static double t[Q_NB], ts[Q_NB * Q_BATCH], out[Q_BATCH];
+    static uint32_t p[2 * Q_BATCH];
+    double sink = 0, clock_cost[1000];
+    for (int i = 0; i < 1000; ++i) {
+        double a = now();
+        clock_cost[i] = now() - a;
+    }
+    qsort(clock_cost, 1000, sizeof *clock_cost, cmp_double);
+    for (int b = 0; b < Q_NB; ++b) { /* sequential: batch means */
+        random_pairs(p, Q_BATCH, n);
+        double t0 = now();
+        for (int i = 0; i < Q_BATCH; ++i) sink += gs_db_distance(db, p[2 * i], p[2 * i + 1]);
+        t[b] = (now() - t0) / Q_BATCH;
+    }
+    qsort(t, Q_NB, sizeof *t, cmp_double);
+    *seq = 1e9 * t[Q_NB / 2];
+    for (int b = 0; b < Q_NB; ++b) { /* each timed on its own */
+        random_pairs(p, Q_BATCH, n);
+        for (int i = 0; i < Q_BATCH; ++i) {
+            double t0 = now();
+            sink += gs_db_distance(db, p[2 * i], p[2 * i + 1]);
+            ts[b * Q_BATCH + i] = now() - t0 - clock_cost[500];
+        }
+    }
+    qsort(ts, (size_t)Q_NB * Q_BATCH, sizeof *ts, cmp_double);
+    *single = 1e9 * ts[Q_NB * Q_BATCH / 2];
+    double tb = 0;
+    for (int b = 0; b < Q_NB; ++b) { /* the batch API */
+        random_pairs(p, Q_BATCH, n);
+        double t0 = now();
+        gs_db_distances(db, p, Q_BATCH, out, NULL);
+        tb += now() - t0;
+        sink += out[0];
+    }
+    *batch = 1e9 * tb / ((double)Q_NB * Q_BATCH);
+    if (sink == 42.4242) puts(""); /* keep the loops */
 }
 
 /* The child: build, measure, print one line "n tree fields fits total bpv q". */
@@ -98,9 +134,10 @@ static int run_one(const char *what, const gs_build_options *opt, int fd)
     }
     gs_db_info info;
     gs_db_get_info(db, &info, &err);
-    double q = median_query_ns(db, info.n_vertices);
-    dprintf(fd, "%u %.3f %.3f %.3f %.3f %.1f %.1f %.2f\n", info.n_vertices, st.seconds_tree, st.seconds_fields,
-            st.seconds_fits, st.seconds_total, info.bytes_per_vertex, q, info.cost);
+    double qs, qq, qb;
+    query_times(db, info.n_vertices, &qs, &qq, &qb);
+    dprintf(fd, "%u %.3f %.3f %.3f %.3f %.1f %.1f %.1f %.1f %.2f\n", info.n_vertices, st.seconds_tree,
+            st.seconds_fields, st.seconds_fits, st.seconds_total, info.bytes_per_vertex, qs, qq, qb, info.cost);
     gs_db_free(db);
     gs_mesh_free(m);
     return 0;
@@ -144,9 +181,10 @@ int main(int argc, char **argv)
     printf("method %s, threads %u, max_samples %u, field_memory_mib %u, OPENBLAS_NUM_THREADS=%s\n",
            gs_method_name(opt.method), opt.threads, opt.max_samples, opt.field_memory_mib,
            getenv("OPENBLAS_NUM_THREADS") ? getenv("OPENBLAS_NUM_THREADS") : "(unset)");
-    printf("%-16s %9s %8s %9s %8s %9s %9s %8s %10s %6s\n", "mesh", "n", "tree s", "fields s", "fits s",
-           "total s", "peak MiB", "B/vert", "query ns", "cost");
-    double lx[32], ly[32];
+    printf("%-16s %9s %8s %9s %8s %9s %9s %8s %9s %9s %9s %6s\n", "mesh", "n", "tree s", "fields s", "fits s",
+           "total s", "peak MiB", "B/vert", "query ns", "seq ns", "batch ns", "cost");
+    double lx[32], ly[32], q0[3] = {0, 0, 0};
+    const char *first = NULL;
     int nfit = 0;
     for (int i = 0; i < nl; ++i) {
         int pfd[2];
@@ -164,13 +202,18 @@ int main(int argc, char **argv)
         struct rusage ru;
         wait4(pid, &status, 0, &ru);
         unsigned n = 0;
-        double tt, tf, tfi, tot, bpv, q, cost;
-        if (k <= 0 || sscanf(line, "%u %lf %lf %lf %lf %lf %lf %lf", &n, &tt, &tf, &tfi, &tot, &bpv, &q, &cost) != 8) {
+        double tt, tf, tfi, tot, bpv, qs, qq, qb, cost;
+        if (k <= 0 || sscanf(line, "%u %lf %lf %lf %lf %lf %lf %lf %lf %lf", &n, &tt, &tf, &tfi, &tot, &bpv, &qs, &qq,
+                             &qb, &cost) != 10) {
             printf("%-16s skipped (see the message above)\n", list[i]);
             continue;
         }
-        printf("%-16s %9u %8.2f %9.2f %8.2f %9.2f %9.1f %8.1f %10.0f %6.1f\n", list[i], n, tt, tf, tfi, tot,
-               ru.ru_maxrss / 1024.0, bpv, q, cost);
+        printf("%-16s %9u %8.2f %9.2f %8.2f %9.2f %9.1f %8.1f %9.0f %9.0f %9.0f %6.1f\n", list[i], n, tt, tf, tfi,
+               tot, ru.ru_maxrss / 1024.0, bpv, qs, qq, qb, cost);
+        if (!first) first = list[i], q0[0] = qs, q0[1] = qq, q0[2] = qb;
+        else
+            printf("%-16s query time / %s's: %.2fx single (median), %.2fx sequential (mean), %.2fx batch\n", "",
+                   first, qs / q0[0], qq / q0[1], qb / q0[2]);
         fflush(stdout);
         if (n <= max_n && nfit < 32) lx[nfit] = log((double)n), ly[nfit++] = log(tot);
     }
