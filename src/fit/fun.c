@@ -38,7 +38,6 @@ typedef struct best {
     int seg;
 } best;
 
-
 static inline double clamp1(double t)
 {
     return t < -1.0 ? -1.0 : (t > 1.0 ? 1.0 : t);

@@ -127,7 +127,7 @@ static const char *shortest(double x, char *buf)
 static int explain(gs_error *err, const gs_db *db, const gs_surface_point *p, int why, int k, const char *where)
 {
     char num[32];
-    double off = sum_minus_one(p->weight);
+    double off;
     switch (why) {
     case PT_RANGE:
         return gs__fail(err, GS_EARG, "%s: corner %d is vertex %u >= n_vertices %u", where, k, p->corner[k], db->nv);
@@ -139,6 +139,7 @@ static int explain(gs_error *err, const gs_db *db, const gs_surface_point *p, in
         return gs__fail(err, GS_EARG, "%s: weight %d is %s (must be >= %g)", where, k, shortest(p->weight[k], num),
                         GS_POINT_WEIGHT_MIN);
     case PT_SUM: /* near 1: how far off, else the sum */
+        off = sum_minus_one(p->weight);
         if (fabs(off) < 1e-6)
             return gs__fail(err, GS_EARG, "%s: weights sum to 1 %c %s (must be 1 within %g)", where,
                             off < 0 ? '-' : '+', shortest(fabs(off), num), GS_POINT_WEIGHT_SUM_TOL);
