@@ -432,7 +432,12 @@ typedef struct pstats {
     double loop_sharp_worst;
 } pstats;
 
-/* The query engine's minimiser: grid values as the database caches them. */
+static long cell_diff, cell_loops; /* grid_pair_min with and without the seam cells */
+
+/* The query engine's minimiser: grid values as the database caches them.
+ * For loops it also runs with the seam cells given, as the cache gives
+ * them, and counts any answer or minimiser that is not the same bit for
+ * bit (cell_diff). */
 static double grid_pair_min(const gs_fun *a, const gs_fun *b, double *u)
 {
     uint32_t m = a->degree > b->degree ? a->degree : b->degree, g = gs_fun_grid_points(m);
@@ -442,7 +447,38 @@ static double grid_pair_min(const gs_fun *a, const gs_fun *b, double *u)
     gs_fun_grid_fill(b, g, qb, &gb.base, &gb.step, NULL, NULL);
     gs_fun_dip da, db;
     gs_fun_dip_find(a, &da), gs_fun_dip_find(b, &db);
-    return gs_fun_pair_min_grid(a, b, &ga, &gb, g, &da, &db, u);
+    CHECK(da.seam_cell == GS_FUN_NO_CELL && db.seam_cell == GS_FUN_NO_CELL);
+    double r = gs_fun_pair_min_grid(a, b, &ga, &gb, g, &da, &db, u);
+    if (a->closed && b->closed) {
+        double u2 = 0.0;
+        da.seam_cell = gs_fun_seam_cell(a, g), db.seam_cell = gs_fun_seam_cell(b, g);
+        double r2 = gs_fun_pair_min_grid(a, b, &ga, &gb, g, &da, &db, &u2);
+        cell_diff += memcmp(&r, &r2, sizeof r) != 0 || (u && memcmp(u, &u2, sizeof u2) != 0);
+        cell_loops++;
+    }
+    return r;
+}
+
+/* A loop's seam cell: the grid cell [u_j, u_{j+1}) (u_j = -1 + 2j/g) that
+ * holds the seam wrap(shift - 1), for shifts all around the loop, on its
+ * edges and beyond one period. */
+static void test_seam_cell(void)
+{
+    static const uint32_t gs[] = {33, 57, 89, 96};
+    double c[2] = {1.0, 0.25};
+    long bad = 0;
+    for (size_t i = 0; i < sizeof gs / sizeof *gs; ++i)
+        for (int k = -4000; k <= 4000; ++k) {
+            uint32_t g = gs[i];
+            double shift = k < -3000 || k > 3000 ? k / 1000.0 : k / 3000.0 + (k % 7) * 1e-17;
+            gs_fun f = {GS_FUN_CHEBYSHEV, 1, 0, 1, shift, 0.0, c};
+            uint32_t j = gs_fun_seam_cell(&f, g);
+            double us = gs_fun_wrap(shift - 1.0), lo = -1.0 + 2.0 * j / g, hi = -1.0 + 2.0 * (j + 1) / g;
+            bad += !(j < g && us >= lo - 1e-12 && us < hi + 1e-12);
+        }
+    CHECK_MSG(bad == 0, "%ld seam cells outside their grid cell", bad);
+    gs_fun f = {GS_FUN_CHEBYSHEV, 1, 0, 1, 1.0, 0.0, c}; /* seam at u = 0: the cell starting there */
+    CHECK(gs_fun_seam_cell(&f, 96) == 48 && gs_fun_seam_cell(&f, 33) == 16);
 }
 
 static void check_pairs(const fset *s, long npairs, pstats *st)
@@ -695,6 +731,10 @@ int main(void)
     printf("pair minimum vs dense scan\n");
     test_pairs_real();
     test_grid_loops();
+    printf("  loops with the seam cells given: %ld of %ld pairs differ\n", cell_diff, cell_loops);
+    CHECK_MSG(cell_diff == 0 && cell_loops > 1000, "seam cells given: %ld of %ld loop pairs differ", cell_diff,
+              cell_loops);
+    test_seam_cell();
     test_grid_fill();
     test_infinity();
     test_sampled();

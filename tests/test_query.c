@@ -151,6 +151,35 @@ static void test_errors(void)
     CHECK(gs_field_errors_compute(NULL, approx, 7, 0, &e, &err) == GS_EARG);
 }
 
+/* The cache keeps each loop record's seam cell (in its meta word's spare
+ * bits): it must be the one gs_fun_seam_cell finds from the file's
+ * function, for every record of every vertex. Returns the mismatches;
+ * *loops counts the loop records seen. */
+static uint32_t seam_cell_mismatches(const gs_db *db, uint32_t *loops)
+{
+    uint32_t bad = 0;
+    for (uint32_t x = 0; x < db->nv; ++x) {
+        const double *slot = db->qroot + (size_t)x * db->qslot;
+        const gs_qvert *h = (const gs_qvert *)slot;
+        if (h->leaf == GS_NONE) continue;
+        const double *block = db->qbuf + h->start;
+        uint32_t ns = db->qlev ? h->ns : 0;
+        for (uint32_t a = db->nodes[h->leaf].parent; a != GS_NONE; a = db->nodes[a].parent)
+            for (uint32_t j = 0; j < db->nodes[a].n_curves; ++j) {
+                uint32_t k = db->nodes[a].curve_prefix + j, c = db->nodes[a].curve_start + j, g = db->qgrid[c];
+                gs_fun f;
+                gs__db_fun(db, x, k, &f);
+                if (!f.coef || !f.closed || f.kind != GS_FUN_CHEBYSHEV || !g) continue;
+                const double *rec = k < ns ? slot + gs__qrec_in_slot(db, c) : block + gs__qrec_in_block(db, h->nf, c);
+                gs_fun_dip d;
+                gs__qrec_dip(rec, &d);
+                bad += d.seam_cell != gs_fun_seam_cell(&f, g);
+                ++*loops;
+            }
+    }
+    return bad;
+}
+
 /* The query cache of a large database (over GS_QSLOT_MIN_BYTES: per-vertex
  * slots holding the two shallowest levels' curves) answers exactly what the
  * small-cache layout does: forced on built databases of generated meshes
@@ -176,6 +205,12 @@ static void test_slot_layout(const char *spec)
     if (!small || !large) goto done;
     CHECK_MSG(small->qroot && small->qlev == 0, "%s: the small layout", spec);
     CHECK_MSG(large->qroot && large->qlev == GS_QSLOT_LEVELS, "%s: slots not built", spec);
+    for (int layout = 0; layout < 2; ++layout) {
+        uint32_t loops = 0, bad_cells = seam_cell_mismatches(layout ? large : small, &loops);
+        CHECK_MSG(bad_cells == 0, "%s: layout %d: %u of %u loop records keep a wrong seam cell", spec, layout, bad_cells,
+                  loops);
+        if (strncmp(spec, "torus", 5) == 0) CHECK_MSG(loops > 0, "%s: layout %d: no loop records", spec, layout);
+    }
     uint32_t n = gs_mesh_num_vertices(m), bad = 0, finite = 0;
     double *f1 = malloc(sizeof *f1 * n), *f2 = malloc(sizeof *f2 * n);
     for (uint32_t x = 0; x < n && f1 && f2; ++x) {

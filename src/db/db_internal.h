@@ -181,10 +181,18 @@ static inline size_t gs__qrec_in_block(const gs_db *db, uint64_t nf, uint32_t c)
     return gs__qent_doubles(nf) + db->qcoff[c];
 }
 
+/* The cache's copy of the meta word also holds, in bits the file leaves
+ * zero, a loop's seam cell on its curve's grid (gs_fun_seam_cell; all
+ * ones: none), so that queries need not find it again. */
+#define GS_QREC_SEAM_SHIFT 20
+#define GS_QREC_NO_CELL 0xFFu
+#define GS_QREC_SEAM_CELL(m) (((m) >> GS_QREC_SEAM_SHIFT) & GS_QREC_NO_CELL)
+
 /* A reachable function's record (none for unreachable ones), doubles:
  *   [0]    shift (loops; 0 for paths)
  *   [1]    float: the dip's u (gs_fun_dip; NaN: not sharp), then uint32:
- *          the meta word, as in the file (degree, kind, squared, closed)
+ *          the meta word, as in the file (degree, kind, squared, closed),
+ *          with the seam cell in bits 20-27 (GS_QREC_SEAM_CELL)
  *   [2]    two floats: the dip's lo - u and hi - u
  *   [3]    two floats: the dip's slope, and a loop's seam value rounded
  *          down (NaN for paths)
@@ -214,6 +222,8 @@ static inline void gs__qrec_dip(const double *rec, gs_fun_dip *d)
     d->hi = d->u + f[2];
     d->slope = f[3];
     d->seam = f[4];
+    uint32_t c = GS_QREC_SEAM_CELL(gs__qrec_meta(rec));
+    d->seam_cell = c == GS_QREC_NO_CELL ? GS_FUN_NO_CELL : c;
 }
 
 /* Doubles of a record's grid of g points. */

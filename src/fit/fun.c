@@ -894,8 +894,9 @@ static double pair_value(const gs_fun *a, const gs_fun *b, double u)
 /* term_at3 of the two functions at u (p, p', p'' by the forward recurrences
  * of gs_cheb_eval3, both series at once up to the lower degree): returns
  * the sum of the values, *s1 and *s2 the sums of the derivatives, bit for
- * bit term_at3 of each (wrapped, clamped) added. */
-static double pair_at3(const gs_fun *a, const gs_fun *b, double u, double *s1, double *s2)
+ * bit term_at3 of each (wrapped, clamped) added. second = 0 skips the
+ * second derivatives' recurrence (*s2 is then meaningless). */
+static inline double pair_at(const gs_fun *a, const gs_fun *b, double u, double *s1, double *s2, int second)
 {
     double ta = clamp1(a->closed ? gs_fun_wrap(u - a->shift) : u);
     double tb = clamp1(b->closed ? gs_fun_wrap(u - b->shift) : u);
@@ -915,25 +916,25 @@ static double pair_at3(const gs_fun *a, const gs_fun *b, double u, double *s1, d
             v2 ck = {ca[k], cb[k]}, cn = {ca[k + 1], cb[k + 1]};
             t0 = t2 * t1 - t0;
             e0 = 2.0 * t1 + t2 * e1 - e0;
-            f0 = 4.0 * e1 + t2 * f1 - f0;
+            if (second) f0 = 4.0 * e1 + t2 * f1 - f0;
             v += ck * t0;
             d1 += ck * e0;
-            d2 += ck * f0;
+            if (second) d2 += ck * f0;
             t1 = t2 * t0 - t1;
             e1 = 2.0 * t0 + t2 * e0 - e1;
-            f1 = 4.0 * e0 + t2 * f0 - f1;
+            if (second) f1 = 4.0 * e0 + t2 * f0 - f1;
             v += cn * t1;
             d1 += cn * e1;
-            d2 += cn * f1;
+            if (second) d2 += cn * f1;
         }
         if (k <= mn) {
             v2 ck = {ca[k], cb[k]};
             v2 tn = t2 * t1 - t0;
             v2 en = 2.0 * t1 + t2 * e1 - e0;
-            v2 fn = 4.0 * e1 + t2 * f1 - f0;
+            v2 fn = second ? 4.0 * e1 + t2 * f1 - f0 : f1;
             v += ck * tn;
             d1 += ck * en;
-            d2 += ck * fn;
+            if (second) d2 += ck * fn;
             t0 = t1, t1 = tn, e0 = e1, e1 = en, f0 = f1, f1 = fn;
         }
         for (int l = 0; l < 2; ++l) { /* the higher degree's rest */
@@ -944,10 +945,10 @@ static double pair_at3(const gs_fun *a, const gs_fun *b, double u, double *s1, d
             for (uint32_t j = mn + 1; j <= m; j++) {
                 double tn = x2 * x1 - x0;
                 double en = 2.0 * x1 + x2 * y1 - y0;
-                double fn = 4.0 * y1 + x2 * z1 - z0;
+                double fn = second ? 4.0 * y1 + x2 * z1 - z0 : z1;
                 vv += c[j] * tn;
                 w1 += c[j] * en;
-                w2 += c[j] * fn;
+                if (second) w2 += c[j] * fn;
                 x0 = x1, x1 = tn, y0 = y1, y1 = en, z0 = z1, z1 = fn;
             }
             p[l] = vv, p1[l] = w1, p2[l] = w2;
@@ -958,6 +959,20 @@ static double pair_at3(const gs_fun *a, const gs_fun *b, double u, double *s1, d
     double v = term_post(&fa, p[0], p1[0], p2[0], &a1, &a2) + term_post(&fb, p[1], p1[1], p2[1], &b1, &b2);
     *s1 = a1 + b1, *s2 = a2 + b2;
     return v;
+}
+
+static double pair_at3(const gs_fun *a, const gs_fun *b, double u, double *s1, double *s2)
+{
+    return pair_at(a, b, u, s1, s2, 1);
+}
+
+/* pair_at3's value and slope alone, bit for bit (the same operations,
+ * without the second derivatives' recurrence): for the probes that use no
+ * curvature (a loop's windows and dips). */
+static double pair_at2(const gs_fun *a, const gs_fun *b, double u, double *s1)
+{
+    double s2;
+    return pair_at(a, b, u, s1, &s2, 0);
 }
 
 /* The value of pair_at3 alone (its p recurrence, the same operations, so
@@ -1072,11 +1087,11 @@ static void bracket_min(const gs_fun *a, const gs_fun *b, double xl, double xr, 
 static int window_min(const gs_fun *a, const gs_fun *b, double lo, double hi, double *best, double *bu,
                       int *exact)
 {
-    double x[WINDOW_PTS], v[WINDOW_PTS], d[WINDOW_PTS], s2;
+    double x[WINDOW_PTS], v[WINDOW_PTS], d[WINDOW_PTS];
     int i = 0;
     for (int k = 0; k < WINDOW_PTS; ++k) {
         x[k] = lo + (hi - lo) * k / (WINDOW_PTS - 1);
-        v[k] = pair_at3(a, b, x[k], &d[k], &s2);
+        v[k] = pair_at2(a, b, x[k], &d[k]);
         if (v[k] < v[i]) i = k;
     }
     if (v[i] < *best) *best = v[i], *bu = gs_fun_wrap(x[i]), *exact = 0;
@@ -1100,7 +1115,7 @@ static int window_min(const gs_fun *a, const gs_fun *b, double lo, double hi, do
 static int dip_min(const gs_fun *a, const gs_fun *b, double u, double L, double lim, double *best, double *bu,
                    int *exact)
 {
-    double s1, s2, v = pair_at3(a, b, u, &s1, &s2);
+    double s1, v = pair_at2(a, b, u, &s1);
     if (v < *best) *best = v, *bu = gs_fun_wrap(u), *exact = 0;
     if (s1 == 0.0) return 1;
     if (s1 != s1) return 0;
@@ -1111,7 +1126,7 @@ static int dip_min(const gs_fun *a, const gs_fun *b, double u, double L, double 
     double xin = 0.0, din = -m; /* the bracket's inner end, along dir */
     for (;;) {
         double t = u + dir * x, t1;
-        double w = pair_at3(a, b, t, &t1, &s2);
+        double w = pair_at2(a, b, t, &t1);
         if (w < *best) *best = w, *bu = gs_fun_wrap(t), *exact = 0;
         double dt = dir * t1; /* the slope along dir */
         if (dt != dt) return 0;
@@ -1259,6 +1274,7 @@ void gs_fun_dip_find(const gs_fun *f, gs_fun_dip *d)
 {
     d->u = d->lo = d->hi = NAN;
     d->slope = 0.0;
+    d->seam_cell = GS_FUN_NO_CELL;
     d->seam = f->coef && f->kind == GS_FUN_CHEBYSHEV && f->closed ? seam_value(f) : NAN;
     if (!gs_fun_is_sharp(f)) return;
     double u;
@@ -1311,11 +1327,16 @@ static int dip_candidates(const gs_fun *a, const gs_fun *b, const gs_fun_dip *d,
 /* Whether f's seam (a loop's fit may jump there) may hold the minimum of
  * the sum: the lower of f's two one-sided limits there (p(1), p(-1)) plus
  * the other function's lower grid value beside the seam is not above thr. */
+uint32_t gs_fun_seam_cell(const gs_fun *f, uint32_t g)
+{
+    double sigma = (gs_fun_wrap(f->shift - 1.0) + 1.0) * 0.5 * g; /* in [0, g] */
+    uint32_t j = sigma >= 0.0 && sigma < g ? (uint32_t)sigma : g - 1;
+    return j;
+}
+
 static int seam_low(const gs_fun *f, const gs_fun_dip *d, const gs_fun_grid *go, uint32_t g, float thr)
 {
-    double sigma = (gs_fun_wrap(f->shift - 1.0) + 1.0) * 0.5 * g;
-    uint32_t j = (uint32_t)sigma;
-    j = j < g ? j : g - 1;
+    uint32_t j = d && d->seam_cell < g ? d->seam_cell : gs_fun_seam_cell(f, g);
     uint16_t q0 = go->q[j], q1 = go->q[j + 1 < g ? j + 1 : 0];
     float o = go->base + go->step * (float)(q0 < q1 ? q0 : q1);
     double v = d && d->seam == d->seam ? d->seam : seam_value(f);

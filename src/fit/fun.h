@@ -91,11 +91,22 @@ typedef struct gs_fun_dip {
                     *   zero set (lo < hi) or u = NaN                       */
     double seam;   /* loops: the lower of f's one-sided limits at its seam
                     *   (t = 1 and t = -1); NaN for paths                   */
+    uint32_t seam_cell; /* loops, for the grid of g points the caller uses:
+                    *   gs_fun_seam_cell(f, g), kept so that each query
+                    *   need not find it again; GS_FUN_NO_CELL: not given
+                    *   (found when needed)                                 */
 } gs_fun_dip;
 
+#define GS_FUN_NO_CELL 0xFFFFFFFFu
+
 /* The dip of f (u = NaN unless gs_fun_is_sharp(f)) and a loop's seam
- * value (for every loop). */
+ * value (for every loop); seam_cell = GS_FUN_NO_CELL. */
 void gs_fun_dip_find(const gs_fun *f, gs_fun_dip *d);
+
+/* A loop's seam (u_s = wrap(shift - 1), where its t passes from 1 to -1)
+ * on the uniform grid of g points: the cell j with u_j <= u_s < u_{j+1}
+ * (j + 1 taken modulo g), by the rule gs_fun_pair_min_grid uses. */
+uint32_t gs_fun_seam_cell(const gs_fun *f, uint32_t g);
 
 /* A function's values on a curve's uniform grid of g points in u (paths:
  * u_j = -1 + 2j/(g-1); loops: u_j = -1 + 2j/g), quantised to 16 bits:

@@ -87,8 +87,12 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     if (!f.coef) return; /* unreachable: never minimised */
     uint32_t g = db->qgrid[c];
     double *rec = root ? fc->slot + gs__qrec_in_slot(db, c) : fc->block + gs__qrec_in_block(db, fc->nf, c);
-    gs_fun_dip dip = {NAN, NAN, NAN, 0.0, NAN};
+    gs_fun_dip dip = {NAN, NAN, NAN, 0.0, NAN, GS_FUN_NO_CELL};
     if (g) gs_fun_dip_find(&f, &dip);
+    /* the meta word with a loop's seam cell in bits the file leaves 0 */
+    uint32_t meta = fe->meta | GS_QREC_NO_CELL << GS_QREC_SEAM_SHIFT;
+    if (g && f.closed && f.kind == GS_FUN_CHEBYSHEV && g < GS_QREC_NO_CELL)
+        meta = fe->meta | gs_fun_seam_cell(&f, g) << GS_QREC_SEAM_SHIFT;
     /* offsets as floats from u as a float (so that the edges do not move
      * by u's rounding), pulled in by a little more than their own */
     float uf = (float)dip.u;
@@ -96,7 +100,7 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     if (dip.u != dip.u) head[1] = head[2] = 0.0f;
     rec[0] = f.shift;
     memcpy(rec + 1, head, 4);
-    memcpy((char *)(rec + 1) + 4, &fe->meta, 4);
+    memcpy((char *)(rec + 1) + 4, &meta, 4);
     memcpy(rec + 2, head + 1, 8);
     /* the seam value rounded down: seam_low then searches every seam it
      * would with the exact value, and rarely one more */
