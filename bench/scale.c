@@ -4,8 +4,11 @@
  * For each mesh, in a child process (so that its peak memory is its own):
  * n, build time per stage, peak memory, bytes per vertex, query times
  * (single queries: median; one after the other: median of 1000-query
- * means; the batch API) and their ratios to the first mesh's; then the
- * fitted exponent of build time against n (the paper expects 1.5). Usage:
+ * means; the batch API) and their ratios to the first mesh's, measured
+ * paired: each later mesh's child opens the first mesh's database too and
+ * times both in alternating rounds, so that the ratio does not ride on
+ * how busy a shared machine was in each mesh's minutes; then the fitted
+ * exponent of build time against n (the paper expects 1.5). Usage:
  *   bench_scale [--method exact|graph|fmm|heat] [--threads N] [--max-samples N]
  *               [--max-n N] [MESH|SPEC ...] */
 #define _DEFAULT_SOURCE /* wait4: the peak memory of each child build */
@@ -62,11 +65,12 @@ static int load(const char *what, gs_mesh **m, gs_error *err)
     return rc;
 }
 
-/* Query times of n-vertex database db, ns, over random pairs: *single the
- * median of individually timed queries (the clock's own cost subtracted),
- * *seq the median of 1000-query batch means (queries one after the other),
- * *batch the batch API (gs_db_distances, 1000 pairs a call) per pair. */
-enum { Q_BATCH = 1000, Q_NB = 300 };
+/* Query times of n-vertex database db, ns, over random pairs (nb blocks
+ * of Q_BATCH for each measure): *single the median of individually timed
+ * queries (the clock's own cost subtracted), *seq the median of the
+ * 1000-query blocks' means (queries one after the other), *batch the batch
+ * API (gs_db_distances, 1000 pairs a call) per pair. */
+enum { Q_BATCH = 1000, Q_NB = 300, PAIRED_ROUNDS = 6, PAIRED_NB = 100 };
 
 static uint64_t q_rng = 7;
 static void random_pairs(uint32_t *p, int k, uint32_t n)
@@ -77,7 +81,7 @@ static void random_pairs(uint32_t *p, int k, uint32_t n)
     }
 }
 
-static void query_times(const gs_db *db, uint32_t n, double *single, double *seq, double *batch)
+static void query_times(const gs_db *db, uint32_t n, int nb, double *single, double *seq, double *batch)
 {
     static double t[Q_NB], ts[Q_NB * Q_BATCH], out[Q_BATCH];
     static uint32_t p[2 * Q_BATCH];
@@ -87,15 +91,15 @@ static void query_times(const gs_db *db, uint32_t n, double *single, double *seq
         clock_cost[i] = now() - a;
     }
     qsort(clock_cost, 1000, sizeof *clock_cost, cmp_double);
-    for (int b = 0; b < Q_NB; ++b) { /* sequential: batch means */
+    for (int b = 0; b < nb; ++b) { /* sequential: batch means */
         random_pairs(p, Q_BATCH, n);
         double t0 = now();
         for (int i = 0; i < Q_BATCH; ++i) sink += gs_db_distance(db, p[2 * i], p[2 * i + 1]);
         t[b] = (now() - t0) / Q_BATCH;
     }
-    qsort(t, Q_NB, sizeof *t, cmp_double);
-    *seq = 1e9 * t[Q_NB / 2];
-    for (int b = 0; b < Q_NB; ++b) { /* each timed on its own */
+    qsort(t, (size_t)nb, sizeof *t, cmp_double);
+    *seq = 1e9 * t[nb / 2];
+    for (int b = 0; b < nb; ++b) { /* each timed on its own */
         random_pairs(p, Q_BATCH, n);
         for (int i = 0; i < Q_BATCH; ++i) {
             double t0 = now();
@@ -103,17 +107,17 @@ static void query_times(const gs_db *db, uint32_t n, double *single, double *seq
             ts[b * Q_BATCH + i] = now() - t0 - clock_cost[500];
         }
     }
-    qsort(ts, (size_t)Q_NB * Q_BATCH, sizeof *ts, cmp_double);
-    *single = 1e9 * ts[Q_NB * Q_BATCH / 2];
+    qsort(ts, (size_t)nb * Q_BATCH, sizeof *ts, cmp_double);
+    *single = 1e9 * ts[(size_t)nb * Q_BATCH / 2];
     double tb = 0;
-    for (int b = 0; b < Q_NB; ++b) { /* the batch API */
+    for (int b = 0; b < nb; ++b) { /* the batch API */
         random_pairs(p, Q_BATCH, n);
         double t0 = now();
         gs_db_distances(db, p, Q_BATCH, out, NULL);
         tb += now() - t0;
         sink += out[0];
     }
-    *batch = 1e9 * tb / ((double)Q_NB * Q_BATCH);
+    *batch = 1e9 * tb / ((double)nb * Q_BATCH);
     if (sink == 42.4242) puts(""); /* keep the loops */
 }
 
@@ -134,9 +138,36 @@ static void huge_pages(double *huge, double *rss)
     fclose(f);
 }
 
+/* Paired ratios: PAIRED_ROUNDS rounds, each timing db and the reference
+ * ref one after the other (their order alternating); r[0..2] the median
+ * over the rounds of db's single, seq and batch time over ref's, r[3..5]
+ * the lowest, r[6..8] the highest. */
+static void paired_ratios(const gs_db *db, uint32_t n, const gs_db *ref, uint32_t nref, double r[9])
+{
+    double q[PAIRED_ROUNDS][3];
+    for (int k = 0; k < PAIRED_ROUNDS; ++k) {
+        double a[3], b[3];
+        for (int o = 0; o < 2; ++o) {
+            if ((o == 0) == (k % 2 == 0)) query_times(ref, nref, PAIRED_NB, &b[0], &b[1], &b[2]);
+            else query_times(db, n, PAIRED_NB, &a[0], &a[1], &a[2]);
+        }
+        for (int j = 0; j < 3; ++j) q[k][j] = a[j] / b[j];
+    }
+    for (int j = 0; j < 3; ++j) {
+        double v[PAIRED_ROUNDS];
+        for (int k = 0; k < PAIRED_ROUNDS; ++k) v[k] = q[k][j];
+        qsort(v, PAIRED_ROUNDS, sizeof *v, cmp_double);
+        r[j] = 0.5 * (v[(PAIRED_ROUNDS - 1) / 2] + v[PAIRED_ROUNDS / 2]);
+        r[3 + j] = v[0], r[6 + j] = v[PAIRED_ROUNDS - 1];
+    }
+}
+
 /* The child: build, measure, print one line "n tree fields fits total bpv
- * query seq batch cost"; on stderr, how much of its memory is on huge pages. */
-static int run_one(const char *what, const gs_build_options *opt, int fd)
+ * query seq batch cost" and the 9 paired ratios (-1: none); on stderr, how
+ * much of its memory is on huge pages. The first mesh's child saves its
+ * database to ref (ref_save); later ones open it from there for the
+ * paired ratios (ref NULL: none). */
+static int run_one(const char *what, const gs_build_options *opt, int fd, const char *ref, int ref_save)
 {
     gs_mesh *m = NULL;
     gs_error err;
@@ -150,16 +181,27 @@ static int run_one(const char *what, const gs_build_options *opt, int fd)
         fprintf(stderr, "bench_scale: %s: %s\n", what, err.message);
         return 1;
     }
+    gs_mesh_free(m);
     gs_db_info info;
     gs_db_get_info(db, &info, &err);
-    double qs, qq, qb, huge, rss;
-    query_times(db, info.n_vertices, &qs, &qq, &qb);
+    double qs, qq, qb, huge, rss, r[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
+    query_times(db, info.n_vertices, Q_NB, &qs, &qq, &qb);
     huge_pages(&huge, &rss);
     if (huge >= 0) fprintf(stderr, "%s: while querying, %.0f of %.0f MiB resident on 2 MiB pages\n", what, huge, rss);
-    dprintf(fd, "%u %.3f %.3f %.3f %.3f %.1f %.1f %.1f %.1f %.2f\n", info.n_vertices, st.seconds_tree,
-            st.seconds_fields, st.seconds_fits, st.seconds_total, info.bytes_per_vertex, qs, qq, qb, info.cost);
+    if (ref && ref_save && gs_db_save(db, ref, &err))
+        fprintf(stderr, "bench_scale: %s: cannot keep it for the paired ratios: %s\n", what, err.message);
+    if (ref && !ref_save) {
+        gs_db *rdb = NULL;
+        gs_db_info ri;
+        if (gs_db_open(ref, &rdb, &err) || gs_db_get_info(rdb, &ri, &err))
+            fprintf(stderr, "bench_scale: %s: no paired ratios: %s\n", what, err.message);
+        else paired_ratios(db, info.n_vertices, rdb, ri.n_vertices, r);
+        gs_db_free(rdb);
+    }
+    dprintf(fd, "%u %.3f %.3f %.3f %.3f %.1f %.1f %.1f %.1f %.2f %.4f %.4f %.4f %.4f %.4f %.4f %.4f %.4f %.4f\n",
+            info.n_vertices, st.seconds_tree, st.seconds_fields, st.seconds_fits, st.seconds_total,
+            info.bytes_per_vertex, qs, qq, qb, info.cost, r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8]);
     gs_db_free(db);
-    gs_mesh_free(m);
     return 0;
 }
 
@@ -206,13 +248,18 @@ int main(int argc, char **argv)
     double lx[32], ly[32], q0[3] = {0, 0, 0};
     const char *first = NULL;
     int nfit = 0;
+    /* the first mesh's database, kept for the later meshes' paired ratios */
+    char ref[] = "/tmp/geosep-bench-scale-XXXXXX";
+    int rfd = mkstemp(ref);
+    if (rfd >= 0) close(rfd);
+    else fprintf(stderr, "bench_scale: no temporary file for the paired ratios\n");
     for (int i = 0; i < nl; ++i) {
         int pfd[2];
         if (pipe(pfd)) return 1;
         pid_t pid = fork();
         if (pid == 0) {
             close(pfd[0]);
-            _exit(run_one(list[i], &opt, pfd[1]));
+            _exit(run_one(list[i], &opt, pfd[1], rfd >= 0 ? ref : NULL, first == NULL));
         }
         close(pfd[1]);
         char line[512] = "";
@@ -222,21 +269,28 @@ int main(int argc, char **argv)
         struct rusage ru;
         wait4(pid, &status, 0, &ru);
         unsigned n = 0;
-        double tt, tf, tfi, tot, bpv, qs, qq, qb, cost;
-        if (k <= 0 || sscanf(line, "%u %lf %lf %lf %lf %lf %lf %lf %lf %lf", &n, &tt, &tf, &tfi, &tot, &bpv, &qs, &qq,
-                             &qb, &cost) != 10) {
+        double tt, tf, tfi, tot, bpv, qs, qq, qb, cost, r[9];
+        if (k <= 0 || sscanf(line, "%u %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf", &n, &tt,
+                             &tf, &tfi, &tot, &bpv, &qs, &qq, &qb, &cost, &r[0], &r[1], &r[2], &r[3], &r[4], &r[5],
+                             &r[6], &r[7], &r[8]) != 19) {
             printf("%-16s skipped (see the message above)\n", list[i]);
             continue;
         }
         printf("%-16s %9u %8.2f %9.2f %8.2f %9.2f %9.1f %8.1f %9.0f %9.0f %9.0f %6.1f\n", list[i], n, tt, tf, tfi,
                tot, ru.ru_maxrss / 1024.0, bpv, qs, qq, qb, cost);
         if (!first) first = list[i], q0[0] = qs, q0[1] = qq, q0[2] = qb;
-        else
+        else {
             printf("%-16s query time / %s's: %.2fx single (median), %.2fx sequential (mean), %.2fx batch\n", "",
                    first, qs / q0[0], qq / q0[1], qb / q0[2]);
+            if (r[0] > 0)
+                printf("%-16s paired, %d alternating rounds in one process (median, lowest-highest): %.2fx "
+                       "(%.2f-%.2f) single, %.2fx (%.2f-%.2f) sequential, %.2fx (%.2f-%.2f) batch\n",
+                       "", PAIRED_ROUNDS, r[0], r[3], r[6], r[1], r[4], r[7], r[2], r[5], r[8]);
+        }
         fflush(stdout);
         if (n <= max_n && nfit < 32) lx[nfit] = log((double)n), ly[nfit++] = log(tot);
     }
+    if (rfd >= 0) remove(ref);
     if (nfit >= 2) { /* least-squares slope of log(time) against log(n) */
         double mx = 0, my = 0, sxx = 0, sxy = 0;
         for (int i = 0; i < nfit; ++i) mx += lx[i] / nfit, my += ly[i] / nfit;
