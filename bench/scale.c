@@ -152,32 +152,41 @@ static void warm_up(const gs_db *db, uint32_t n)
     if (sink == 42.4242) puts("");
 }
 
+/* The median of v[0..n) (sorts v). */
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return 0.5 * (v[(n - 1) / 2] + v[n / 2]);
+}
+
 /* Paired ratios: PAIRED_ROUNDS rounds, each timing db and the reference
  * ref one after the other (their order alternating, each warmed up
  * first); r[0..2] the median over the rounds of db's single, seq and batch
- * time over ref's, r[3..5] the lowest, r[6..8] the highest. */
-static void paired_ratios(const gs_db *db, uint32_t n, const gs_db *ref, uint32_t nref, double r[9])
+ * time over ref's, r[3..5] the lowest, r[6..8] the highest, r[9..11] ref's
+ * own median times (ns) in these rounds, so that a reader can see whether
+ * sharing the process slowed it. */
+static void paired_ratios(const gs_db *db, uint32_t n, const gs_db *ref, uint32_t nref, double r[12])
 {
-    double q[PAIRED_ROUNDS][3];
+    double q[PAIRED_ROUNDS][3], rt[3][PAIRED_ROUNDS];
     for (int k = 0; k < PAIRED_ROUNDS; ++k) {
         double a[3], b[3];
         for (int o = 0; o < 2; ++o) {
             if ((o == 0) == (k % 2 == 0)) warm_up(ref, nref), query_times(ref, nref, PAIRED_NB, &b[0], &b[1], &b[2]);
             else warm_up(db, n), query_times(db, n, PAIRED_NB, &a[0], &a[1], &a[2]);
         }
-        for (int j = 0; j < 3; ++j) q[k][j] = a[j] / b[j];
+        for (int j = 0; j < 3; ++j) q[k][j] = a[j] / b[j], rt[j][k] = b[j];
     }
     for (int j = 0; j < 3; ++j) {
         double v[PAIRED_ROUNDS];
         for (int k = 0; k < PAIRED_ROUNDS; ++k) v[k] = q[k][j];
-        qsort(v, PAIRED_ROUNDS, sizeof *v, cmp_double);
-        r[j] = 0.5 * (v[(PAIRED_ROUNDS - 1) / 2] + v[PAIRED_ROUNDS / 2]);
+        r[j] = median(v, PAIRED_ROUNDS);
         r[3 + j] = v[0], r[6 + j] = v[PAIRED_ROUNDS - 1];
+        r[9 + j] = median(rt[j], PAIRED_ROUNDS);
     }
 }
 
 /* The child: build, measure, print one line "n tree fields fits total bpv
- * query seq batch cost" and the 9 paired ratios (-1: none); on stderr, how
+ * query seq batch cost" and the 12 paired figures (-1: none); on stderr, how
  * much of its memory is on huge pages. The first mesh's child saves its
  * database to ref (ref_save); later ones open it from there for the
  * paired ratios (ref NULL: none). */
@@ -198,7 +207,7 @@ static int run_one(const char *what, const gs_build_options *opt, int fd, const 
     gs_mesh_free(m);
     gs_db_info info;
     gs_db_get_info(db, &info, &err);
-    double qs, qq, qb, huge, rss, r[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
+    double qs, qq, qb, huge, rss, r[12] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
     query_times(db, info.n_vertices, Q_NB, &qs, &qq, &qb);
     huge_pages(&huge, &rss);
     if (huge >= 0) fprintf(stderr, "%s: while querying, %.0f of %.0f MiB resident on 2 MiB pages\n", what, huge, rss);
@@ -212,9 +221,13 @@ static int run_one(const char *what, const gs_build_options *opt, int fd, const 
         else paired_ratios(db, info.n_vertices, rdb, ri.n_vertices, r);
         gs_db_free(rdb);
     }
-    dprintf(fd, "%u %.3f %.3f %.3f %.3f %.1f %.1f %.1f %.1f %.2f %.4f %.4f %.4f %.4f %.4f %.4f %.4f %.4f %.4f\n",
-            info.n_vertices, st.seconds_tree, st.seconds_fields, st.seconds_fits, st.seconds_total,
-            info.bytes_per_vertex, qs, qq, qb, info.cost, r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8]);
+    char line[512];
+    int len = snprintf(line, sizeof line, "%u %.3f %.3f %.3f %.3f %.1f %.1f %.1f %.1f %.2f", info.n_vertices,
+                       st.seconds_tree, st.seconds_fields, st.seconds_fits, st.seconds_total, info.bytes_per_vertex, qs,
+                       qq, qb, info.cost);
+    for (int j = 0; j < 12 && len > 0 && len < (int)sizeof line; ++j)
+        len += snprintf(line + len, sizeof line - (size_t)len, " %.4f", r[j]);
+    dprintf(fd, "%s\n", line); /* one write: the parent reads it whole */
     gs_db_free(db);
     return 0;
 }
@@ -277,16 +290,18 @@ int main(int argc, char **argv)
         }
         close(pfd[1]);
         char line[512] = "";
-        ssize_t k = read(pfd[0], line, sizeof line - 1);
+        ssize_t k = 0, got;
+        while (k < (ssize_t)sizeof line - 1 && (got = read(pfd[0], line + k, sizeof line - 1 - (size_t)k)) > 0) k += got;
+        line[k > 0 ? k : 0] = '\0';
         close(pfd[0]);
         int status = 0;
         struct rusage ru;
         wait4(pid, &status, 0, &ru);
         unsigned n = 0;
-        double tt, tf, tfi, tot, bpv, qs, qq, qb, cost, r[9];
-        if (k <= 0 || sscanf(line, "%u %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf", &n, &tt,
-                             &tf, &tfi, &tot, &bpv, &qs, &qq, &qb, &cost, &r[0], &r[1], &r[2], &r[3], &r[4], &r[5],
-                             &r[6], &r[7], &r[8]) != 19) {
+        double tt, tf, tfi, tot, bpv, qs, qq, qb, cost, r[12];
+        if (k <= 0 || sscanf(line, "%u %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf",
+                             &n, &tt, &tf, &tfi, &tot, &bpv, &qs, &qq, &qb, &cost, &r[0], &r[1], &r[2], &r[3], &r[4],
+                             &r[5], &r[6], &r[7], &r[8], &r[9], &r[10], &r[11]) != 22) {
             printf("%-16s skipped (see the message above)\n", list[i]);
             continue;
         }
@@ -298,8 +313,10 @@ int main(int argc, char **argv)
                    first, qs / q0[0], qq / q0[1], qb / q0[2]);
             if (r[0] > 0)
                 printf("%-16s paired, %d alternating rounds in one process (median, lowest-highest): %.2fx "
-                       "(%.2f-%.2f) single, %.2fx (%.2f-%.2f) sequential, %.2fx (%.2f-%.2f) batch\n",
-                       "", PAIRED_ROUNDS, r[0], r[3], r[6], r[1], r[4], r[7], r[2], r[5], r[8]);
+                       "(%.2f-%.2f) single, %.2fx (%.2f-%.2f) sequential, %.2fx (%.2f-%.2f) batch; %s there: "
+                       "%.0f / %.0f / %.0f ns\n",
+                       "", PAIRED_ROUNDS, r[0], r[3], r[6], r[1], r[4], r[7], r[2], r[5], r[8], first, r[9], r[10],
+                       r[11]);
         }
         fflush(stdout);
         if (n <= max_n && nfit < 32) lx[nfit] = log((double)n), ly[nfit++] = log(tot);
