@@ -4,11 +4,11 @@
  * For each mesh, in a child process (so that its peak memory is its own):
  * n, build time per stage, peak memory, bytes per vertex, query times
  * (single queries: median; one after the other: median of 1000-query
- * means; the batch API) and their ratios to the first mesh's, measured
- * paired: each later mesh's child opens the first mesh's database too and
- * times both in alternating rounds, so that the ratio does not ride on
- * how busy a shared machine was in each mesh's minutes; then the fitted
- * exponent of build time against n (the paper expects 1.5). Usage:
+ * means; the batch API) and their ratios to the first mesh's, also
+ * measured paired: both databases, kept in temporary files, timed in
+ * alternating rounds, each in a fresh process, so that the ratio does not
+ * ride on how busy a shared machine was in each mesh's minutes; then the
+ * fitted exponent of build time against n (the paper expects 1.5). Usage:
  *   bench_scale [--method exact|graph|fmm|heat] [--threads N] [--max-samples N]
  *               [--max-n N] [MESH|SPEC ...] */
 #define _DEFAULT_SOURCE /* wait4: the peak memory of each child build */
@@ -138,20 +138,6 @@ static void huge_pages(double *huge, double *rss)
     fclose(f);
 }
 
-/* Untimed random queries, so that a database's round starts from its
- * steady state: a small cache the other database's round pushed out of
- * the L3 (bunny-5k's is 20 MB) is back in it, as in a run of its own. */
-static void warm_up(const gs_db *db, uint32_t n)
-{
-    static uint32_t p[2 * Q_BATCH];
-    double sink = 0;
-    for (int b = 0; b < PAIRED_NB; ++b) {
-        random_pairs(p, Q_BATCH, n);
-        for (int i = 0; i < Q_BATCH; ++i) sink += gs_db_distance(db, p[2 * i], p[2 * i + 1]);
-    }
-    if (sink == 42.4242) puts("");
-}
-
 /* The median of v[0..n) (sorts v). */
 static double median(double *v, int n)
 {
@@ -159,38 +145,11 @@ static double median(double *v, int n)
     return 0.5 * (v[(n - 1) / 2] + v[n / 2]);
 }
 
-/* Paired ratios: PAIRED_ROUNDS rounds, each timing db and the reference
- * ref one after the other (their order alternating, each warmed up
- * first); r[0..2] the median over the rounds of db's single, seq and batch
- * time over ref's, r[3..5] the lowest, r[6..8] the highest, r[9..11] ref's
- * own median times (ns) in these rounds, so that a reader can see whether
- * sharing the process slowed it. */
-static void paired_ratios(const gs_db *db, uint32_t n, const gs_db *ref, uint32_t nref, double r[12])
-{
-    double q[PAIRED_ROUNDS][3], rt[3][PAIRED_ROUNDS];
-    for (int k = 0; k < PAIRED_ROUNDS; ++k) {
-        double a[3], b[3];
-        for (int o = 0; o < 2; ++o) {
-            if ((o == 0) == (k % 2 == 0)) warm_up(ref, nref), query_times(ref, nref, PAIRED_NB, &b[0], &b[1], &b[2]);
-            else warm_up(db, n), query_times(db, n, PAIRED_NB, &a[0], &a[1], &a[2]);
-        }
-        for (int j = 0; j < 3; ++j) q[k][j] = a[j] / b[j], rt[j][k] = b[j];
-    }
-    for (int j = 0; j < 3; ++j) {
-        double v[PAIRED_ROUNDS];
-        for (int k = 0; k < PAIRED_ROUNDS; ++k) v[k] = q[k][j];
-        r[j] = median(v, PAIRED_ROUNDS);
-        r[3 + j] = v[0], r[6 + j] = v[PAIRED_ROUNDS - 1];
-        r[9 + j] = median(rt[j], PAIRED_ROUNDS);
-    }
-}
-
 /* The child: build, measure, print one line "n tree fields fits total bpv
- * query seq batch cost" and the 12 paired figures (-1: none); on stderr, how
- * much of its memory is on huge pages. The first mesh's child saves its
- * database to ref (ref_save); later ones open it from there for the
- * paired ratios (ref NULL: none). */
-static int run_one(const char *what, const gs_build_options *opt, int fd, const char *ref, int ref_save)
+ * query seq batch cost"; on stderr, how much of its memory is on huge
+ * pages. keep (may be NULL): where to save the database for the paired
+ * rounds. */
+static int run_one(const char *what, const gs_build_options *opt, int fd, const char *keep)
 {
     gs_mesh *m = NULL;
     gs_error err;
@@ -207,29 +166,114 @@ static int run_one(const char *what, const gs_build_options *opt, int fd, const 
     gs_mesh_free(m);
     gs_db_info info;
     gs_db_get_info(db, &info, &err);
-    double qs, qq, qb, huge, rss, r[12] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
+    double qs, qq, qb, huge, rss;
     query_times(db, info.n_vertices, Q_NB, &qs, &qq, &qb);
     huge_pages(&huge, &rss);
     if (huge >= 0) fprintf(stderr, "%s: while querying, %.0f of %.0f MiB resident on 2 MiB pages\n", what, huge, rss);
-    if (ref && ref_save && gs_db_save(db, ref, &err))
-        fprintf(stderr, "bench_scale: %s: cannot keep it for the paired ratios: %s\n", what, err.message);
-    if (ref && !ref_save) {
-        gs_db *rdb = NULL;
-        gs_db_info ri;
-        if (gs_db_open(ref, &rdb, &err) || gs_db_get_info(rdb, &ri, &err))
-            fprintf(stderr, "bench_scale: %s: no paired ratios: %s\n", what, err.message);
-        else paired_ratios(db, info.n_vertices, rdb, ri.n_vertices, r);
-        gs_db_free(rdb);
-    }
-    char line[512];
-    int len = snprintf(line, sizeof line, "%u %.3f %.3f %.3f %.3f %.1f %.1f %.1f %.1f %.2f", info.n_vertices,
-                       st.seconds_tree, st.seconds_fields, st.seconds_fits, st.seconds_total, info.bytes_per_vertex, qs,
-                       qq, qb, info.cost);
-    for (int j = 0; j < 12 && len > 0 && len < (int)sizeof line; ++j)
-        len += snprintf(line + len, sizeof line - (size_t)len, " %.4f", r[j]);
-    dprintf(fd, "%s\n", line); /* one write: the parent reads it whole */
+    int kept = keep && gs_db_save(db, keep, &err) == GS_OK;
+    if (keep && !kept) fprintf(stderr, "bench_scale: %s: not kept for the paired rounds: %s\n", what, err.message);
+    dprintf(fd, "%u %.3f %.3f %.3f %.3f %.1f %.1f %.1f %.1f %.2f %d\n", info.n_vertices, st.seconds_tree,
+            st.seconds_fields, st.seconds_fits, st.seconds_total, info.bytes_per_vertex, qs, qq, qb, info.cost, kept);
     gs_db_free(db);
     return 0;
+}
+
+/* A paired round's child: open the database at path, run untimed random
+ * queries (so that it starts from its steady state, its cache in the L3 if
+ * it fits), then time it; prints "single seq batch" (ns). */
+static int time_one(const char *path, int fd)
+{
+    gs_db *db = NULL;
+    gs_db_info info;
+    gs_error err;
+    if (gs_db_open(path, &db, &err) || gs_db_get_info(db, &info, &err)) {
+        fprintf(stderr, "bench_scale: %s: %s\n", path, err.message);
+        return 1;
+    }
+    static uint32_t p[2 * Q_BATCH];
+    double sink = 0, qs, qq, qb;
+    for (int b = 0; b < PAIRED_NB; ++b) {
+        random_pairs(p, Q_BATCH, info.n_vertices);
+        for (int i = 0; i < Q_BATCH; ++i) sink += gs_db_distance(db, p[2 * i], p[2 * i + 1]);
+    }
+    query_times(db, info.n_vertices, PAIRED_NB, &qs, &qq, &qb);
+    dprintf(fd, "%.1f %.1f %.1f %d\n", qs, qq, qb, sink == 42.4242);
+    gs_db_free(db);
+    return 0;
+}
+
+/* Fork fn's child (run_one or time_one through a small trampoline) and
+ * read its line into line (size bytes, read to its end); *ru its resource
+ * use. Returns the number of bytes read (<= 0: nothing). */
+typedef int (*child_fn)(const void *arg, int fd);
+static ssize_t in_child(child_fn fn, const void *arg, char *line, size_t size, struct rusage *ru)
+{
+    int pfd[2];
+    if (pipe(pfd)) return -1;
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(pfd[0]), close(pfd[1]);
+        return -1;
+    }
+    if (pid == 0) {
+        close(pfd[0]);
+        _exit(fn(arg, pfd[1]));
+    }
+    close(pfd[1]);
+    ssize_t k = 0, got;
+    while (k < (ssize_t)size - 1 && (got = read(pfd[0], line + k, size - 1 - (size_t)k)) > 0) k += got;
+    line[k > 0 ? k : 0] = '\0';
+    close(pfd[0]);
+    int status = 0;
+    wait4(pid, &status, 0, ru);
+    return k;
+}
+
+typedef struct build_arg {
+    const char *what, *keep;
+    const gs_build_options *opt;
+} build_arg;
+
+static int build_child(const void *arg, int fd)
+{
+    const build_arg *a = arg;
+    return run_one(a->what, a->opt, fd, a->keep);
+}
+
+static int time_child(const void *arg, int fd)
+{
+    return time_one(arg, fd);
+}
+
+/* Paired ratios of the database at path against the reference at ref:
+ * PAIRED_ROUNDS rounds, each timing both in fresh processes one after the
+ * other (their order alternating), so that the ratio does not ride on how
+ * busy a shared machine was in each mesh's minutes, and neither database
+ * shares a process with the other. r[0..2] the median over the rounds of
+ * the single, seq and batch ratios, r[3..5] the lowest, r[6..8] the
+ * highest, r[9..11] the reference's median times, r[12..14] the
+ * database's. Returns 0 when some round failed. */
+static int paired_ratios(const char *path, const char *ref, double r[15])
+{
+    double q[3][PAIRED_ROUNDS], t[2][3][PAIRED_ROUNDS];
+    for (int k = 0; k < PAIRED_ROUNDS; ++k)
+        for (int o = 0; o < 2; ++o) {
+            int which = (o == 0) == (k % 2 == 0); /* 1: the reference */
+            char line[256];
+            struct rusage ru;
+            double v[3];
+            if (in_child(time_child, which ? ref : path, line, sizeof line, &ru) <= 0 ||
+                sscanf(line, "%lf %lf %lf", &v[0], &v[1], &v[2]) != 3)
+                return 0;
+            for (int j = 0; j < 3; ++j) t[which][j][k] = v[j];
+        }
+    for (int j = 0; j < 3; ++j) {
+        for (int k = 0; k < PAIRED_ROUNDS; ++k) q[j][k] = t[0][j][k] / t[1][j][k];
+        r[j] = median(q[j], PAIRED_ROUNDS);
+        r[3 + j] = q[j][0], r[6 + j] = q[j][PAIRED_ROUNDS - 1];
+        r[9 + j] = median(t[1][j], PAIRED_ROUNDS), r[12 + j] = median(t[0][j], PAIRED_ROUNDS);
+    }
+    return 1;
 }
 
 int main(int argc, char **argv)
@@ -275,53 +319,45 @@ int main(int argc, char **argv)
     double lx[32], ly[32], q0[3] = {0, 0, 0};
     const char *first = NULL;
     int nfit = 0;
-    /* the first mesh's database, kept for the later meshes' paired ratios */
-    char ref[] = "/tmp/geosep-bench-scale-XXXXXX";
-    int rfd = mkstemp(ref);
+    /* the databases, kept in temporary files for the paired rounds: the
+     * first mesh's for the whole run, each later one's for its own rounds */
+    char ref[] = "/tmp/geosep-bench-scale-ref-XXXXXX", cur[] = "/tmp/geosep-bench-scale-XXXXXX";
+    int rfd = mkstemp(ref), cfd = mkstemp(cur), have_ref = 0;
     if (rfd >= 0) close(rfd);
-    else fprintf(stderr, "bench_scale: no temporary file for the paired ratios\n");
+    if (cfd >= 0) close(cfd);
+    if (rfd < 0 || cfd < 0) fprintf(stderr, "bench_scale: no temporary files: no paired ratios\n");
     for (int i = 0; i < nl; ++i) {
-        int pfd[2];
-        if (pipe(pfd)) return 1;
-        pid_t pid = fork();
-        if (pid == 0) {
-            close(pfd[0]);
-            _exit(run_one(list[i], &opt, pfd[1], rfd >= 0 ? ref : NULL, first == NULL));
-        }
-        close(pfd[1]);
-        char line[512] = "";
-        ssize_t k = 0, got;
-        while (k < (ssize_t)sizeof line - 1 && (got = read(pfd[0], line + k, sizeof line - 1 - (size_t)k)) > 0) k += got;
-        line[k > 0 ? k : 0] = '\0';
-        close(pfd[0]);
-        int status = 0;
+        char line[512];
         struct rusage ru;
-        wait4(pid, &status, 0, &ru);
+        build_arg ba = {list[i], rfd < 0 || cfd < 0 ? NULL : (first ? cur : ref), &opt};
+        ssize_t k = in_child(build_child, &ba, line, sizeof line, &ru);
         unsigned n = 0;
-        double tt, tf, tfi, tot, bpv, qs, qq, qb, cost, r[12];
-        if (k <= 0 || sscanf(line, "%u %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf",
-                             &n, &tt, &tf, &tfi, &tot, &bpv, &qs, &qq, &qb, &cost, &r[0], &r[1], &r[2], &r[3], &r[4],
-                             &r[5], &r[6], &r[7], &r[8], &r[9], &r[10], &r[11]) != 22) {
+        int kept = 0;
+        double tt, tf, tfi, tot, bpv, qs, qq, qb, cost;
+        if (k <= 0 || sscanf(line, "%u %lf %lf %lf %lf %lf %lf %lf %lf %lf %d", &n, &tt, &tf, &tfi, &tot, &bpv, &qs,
+                             &qq, &qb, &cost, &kept) != 11) {
             printf("%-16s skipped (see the message above)\n", list[i]);
             continue;
         }
         printf("%-16s %9u %8.2f %9.2f %8.2f %9.2f %9.1f %8.1f %9.0f %9.0f %9.0f %6.1f\n", list[i], n, tt, tf, tfi,
                tot, ru.ru_maxrss / 1024.0, bpv, qs, qq, qb, cost);
-        if (!first) first = list[i], q0[0] = qs, q0[1] = qq, q0[2] = qb;
+        if (!first) first = list[i], q0[0] = qs, q0[1] = qq, q0[2] = qb, have_ref = kept;
         else {
             printf("%-16s query time / %s's: %.2fx single (median), %.2fx sequential (mean), %.2fx batch\n", "",
                    first, qs / q0[0], qq / q0[1], qb / q0[2]);
-            if (r[0] > 0)
-                printf("%-16s paired, %d alternating rounds in one process (median, lowest-highest): %.2fx "
-                       "(%.2f-%.2f) single, %.2fx (%.2f-%.2f) sequential, %.2fx (%.2f-%.2f) batch; %s there: "
-                       "%.0f / %.0f / %.0f ns\n",
-                       "", PAIRED_ROUNDS, r[0], r[3], r[6], r[1], r[4], r[7], r[2], r[5], r[8], first, r[9], r[10],
-                       r[11]);
+            double r[15];
+            if (have_ref && kept && paired_ratios(cur, ref, r))
+                printf("%-16s paired, %d rounds alternating %s and this mesh, each in a fresh process (median, "
+                       "lowest-highest): %.2fx (%.2f-%.2f) single, %.2fx (%.2f-%.2f) sequential, %.2fx (%.2f-%.2f) "
+                       "batch; medians, %s %.0f / %.0f / %.0f ns, this mesh %.0f / %.0f / %.0f ns\n",
+                       "", PAIRED_ROUNDS, first, r[0], r[3], r[6], r[1], r[4], r[7], r[2], r[5], r[8], first, r[9],
+                       r[10], r[11], r[12], r[13], r[14]);
         }
         fflush(stdout);
         if (n <= max_n && nfit < 32) lx[nfit] = log((double)n), ly[nfit++] = log(tot);
     }
     if (rfd >= 0) remove(ref);
+    if (cfd >= 0) remove(cur);
     if (nfit >= 2) { /* least-squares slope of log(time) against log(n) */
         double mx = 0, my = 0, sxx = 0, sxy = 0;
         for (int i = 0; i < nfit; ++i) mx += lx[i] / nfit, my += ly[i] / nfit;
