@@ -197,7 +197,8 @@ static int time_one(const char *path, int fd)
         for (int i = 0; i < Q_BATCH; ++i) sink += gs_db_distance(db, p[2 * i], p[2 * i + 1]);
     }
     query_times(db, info.n_vertices, PAIRED_NB, &qs, &qq, &qb);
-    dprintf(fd, "%.1f %.1f %.1f %d\n", qs, qq, qb, sink == 42.4242);
+    dprintf(fd, "%.1f %.1f %.1f\n", qs, qq, qb);
+    if (sink == 42.4242) puts(""); /* keep the warm-up */
     gs_db_free(db);
     return 0;
 }

@@ -1324,16 +1324,16 @@ static int dip_candidates(const gs_fun *a, const gs_fun *b, const gs_fun_dip *d,
     return 1;
 }
 
-/* Whether f's seam (a loop's fit may jump there) may hold the minimum of
- * the sum: the lower of f's two one-sided limits there (p(1), p(-1)) plus
- * the other function's lower grid value beside the seam is not above thr. */
 uint32_t gs_fun_seam_cell(const gs_fun *f, uint32_t g)
 {
-    double sigma = (gs_fun_wrap(f->shift - 1.0) + 1.0) * 0.5 * g; /* in [0, g] */
-    uint32_t j = sigma >= 0.0 && sigma < g ? (uint32_t)sigma : g - 1;
-    return j;
+    double sigma = (gs_fun_wrap(f->shift - 1.0) + 1.0) * 0.5 * g; /* in [0, g]; NaN for a NaN shift */
+    return sigma >= 0.0 && sigma < g ? (uint32_t)sigma : g - 1;
 }
 
+/* Whether f's seam (a loop's fit may jump there) may hold the minimum of
+ * the sum: the lower of f's two one-sided limits there (p(1), p(-1)) plus
+ * the other function's lower grid value beside the seam is not above thr.
+ * The seam's cell comes from d when the caller kept it. */
 static int seam_low(const gs_fun *f, const gs_fun_dip *d, const gs_fun_grid *go, uint32_t g, float thr)
 {
     uint32_t j = d && d->seam_cell < g ? d->seam_cell : gs_fun_seam_cell(f, g);

@@ -90,9 +90,9 @@ static void fill(gs_db *db, uint32_t x, uint64_t k, uint32_t c, void *user)
     gs_fun_dip dip = {NAN, NAN, NAN, 0.0, NAN, GS_FUN_NO_CELL};
     if (g) gs_fun_dip_find(&f, &dip);
     /* the meta word with a loop's seam cell in bits the file leaves 0 */
-    uint32_t meta = fe->meta | GS_QREC_NO_CELL << GS_QREC_SEAM_SHIFT;
-    if (g && f.closed && f.kind == GS_FUN_CHEBYSHEV && g < GS_QREC_NO_CELL)
-        meta = fe->meta | gs_fun_seam_cell(&f, g) << GS_QREC_SEAM_SHIFT;
+    _Static_assert(GS_FUN_GRID_MAX < GS_QREC_NO_CELL, "a seam cell must fit below the none value");
+    uint32_t cell = g && f.closed && f.kind == GS_FUN_CHEBYSHEV ? gs_fun_seam_cell(&f, g) : GS_QREC_NO_CELL;
+    uint32_t meta = fe->meta | cell << GS_QREC_SEAM_SHIFT;
     /* offsets as floats from u as a float (so that the edges do not move
      * by u's rounding), pulled in by a little more than their own */
     float uf = (float)dip.u;
