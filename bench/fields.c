@@ -4,7 +4,7 @@
  * of each mesh's GEOGT1 file, the solver's creation time and the time per
  * field.
  * Usage: bench_fields [--method fmm|heat] [--heat-time M] [--fmm-start R]
- *                     [--heat-refine N] [MESH ...]   (default: heat, every shared mesh)
+ *                     [--heat-refine N|auto] [MESH ...]   (default: heat, every shared mesh)
  * MESH is a name of ../shared/meshes (without .obj). */
 #include "geosep.h"
 
@@ -104,11 +104,12 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "--heat-time") && i + 1 < argc) {
             opt.heat_time = atof(argv[++i]);
         } else if (!strcmp(argv[i], "--heat-refine") && i + 1 < argc) {
-            opt.heat_refine = (uint32_t)atoi(argv[++i]);
+            const char *v = argv[++i];
+            opt.heat_refine = !strcmp(v, "auto") ? GS_HEAT_REFINE_AUTO : (uint32_t)atoi(v);
         } else if (!strcmp(argv[i], "--fmm-start") && i + 1 < argc) {
             opt.fmm_exact_start = atof(argv[++i]);
         } else if (argv[i][0] == '-') {
-            fprintf(stderr, "usage: bench_fields [--method fmm|heat] [--heat-time M] [--fmm-start R] [--heat-refine N] [MESH ...]\n");
+            fprintf(stderr, "usage: bench_fields [--method fmm|heat] [--heat-time M] [--fmm-start R] [--heat-refine N|auto] [MESH ...]\n");
             return 2;
         } else {
             first = i;

@@ -33,7 +33,8 @@ const char usage_build[] =
     "  seed (1). --heat-time,\n"
     "  --heat-refine and --fmm-start: the field method's parameters (see geosep\n"
     "  solve --help; --heat-refine subdivides each patch while its fields are\n"
-    "  solved).\n"
+    "  solved; default auto: meshes under 32,000 vertices are subdivided to\n"
+    "  reach that, at most twice).\n"
     "  Shows progress on a terminal; prints the stage times and the size\n"
     "  (--quiet: neither).\n";
 const char usage_query[] =
@@ -132,7 +133,10 @@ static int build_option(gs_build_options *o, const char **out, int *quiet, int a
     if ((v = opt_value(argc, argv, i, "--fmm-start")))
         return parse_double(v, &o->solver.fmm_exact_start) ? fail(EXIT_USAGE, "build: --fmm-start '%s' is not a number", v) : 0;
     if ((v = opt_value(argc, argv, i, "--heat-refine")))
-        return parse_u32(v, &o->solver.heat_refine) ? fail(EXIT_USAGE, "build: --heat-refine '%s' is not a count", v) : 0;
+        return !strcmp(v, "auto") ? (o->solver.heat_refine = GS_HEAT_REFINE_AUTO, 0)
+               : parse_u32(v, &o->solver.heat_refine) || o->solver.heat_refine > GS_HEAT_REFINE_MAX
+                   ? fail(EXIT_USAGE, "build: --heat-refine '%s': expected 0 to %d or auto", v, GS_HEAT_REFINE_MAX)
+                   : 0;
     if ((v = opt_value(argc, argv, i, "--tol")))
         return parse_double(v, &o->tol) ? fail(EXIT_USAGE, "build: --tol '%s' is not a number", v) : 0;
     return fail(EXIT_USAGE, "build: unknown or incomplete option '%s'", a);

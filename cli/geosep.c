@@ -58,7 +58,9 @@ static const char usage_solve[] =
     "  length weighted by triangle area; default 1). --heat-refine N: solve\n"
     "  heat on the mesh subdivided 1-to-4 N times (midpoint subdivision: the\n"
     "  same surface; 0 to 3, default 0; h is then the subdivided mesh's) and\n"
-    "  read the distances back at the vertices. --fmm-start R: fast\n"
+    "  read the distances back at the vertices; auto: as geosep build chooses\n"
+    "  by default (N subdivisions to reach 32,000 vertices, at most 2), for the\n"
+    "  fields its databases reproduce. --fmm-start R: fast\n"
     "  marching starts from exact distances within R mean edge lengths of the\n"
     "  sources (default 4; 0: the plain march from the source vertices).\n";
 
@@ -298,8 +300,9 @@ static int solve_option(solve_opts *o, int argc, char **argv, int *i)
                 return fail(EXIT_USAGE, "solve: --fmm-start '%s': expected a number >= 0", v);
             return 0;
         case 11:
-            if (parse_u32(v, &o->sopt.heat_refine) || o->sopt.heat_refine > GS_HEAT_REFINE_MAX)
-                return fail(EXIT_USAGE, "solve: --heat-refine '%s': expected 0 to %d", v, GS_HEAT_REFINE_MAX);
+            if (!strcmp(v, "auto")) o->sopt.heat_refine = GS_HEAT_REFINE_AUTO;
+            else if (parse_u32(v, &o->sopt.heat_refine) || o->sopt.heat_refine > GS_HEAT_REFINE_MAX)
+                return fail(EXIT_USAGE, "solve: --heat-refine '%s': expected 0 to %d or auto", v, GS_HEAT_REFINE_MAX);
             return 0;
         default: o->out = v; return 0;
         }

@@ -254,7 +254,10 @@ typedef struct gs_solver_options {
                             /*   many times (midpoint subdivision: the same    */
                             /*   surface), read back at its vertices; 0..3 [0] */
                             /*   (h above is then the subdivided patch's; the  */
-                            /*   solver's memory and time grow more than 4^N)  */
+                            /*   solver's memory and time grow more than 4^N), */
+                            /*   or GS_HEAT_REFINE_AUTO (gs_heat_refine_auto   */
+                            /*   of the patch's vertex count; gs_build: of the */
+                            /*   mesh's, and its default)                      */
 } gs_solver_options;
 
 /* Range of gs_solver_options.heat_time. Measured on sphere:4, grid:40,40
@@ -271,11 +274,24 @@ typedef struct gs_solver_options {
 /* Largest gs_solver_options.heat_refine (3: 64x the triangles). */
 #define GS_HEAT_REFINE_MAX 3
 
+/* gs_solver_options.heat_refine: chosen from the vertex count (below). */
+#define GS_HEAT_REFINE_AUTO UINT32_MAX
+
+/* The heat method's resolution for a mesh of nv vertices: the fewest
+ * 1-to-4 subdivisions (at most 2) that give at least
+ * GS_HEAT_REFINE_AUTO_VERTICES vertices. The heat fields of coarse meshes
+ * are not additive enough for a database to reproduce them (bunny-5k's
+ * database: ME 0.80% unrefined, 0.41% refined twice; bunny-10k 0.56%,
+ * 0.40% once; the paper's target is 0.5%), while from about 20,000
+ * vertices they are (bunny-20k 0.45%, stanford-bunny's 35,947 0.44%). */
+#define GS_HEAT_REFINE_AUTO_VERTICES 32000u
+uint32_t gs_heat_refine_auto(uint32_t nv);
+
 void gs_solver_options_default(gs_solver_options *opt);
 
 /* gs_solver_create with options (NULL: defaults). GS_EARG if an option is
  * out of range (heat_time in [GS_HEAT_TIME_MIN, GS_HEAT_TIME_MAX], fmm_exact_start finite and
- * >= 0, heat_refine at most GS_HEAT_REFINE_MAX). *out receives a new solver (caller frees); opt is copied. */
+ * >= 0, heat_refine at most GS_HEAT_REFINE_MAX or GS_HEAT_REFINE_AUTO). *out receives a new solver (caller frees); opt is copied. */
 int gs_solver_create_ex(const gs_patch *patch, gs_method method, const gs_solver_options *opt,
                         gs_solver **out, gs_error *err);
 void gs_solver_free(gs_solver *solver);
@@ -329,7 +345,9 @@ typedef struct gs_build_options {
     uint32_t seed;           /* partitioning seed [1]                          */
     double sample_spacing;   /* separator sample spacing / mean edge length    */
                              /*   [0.5]                                        */
-    gs_solver_options solver;/* parameters of fmm and heat [defaults]          */
+    gs_solver_options solver;/* parameters of fmm and heat [defaults, but     */
+                             /*   heat_refine GS_HEAT_REFINE_AUTO: from the    */
+                             /*   mesh's vertex count]                         */
     uint32_t max_samples;    /* samples per curve at most: longer curves are   */
                              /*   thinned to this many, evenly by arc length;  */
                              /*   bounds the fields per separator; 0: no cap   */
@@ -401,7 +419,9 @@ typedef struct gs_db_info {
     double sample_spacing;     /* build parameters (gs_build_options)          */
     uint32_t seed;
     uint32_t max_samples;      /* cap on samples per curve (0: none)          */
-    gs_solver_options solver;  /* the field method's parameters                */
+    gs_solver_options solver;  /* the field method's parameters (heat_refine  */
+                               /*   as used: never GS_HEAT_REFINE_AUTO; 0     */
+                               /*   for methods other than heat)              */
 } gs_db_info;
 
 int gs_db_get_info(const gs_db *db, gs_db_info *info, gs_error *err);

@@ -141,6 +141,7 @@ static void blocks(void)
             gs_build_options o;
             gs_build_options_default(&o);
             o.method = methods[q];
+            o.solver.heat_refine = 0; /* as it is: refined builds below */
             o.vertex_sources = vs;
             o.threads = 2;
             gs_db *one = build(m, &o);
@@ -177,6 +178,7 @@ static void threads(void)
         gs_build_options o;
         gs_build_options_default(&o);
         o.method = methods[q];
+        o.solver.heat_refine = 0; /* as it is: refined builds below */
         o.max_samples = 64;
         o.threads = 1;
         gs_db *a = build(m, &o);
@@ -276,6 +278,48 @@ static void bad_options(void)
     o.solver.heat_refine = GS_HEAT_REFINE_MAX + 1;
     CHECK(gs_db_build(m, &o, &db, NULL, &err) == GS_EARG && db == NULL);
     CHECK(strstr(err.message, "heat_refine 4 must be at most 3") != NULL);
+    /* a count that is neither 0..3 nor GS_HEAT_REFINE_AUTO, for any method */
+    o.method = GS_METHOD_FMM;
+    o.solver.heat_refine = GS_HEAT_REFINE_AUTO - 1;
+    CHECK(gs_db_build(m, &o, &db, NULL, &err) == GS_EARG && db == NULL);
+    CHECK(strstr(err.message, "must be at most 3") != NULL);
+    gs_mesh_free(m);
+}
+
+/* gs_heat_refine_auto: the fewest subdivisions (at most 2) to reach
+ * GS_HEAT_REFINE_AUTO_VERTICES vertices; a solver created with
+ * GS_HEAT_REFINE_AUTO gives the fields of the count it chooses for its
+ * patch, bit for bit. */
+static void heat_refine_auto(void)
+{
+    static const uint32_t nv[] = {0, 1, 1999, 2000, 5051, 7999, 8000, 10000, 20000, 31999, 32000, 35947, UINT32_MAX};
+    static const uint32_t want[] = {2, 2, 2, 2, 2, 2, 1, 1, 1, 1, 0, 0, 0};
+    for (size_t k = 0; k < sizeof nv / sizeof *nv; ++k)
+        CHECK_MSG(gs_heat_refine_auto(nv[k]) == want[k], "gs_heat_refine_auto(%u) = %u, expected %u", nv[k],
+                  gs_heat_refine_auto(nv[k]), want[k]);
+    CHECK(GS_HEAT_REFINE_AUTO > GS_HEAT_REFINE_MAX);
+    gs_mesh *m = NULL;
+    gs_error err;
+    CHECK(gs_mesh_generate("peaks:15", &m, &err) == GS_OK);
+    gs_patch *p = NULL;
+    CHECK(gs_patch_create(m, NULL, 0, &p, &err) == GS_OK);
+    uint32_t n = gs_patch_num_vertices(p), r = gs_heat_refine_auto(n);
+    CHECK_MSG(r == 2, "peaks:15 (%u vertices): refined %u times", n, r);
+    double *a = malloc(2 * (size_t)n * sizeof *a);
+    gs_source src = gs_source_vertex(n / 3);
+    for (int k = 0; k < 2; ++k) {
+        gs_solver_options so;
+        gs_solver_options_default(&so);
+        CHECK(so.heat_refine == 0); /* a solver's default: the patch as it is */
+        so.heat_refine = k ? r : GS_HEAT_REFINE_AUTO;
+        gs_solver *s = NULL;
+        CHECK(gs_solver_create_ex(p, GS_METHOD_HEAT, &so, &s, &err) == GS_OK);
+        CHECK(s && gs_solver_solve(s, &src, 1, 0, a + (size_t)k * n, &err) == GS_OK);
+        gs_solver_free(s);
+    }
+    CHECK_MSG(memcmp(a, a + n, n * sizeof *a) == 0, "GS_HEAT_REFINE_AUTO and heat_refine %u differ", r);
+    free(a);
+    gs_patch_free(p);
     gs_mesh_free(m);
 }
 
@@ -286,10 +330,11 @@ static void heat_refine_recorded(void)
 {
     gs_mesh *m = NULL;
     gs_error err;
-    CHECK(gs_mesh_generate("sphere:3", &m, &err) == GS_OK);
+    CHECK(gs_mesh_generate("sphere:2", &m, &err) == GS_OK); /* 162 vertices */
     gs_build_options o;
     gs_build_options_default(&o);
     o.method = GS_METHOD_HEAT;
+    o.solver.heat_refine = 0;
     gs_db *plain = build(m, &o);
     o.solver.heat_refine = 2;
     gs_db *db = build(m, &o);
@@ -297,6 +342,24 @@ static void heat_refine_recorded(void)
     CHECK(gs_db_get_info(plain, &i, &err) == GS_OK && i.solver.heat_refine == 0);
     CHECK(gs_db_get_info(db, &i, &err) == GS_OK && i.solver.heat_refine == 2 && i.method == GS_METHOD_HEAT);
     CHECK(!same_file(plain, db));
+    /* the default (GS_HEAT_REFINE_AUTO) resolves from the mesh's 162
+     * vertices to 2, the number recorded; the same file with 1 thread or 2 */
+    gs_build_options_default(&o);
+    CHECK(o.solver.heat_refine == GS_HEAT_REFINE_AUTO);
+    o.method = GS_METHOD_HEAT;
+    o.threads = 2;
+    gs_db *a2 = build(m, &o);
+    o.threads = 1;
+    gs_db *a1 = build(m, &o);
+    CHECK(gs_db_get_info(a2, &i, &err) == GS_OK && i.solver.heat_refine == 2);
+    CHECK_MSG(same_file(a2, db) && same_file(a1, db), "the default build is not the one refined twice");
+    gs_db_free(a1);
+    gs_db_free(a2);
+    /* other methods ignore it and record 0 */
+    o.method = GS_METHOD_FMM;
+    gs_db *f = build(m, &o);
+    CHECK(gs_db_get_info(f, &i, &err) == GS_OK && i.solver.heat_refine == 0);
+    gs_db_free(f);
     char path[256];
     snprintf(path, sizeof path, "/tmp/geosep_test_refine_%d.gsdb", (int)getpid());
     CHECK(gs_db_save(db, path, &err) == GS_OK);
@@ -315,6 +378,7 @@ int main(void)
 {
     bad_options();
     heat_refine_recorded();
+    heat_refine_auto();
     solve_each();
     capped_samples();
     blocks();

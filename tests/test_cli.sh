@@ -155,7 +155,12 @@ run solve "$G" --source 0 --method heat --heat-time 0.5 -o "$T/heat05.txt"
 run solve "$G" --source 0 --method heat --heat-refine 1 -o "$T/heatr1.txt"
 { [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/heatr1.txt")" -eq 66 ] && [ "$(head -1 "$T/heatr1.txt")" = "0" ] &&
   ! cmp -s "$T/heatr1.txt" "$T/heat.txt"; }; verdict "solve --heat-refine 1: solved on the subdivided mesh"
+run solve "$G" --source 0 --method heat --heat-refine auto -o "$T/heatra.txt"
+run solve "$G" --source 0 --method heat --heat-refine 2 -o "$T/heatr2.txt"
+{ [ "$rc" -eq 0 ] && cmp -s "$T/heatra.txt" "$T/heatr2.txt" && ! cmp -s "$T/heatra.txt" "$T/heat.txt"; }
+verdict "solve --heat-refine auto: 66 vertices, refined twice as build would; the default solves the mesh as it is"
 expect_fail 2 "expected 0 to 3" "heat refine 4" solve "$G" --source 0 --method heat --heat-refine 4
+expect_fail 2 "expected 0 to 3 or auto" "heat refine 2^32-1" solve "$G" --source 0 --method heat --heat-refine 4294967295
 expect_fail 2 "expected 0 to 3" "heat refine -1" solve "$G" --source 0 --method heat --heat-refine -1
 expect_fail 2 "number in .1e-08, 1e.08" "heat time 0" solve "$G" --source 0 --method heat --heat-time 0
 expect_fail 2 "number in" "heat time nan" solve "$G" --source 0 --method heat --heat-time nan
@@ -345,13 +350,23 @@ expect_fail 2 "not a count" "build: bad --mmax" build "$D" -o "$T/x.gsdb" --mmax
 expect_fail 2 "heat_time" "build: --heat-time 0" build "$D" -o "$T/x.gsdb" --method heat --heat-time 0
 expect_fail 2 "heat_time 1e.300 out of range" "build: --heat-time 1e300" build "$D" -o "$T/x.gsdb" --method heat --heat-time 1e300
 expect_fail 2 "fmm_exact_start" "build: --fmm-start -2" build "$D" -o "$T/x.gsdb" --method fmm --fmm-start -2
-expect_fail 2 "heat_refine 4 must be at most 3" "build: --heat-refine 4" build "$D" -o "$T/x.gsdb" --method heat --heat-refine 4
-expect_fail 2 "not a count" "build: --heat-refine x" build "$D" -o "$T/x.gsdb" --method heat --heat-refine x
+expect_fail 2 "--heat-refine '4': expected 0 to 3 or auto" "build: --heat-refine 4" build "$D" -o "$T/x.gsdb" --method heat --heat-refine 4
+expect_fail 2 "expected 0 to 3 or auto" "build: --heat-refine x" build "$D" -o "$T/x.gsdb" --method heat --heat-refine x
+expect_fail 2 "expected 0 to 3 or auto" "build: --heat-refine 2^32-1" build "$D" -o "$T/x.gsdb" --method heat --heat-refine 4294967295
 { [ ! -e "$T/x.gsdb" ]; }; verdict "build: bad method parameters leave no database"
 run build "$D" -o "$T/r1.gsdb" --method heat --heat-refine 1
 { [ "$rc" -eq 0 ] && grep -q "subdivided 1-to-4 1 time)" "$T/out"; }; verdict "build --heat-refine 1 prints it"
 run eval "$T/r1.gsdb" --groundtruth "$T/grid.gt"
 { [ "$rc" -eq 0 ] && grep -q "t = 1 h^2, solved on the patches subdivided 1-to-4 1 time)" "$T/out"; }; verdict "eval: the database records --heat-refine"
+# heat's default resolution: the grid's 400 vertices are refined twice
+# (to 6,400; gs_heat_refine_auto), the same file as --heat-refine 2 and auto
+run build "$D" -o "$T/ra.gsdb" --method heat
+{ [ "$rc" -eq 0 ] && grep -q "subdivided 1-to-4 2 times)" "$T/out"; }; verdict "build --method heat: refined twice by default, and says so"
+run build "$D" -o "$T/r2.gsdb" --method heat --heat-refine 2 --quiet
+run build "$D" -o "$T/rauto.gsdb" --method heat --heat-refine auto --quiet
+run build "$D" -o "$T/r0.gsdb" --method heat --heat-refine 0
+{ [ "$rc" -eq 0 ] && cmp -s "$T/ra.gsdb" "$T/r2.gsdb" && cmp -s "$T/ra.gsdb" "$T/rauto.gsdb" && ! cmp -s "$T/ra.gsdb" "$T/r0.gsdb" &&
+  ! grep -q "subdivided" "$T/out"; }; verdict "build: the default is --heat-refine auto = 2 here; 0 solves the mesh as it is"
 expect_fail 2 "need MESH and -o" "build: no -o" build "$D"
 expect_fail 2 "landmarks" "land: zero landmarks" land "$D" --landmarks 0 --groundtruth "$T/grid.gt"
 { [ -z "$(find "$T" -name '*.tmp.*')" ]; }; verdict "database commands leave no temporary files"

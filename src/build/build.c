@@ -31,6 +31,7 @@ void gs_build_options_default(gs_build_options *o)
     o->seed = 1;
     o->sample_spacing = 0.5;
     gs_solver_options_default(&o->solver);
+    o->solver.heat_refine = GS_HEAT_REFINE_AUTO;
     o->max_samples = 96;
     o->field_memory_mib = 384;
 }
@@ -902,9 +903,9 @@ static int check_options(const gs_build_options *o, gs_error *err)
                         GS_HEAT_TIME_MIN, GS_HEAT_TIME_MAX);
     if (!(isfinite(o->solver.fmm_exact_start) && o->solver.fmm_exact_start >= 0))
         return gs__fail(err, GS_EARG, "solver.fmm_exact_start %g must be finite and >= 0", o->solver.fmm_exact_start);
-    if (o->solver.heat_refine > GS_HEAT_REFINE_MAX)
-        return gs__fail(err, GS_EARG, "solver.heat_refine %u must be at most %d", o->solver.heat_refine,
-                        GS_HEAT_REFINE_MAX);
+    if (o->solver.heat_refine > GS_HEAT_REFINE_MAX && o->solver.heat_refine != GS_HEAT_REFINE_AUTO)
+        return gs__fail(err, GS_EARG, "solver.heat_refine %u must be at most %d (or GS_HEAT_REFINE_AUTO)",
+                        o->solver.heat_refine, GS_HEAT_REFINE_MAX);
     return GS_OK;
 }
 
@@ -961,6 +962,11 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
     const gs_build_options *opt = &resolved;
     int rc = check_options(opt, err);
     if (rc) return rc;
+    /* the heat method's resolution from the whole mesh's size, the same for
+     * every patch; other methods ignore it (recorded as 0) */
+    if (resolved.method != GS_METHOD_HEAT) resolved.solver.heat_refine = 0;
+    else if (resolved.solver.heat_refine == GS_HEAT_REFINE_AUTO)
+        resolved.solver.heat_refine = gs_heat_refine_auto(gs_mesh_num_vertices(mesh));
     builder b;
     memset(&b, 0, sizeof b);
     b.mesh = mesh;

@@ -96,6 +96,13 @@ void gs_solver_options_default(gs_solver_options *o)
     o->heat_refine = 0;
 }
 
+uint32_t gs_heat_refine_auto(uint32_t nv)
+{
+    uint32_t n = 0;
+    for (uint64_t v = nv; n < 2 && v < GS_HEAT_REFINE_AUTO_VERTICES; v *= 4) ++n;
+    return n;
+}
+
 int gs_solver_create(const gs_patch *patch, gs_method method, gs_solver **out, gs_error *err)
 {
     return gs_solver_create_ex(patch, method, NULL, out, err);
@@ -118,9 +125,10 @@ int gs_solver_create_ex(const gs_patch *patch, gs_method method, const gs_solver
     if (!(isfinite(o.fmm_exact_start) && o.fmm_exact_start >= 0))
         return gs__fail(err, GS_EARG, "gs_solver_create: fmm_exact_start %g must be finite and >= 0",
                         o.fmm_exact_start);
+    if (o.heat_refine == GS_HEAT_REFINE_AUTO) o.heat_refine = gs_heat_refine_auto(gs_patch_num_vertices(patch));
     if (o.heat_refine > GS_HEAT_REFINE_MAX)
-        return gs__fail(err, GS_EARG, "gs_solver_create: heat_refine %u must be at most %d", o.heat_refine,
-                        GS_HEAT_REFINE_MAX);
+        return gs__fail(err, GS_EARG, "gs_solver_create: heat_refine %u must be at most %d (or GS_HEAT_REFINE_AUTO)",
+                        o.heat_refine, GS_HEAT_REFINE_MAX);
     gs_solver *s = gs__calloc(1, sizeof *s);
     if (!s) return gs__fail(err, GS_ENOMEM, "out of memory");
     s->patch = patch;
