@@ -10,7 +10,7 @@
 const char usage_build[] =
     "usage: geosep build MESH -o DB [--method exact|graph|fmm|heat] [--vmax N] [--mmax N] [--tol F]\n"
     "                    [--threads N] [--vertex-sources|--sample-sources] [--sampled] [--seed N]\n"
-    "                    [--spacing F] [--max-samples N] [--field-memory MIB] [--heat-time M] [--heat-refine N]\n"
+    "                    [--spacing F] [--max-samples N] [--field-memory MIB] [--heat-time M] [--heat-refine N|auto]\n"
     "                    [--fmm-start R] [--leaf-exact] [--quiet]\n"
     "  Build a query database (-o or --output DB): nested bisection tree\n"
     "  (leaves of at most --vmax vertices, default 30), distance fields from\n"

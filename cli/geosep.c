@@ -44,7 +44,7 @@ static const char usage_solve[] =
     "                    [--method exact|graph|fmm|heat] [--max-distance D] [-o OUT] [--verbose]\n"
     "       geosep solve MESH --format gt (--sources-from FILE.gt | --random K [--seed S]) -o OUT.gt\n"
     "                    [--method exact|graph|fmm|heat] [--verbose]\n"
-    "       method parameters: [--heat-time M] [--heat-refine N] [--fmm-start R]\n"
+    "       method parameters: [--heat-time M] [--heat-refine N|auto] [--fmm-start R]\n"
     "  Geodesic distances from the sources to every vertex. Text output: one\n"
     "  distance per line in vertex order (\"%.17g\", \"inf\" if unreachable), the\n"
     "  minimum over all sources, to OUT or stdout. --source V is a vertex id\n"
