@@ -256,8 +256,8 @@ typedef struct gs_solver_options {
                             /*   (h above is then the subdivided patch's; the  */
                             /*   solver's memory and time grow more than 4^N), */
                             /*   or GS_HEAT_REFINE_AUTO (gs_heat_refine_auto   */
-                            /*   of the patch's vertex count; gs_build: of the */
-                            /*   mesh's, and its default)                      */
+                            /*   of the patch's vertex count; gs_db_build: of  */
+                            /*   the whole mesh's, and its default)            */
 } gs_solver_options;
 
 /* Range of gs_solver_options.heat_time. Measured on sphere:4, grid:40,40
