@@ -15,9 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct errs {
-    double me, rmse, max;
-} errs;
+typedef gs_test_errs errs;
 
 /* The method's own fields from the sources, on the whole mesh, with the
  * options a build with heat_refine (GS_HEAT_REFINE_AUTO: the default) uses
@@ -43,26 +41,6 @@ static int own_fields(const gs_mesh *m, gs_method method, uint32_t heat_refine, 
     gs_solver_free(s);
     gs_patch_free(p);
     return ok;
-}
-
-/* Section 5's errors of the database's fields against want (k x nv),
- * averaged over the sources (max: the largest). */
-static errs db_errors(const gs_db *db, const uint32_t *src, uint32_t k, const double *want, uint32_t n)
-{
-    errs e = {0, 0, 0};
-    double *d = malloc(n * sizeof *d);
-    gs_error err;
-    for (uint32_t j = 0; d && j < k; ++j) {
-        CHECK(gs_db_field(db, src[j], d, &err) == GS_OK);
-        gs_field_errors fe;
-        CHECK(gs_field_errors_compute(want + (size_t)j * n, d, n, src[j], &fe, &err) == GS_OK);
-        CHECK_MSG(fe.n_invalid == 0, "%llu invalid values", (unsigned long long)fe.n_invalid);
-        e.me += fe.me / k;
-        e.rmse += fe.rmse / k;
-        e.max = fmax(e.max, fe.max);
-    }
-    free(d);
-    return e;
 }
 
 /* Build m's database with method's defaults (2 threads; heat_refine as
@@ -98,7 +76,7 @@ static errs check_mesh(const char *name, const gs_mesh *m, gs_method method, uin
         CHECK_MSG(info.method == method && info.solver.heat_refine == want_refine,
                   "%s %s: recorded method %d, heat_refine %u (expected %u)", name, gs_method_name(method),
                   (int)info.method, info.solver.heat_refine, want_refine);
-        e = db_errors(db, src, k, want, n);
+        e = gs_test_db_errors(db, src, k, want, n);
         char bound[64] = "";
         if (isfinite(max_me)) snprintf(bound, sizeof bound, "  (at most %.2f%%, %.2f%%)", 100 * max_me, 100 * max_rmse);
         printf("%-16s %6u vertices, %s fields%s, %u sources: database vs own fields ME %.3f%%  RMSE %.3f%%  "

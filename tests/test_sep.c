@@ -34,28 +34,7 @@ static const target targets[] = {
      0.0045, 0.0135, 72.2},
 };
 
-typedef struct errs {
-    double me, rmse, max;
-} errs;
-
-/* Average section-5 errors of the database over the given exact fields. */
-static errs db_errors(const gs_db *db, const uint32_t *src, uint32_t k, const double *exact, uint32_t n)
-{
-    errs e = {0, 0, 0};
-    double *d = malloc(n * sizeof *d);
-    gs_error err;
-    for (uint32_t j = 0; j < k; ++j) {
-        CHECK(gs_db_field(db, src[j], d, &err) == GS_OK);
-        gs_field_errors fe;
-        CHECK(gs_field_errors_compute(exact + (size_t)j * n, d, n, src[j], &fe, &err) == GS_OK);
-        CHECK_MSG(fe.n_invalid == 0, "%llu invalid values", (unsigned long long)fe.n_invalid);
-        e.me += fe.me / k;
-        e.rmse += fe.rmse / k;
-        e.max = fmax(e.max, fe.max);
-    }
-    free(d);
-    return e;
-}
+typedef gs_test_errs errs;
 
 static void exact_fields(const gs_mesh *m, const uint32_t *src, uint32_t k, double *out)
 {
@@ -162,7 +141,7 @@ static void run_target(const target *t)
     if (rc == GS_OK) {
         gs_db_info info;
         CHECK(gs_db_get_info(db, &info, &err) == GS_OK);
-        errs e = db_errors(db, src, k, exact, n);
+        errs e = gs_test_db_errors(db, src, k, exact, n);
         printf("%-24s n=%5u  ME %.3f%% (paper <= %.2f)  RMSE %.3f%% (<= %.2f)  max %.2f%%  cost %.1f (<= %.1f)"
                "  depth %.1f/%u  build %.2f s\n",
                t->name, n, 100 * e.me, 100 * t->me, 100 * e.rmse, 100 * t->rmse, 100 * e.max, info.cost,
@@ -261,7 +240,7 @@ static void variants(void)
         int rc = gs_db_build(m, &o, &db, NULL, &err);
         CHECK_MSG(rc == GS_OK, "variant %d: %s", v, err.message);
         if (rc) continue;
-        errs e = db_errors(db, src, 8, exact, n);
+        errs e = gs_test_db_errors(db, src, 8, exact, n);
         gs_db_info info;
         CHECK(gs_db_get_info(db, &info, &err) == GS_OK);
         /* the default source mode follows the method: vertices for graph fields */

@@ -1,6 +1,8 @@
 /* check.c - the test harness behind check.h. */
 #include "check.h"
+#include "geosep.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <unistd.h>
@@ -46,4 +48,23 @@ int gs_test_shared_pair(const char *name, char *obj, char *gt, size_t n)
     if (!p) return 0;
     snprintf(gt, n, "%s", p);
     return 1;
+}
+
+gs_test_errs gs_test_db_errors(const gs_db *db, const uint32_t *src, uint32_t k, const double *want, uint32_t n)
+{
+    gs_test_errs e = {0, 0, 0};
+    double *d = malloc((n ? n : 1) * sizeof *d);
+    gs_error err;
+    CHECK(d != NULL);
+    for (uint32_t j = 0; d && j < k; ++j) {
+        CHECK(gs_db_field(db, src[j], d, &err) == GS_OK);
+        gs_field_errors fe;
+        CHECK(gs_field_errors_compute(want + (size_t)j * n, d, n, src[j], &fe, &err) == GS_OK);
+        CHECK_MSG(fe.n_invalid == 0, "%llu invalid values", (unsigned long long)fe.n_invalid);
+        e.me += fe.me / k;
+        e.rmse += fe.rmse / k;
+        e.max = fmax(e.max, fe.max);
+    }
+    free(d);
+    return e;
 }

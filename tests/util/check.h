@@ -5,6 +5,7 @@
 #define GS_CHECK_H
 
 #include <stdio.h>
+#include <stdint.h>
 #include <stdlib.h>
 
 extern int gs_test_failures;
@@ -48,5 +49,16 @@ const char *gs_test_shared_path(const char *relative);
  * groundtruth/NAME.gt) into obj and gt (n bytes each); 0 if either is
  * missing. */
 int gs_test_shared_pair(const char *name, char *obj, char *gt, size_t n);
+
+/* Section 5's errors of a database's fields from the k vertices src
+ * against want (k fields of n values, in the same order), averaged over
+ * the sources (max: the largest); CHECKs that every field is answered and
+ * valid. */
+typedef struct gs_test_errs {
+    double me, rmse, max;
+} gs_test_errs;
+struct gs_db;
+gs_test_errs gs_test_db_errors(const struct gs_db *db, const uint32_t *src, uint32_t k, const double *want,
+                               uint32_t n);
 
 #endif
