@@ -894,14 +894,19 @@ static double pair_value(const gs_fun *a, const gs_fun *b, double u)
 /* term_at3 of the two functions at u (p, p', p'' by the forward recurrences
  * of gs_cheb_eval3, both series at once up to the lower degree): returns
  * the sum of the values, *s1 and *s2 the sums of the derivatives, bit for
- * bit term_at3 of each (wrapped, clamped) added. second = 0 skips the
- * second derivatives' recurrence (*s2 is then meaningless). */
-static inline double pair_at(const gs_fun *a, const gs_fun *b, double u, double *s1, double *s2, int second)
+ * bit term_at3 of each (wrapped, clamped) added. order (a constant at each
+ * call, so that the compiler drops the rest) says how many of them are
+ * wanted: 3 all, 2 the value and *s1 (the second derivatives' recurrence
+ * skipped, *s2 meaningless), 1 the value alone (only the p recurrence; s1
+ * and s2 untouched). The value is the same, bit for bit, at every order:
+ * the same operations compute it. */
+static inline double pair_at(const gs_fun *a, const gs_fun *b, double u, double *s1, double *s2, int order)
 {
     double ta = clamp1(a->closed ? gs_fun_wrap(u - a->shift) : u);
     double tb = clamp1(b->closed ? gs_fun_wrap(u - b->shift) : u);
     const double *ca = a->coef, *cb = b->coef;
     uint32_t ma = a->degree, mb = b->degree;
+    int first = order >= 2, second = order >= 3;
     double p[2], p1[2], p2[2];
     if (ma < 1 || mb < 1) {
         gs_cheb_eval3(ca, ma, ta, &p[0], &p1[0], &p2[0]);
@@ -915,25 +920,25 @@ static inline double pair_at(const gs_fun *a, const gs_fun *b, double u, double 
         for (; k + 1 <= mn; k += 2) { /* two steps a turn, the pairs' roles swapped */
             v2 ck = {ca[k], cb[k]}, cn = {ca[k + 1], cb[k + 1]};
             t0 = t2 * t1 - t0;
-            e0 = 2.0 * t1 + t2 * e1 - e0;
+            if (first) e0 = 2.0 * t1 + t2 * e1 - e0;
             if (second) f0 = 4.0 * e1 + t2 * f1 - f0;
             v += ck * t0;
-            d1 += ck * e0;
+            if (first) d1 += ck * e0;
             if (second) d2 += ck * f0;
             t1 = t2 * t0 - t1;
-            e1 = 2.0 * t0 + t2 * e0 - e1;
+            if (first) e1 = 2.0 * t0 + t2 * e0 - e1;
             if (second) f1 = 4.0 * e0 + t2 * f0 - f1;
             v += cn * t1;
-            d1 += cn * e1;
+            if (first) d1 += cn * e1;
             if (second) d2 += cn * f1;
         }
         if (k <= mn) {
             v2 ck = {ca[k], cb[k]};
             v2 tn = t2 * t1 - t0;
-            v2 en = 2.0 * t1 + t2 * e1 - e0;
+            v2 en = first ? 2.0 * t1 + t2 * e1 - e0 : e1;
             v2 fn = second ? 4.0 * e1 + t2 * f1 - f0 : f1;
             v += ck * tn;
-            d1 += ck * en;
+            if (first) d1 += ck * en;
             if (second) d2 += ck * fn;
             t0 = t1, t1 = tn, e0 = e1, e1 = en, f0 = f1, f1 = fn;
         }
@@ -944,18 +949,19 @@ static inline double pair_at(const gs_fun *a, const gs_fun *b, double u, double 
             double vv = v[l], w1 = d1[l], w2 = d2[l];
             for (uint32_t j = mn + 1; j <= m; j++) {
                 double tn = x2 * x1 - x0;
-                double en = 2.0 * x1 + x2 * y1 - y0;
+                double en = first ? 2.0 * x1 + x2 * y1 - y0 : y1;
                 double fn = second ? 4.0 * y1 + x2 * z1 - z0 : z1;
                 vv += c[j] * tn;
-                w1 += c[j] * en;
+                if (first) w1 += c[j] * en;
                 if (second) w2 += c[j] * fn;
                 x0 = x1, x1 = tn, y0 = y1, y1 = en, z0 = z1, z1 = fn;
             }
             p[l] = vv, p1[l] = w1, p2[l] = w2;
         }
     }
-    double a1, a2, b1, b2;
     term fa = {ca, ma, a->squared}, fb = {cb, mb, b->squared};
+    if (!first) return term_value(&fa, p[0]) + term_value(&fb, p[1]);
+    double a1, a2, b1, b2;
     double v = term_post(&fa, p[0], p1[0], p2[0], &a1, &a2) + term_post(&fb, p[1], p1[1], p2[1], &b1, &b2);
     *s1 = a1 + b1, *s2 = a2 + b2;
     return v;
@@ -963,60 +969,21 @@ static inline double pair_at(const gs_fun *a, const gs_fun *b, double u, double 
 
 static double pair_at3(const gs_fun *a, const gs_fun *b, double u, double *s1, double *s2)
 {
-    return pair_at(a, b, u, s1, s2, 1);
+    return pair_at(a, b, u, s1, s2, 3);
 }
 
-/* pair_at3's value and slope alone, bit for bit (the same operations,
- * without the second derivatives' recurrence): for the probes that use no
- * curvature (a loop's windows and dips). */
+/* pair_at3's value and slope alone: for the probes that use no curvature
+ * (a loop's windows and dips). */
 static double pair_at2(const gs_fun *a, const gs_fun *b, double u, double *s1)
 {
     double s2;
-    return pair_at(a, b, u, s1, &s2, 0);
+    return pair_at(a, b, u, s1, &s2, 2);
 }
 
-/* The value of pair_at3 alone (its p recurrence, the same operations, so
- * bit for bit its return value): Newton's last point needs no slopes. */
+/* pair_at3's value alone: Newton's last point needs no slopes. */
 static double pair_at1(const gs_fun *a, const gs_fun *b, double u)
 {
-    uint32_t ma = a->degree, mb = b->degree;
-    if (ma < 1 || mb < 1) {
-        double s1, s2;
-        return pair_at3(a, b, u, &s1, &s2);
-    }
-    double ta = clamp1(a->closed ? gs_fun_wrap(u - a->shift) : u);
-    double tb = clamp1(b->closed ? gs_fun_wrap(u - b->shift) : u);
-    const double *ca = a->coef, *cb = b->coef;
-    uint32_t mn = ma < mb ? ma : mb;
-    v2 t = {ta, tb}, t0 = {1.0, 1.0}, t1 = t, t2 = 2.0 * t, c1 = {ca[1], cb[1]}, v = (v2){ca[0], cb[0]} + c1 * t;
-    uint32_t k = 2;
-    for (; k + 1 <= mn; k += 2) {
-        v2 ck = {ca[k], cb[k]}, cn = {ca[k + 1], cb[k + 1]};
-        t0 = t2 * t1 - t0;
-        v += ck * t0;
-        t1 = t2 * t0 - t1;
-        v += cn * t1;
-    }
-    if (k <= mn) {
-        v2 ck = {ca[k], cb[k]};
-        v2 tn = t2 * t1 - t0;
-        v += ck * tn;
-        t0 = t1, t1 = tn;
-    }
-    double p[2];
-    for (int l = 0; l < 2; ++l) { /* the higher degree's rest */
-        const double *c = l ? cb : ca;
-        uint32_t m = l ? mb : ma;
-        double x0 = t0[l], x1 = t1[l], x2 = t2[l], vv = v[l];
-        for (uint32_t j = mn + 1; j <= m; j++) {
-            double tn = x2 * x1 - x0;
-            vv += c[j] * tn;
-            x0 = x1, x1 = tn;
-        }
-        p[l] = vv;
-    }
-    term fa = {ca, ma, a->squared}, fb = {cb, mb, b->squared};
-    return term_value(&fa, p[0]) + term_value(&fb, p[1]);
+    return pair_at(a, b, u, NULL, NULL, 1);
 }
 
 /* Newton on the slope of the sum from u (steps kept within +-h, a cell),
