@@ -6,7 +6,6 @@
 #include "check.h"
 #include "geosep.h"
 
-#include <dirent.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -505,38 +504,20 @@ done:
     return tested;
 }
 
-static int cmp_name(const void *a, const void *b) { return strcmp(a, b); }
-
 static void test_shared(void)
 {
     if (!gs_test_shared_path("meshes/bunny-5k.obj")) {
         printf("shared data absent (no meshes/bunny-5k.obj): ground-truth part skipped\n");
         return;
     }
-    const char *g = gs_test_shared_path("groundtruth");
-    if (!g) {
+    static char names[256][GS_TEST_NAME_MAX];
+    int n_names = gs_test_shared_names(names, 256);
+    if (n_names < 0) {
         printf("shared folder has no groundtruth/: ground-truth part skipped\n");
         return;
     }
     const char *q = getenv("GEOSEP_QUICK");
     int quick = q && strcmp(q, "1") == 0;
-    char dir[4096];
-    snprintf(dir, sizeof dir, "%s", g);
-    DIR *dh = opendir(dir);
-    CHECK_MSG(dh != NULL, "cannot list %s", dir);
-    static char names[256][128];
-    int n_names = 0;
-    struct dirent *e;
-    while (dh && (e = readdir(dh)) != NULL && n_names < 256) {
-        size_t l = strlen(e->d_name);
-        if (l > 3 && l < sizeof names[0] + 3 && strcmp(e->d_name + l - 3, ".gt") == 0) {
-            memcpy(names[n_names], e->d_name, l - 3);
-            names[n_names][l - 3] = 0;
-            n_names++;
-        }
-    }
-    if (dh) closedir(dh);
-    qsort(names, (size_t)n_names, sizeof names[0], cmp_name);
     int n = 0;
     for (int i = 0; i < n_names; ++i) n += test_shared_mesh(names[i], quick);
     CHECK(n > 0);

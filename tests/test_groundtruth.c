@@ -6,7 +6,6 @@
 #include "check.h"
 #include "geosep.h"
 
-#include <dirent.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -111,8 +110,6 @@ done:
     return 0;
 }
 
-static int cmp_name(const void *a, const void *b) { return strcmp(a, b); }
-
 int main(void)
 {
     if (!gs_test_shared_path("meshes"))
@@ -122,25 +119,9 @@ int main(void)
     int quick = q && strcmp(q, "1") == 0;
     /* every groundtruth/M.gt, in name order; test_mesh skips those without
      * meshes/M.obj */
-    char dir[4096];
-    const char *g = gs_test_shared_path("groundtruth");
-    if (!g) gs_test_skip("shared folder has no groundtruth/");
-    snprintf(dir, sizeof dir, "%s", g);
-    DIR *dh = opendir(dir);
-    CHECK_MSG(dh != NULL, "cannot list %s", dir);
-    char names[256][128];
-    int n_names = 0;
-    struct dirent *e;
-    while (dh && (e = readdir(dh)) != NULL && n_names < 256) {
-        size_t l = strlen(e->d_name);
-        if (l > 3 && l < sizeof names[0] + 3 && strcmp(e->d_name + l - 3, ".gt") == 0) {
-            memcpy(names[n_names], e->d_name, l - 3);
-            names[n_names][l - 3] = 0;
-            n_names++;
-        }
-    }
-    if (dh) closedir(dh);
-    qsort(names, (size_t)n_names, sizeof names[0], cmp_name);
+    static char names[256][GS_TEST_NAME_MAX];
+    int n_names = gs_test_shared_names(names, 256);
+    if (n_names < 0) gs_test_skip("shared folder has no groundtruth/");
     int n_tested = 0;
     for (int i = 0; i < n_names; ++i) test_mesh(names[i], quick, &n_tested);
     CHECK_MSG(n_tested > 0, "no mesh with both meshes/M.obj and groundtruth/M.gt was found");

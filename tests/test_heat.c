@@ -12,7 +12,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <dirent.h>
 #include <time.h>
 
 static double now(void)
@@ -524,24 +523,17 @@ static void test_shared(void)
     } bound[] = {{"spot", 0.016},      {"bunny-5k", 0.013},  {"homer", 0.019},
                  {"fandisk", 0.011},   {"rocker-arm", 0.016}, {"bunny-10k", 0.010},
                  {"bunny-20k", 0.0085}, {"stanford-bunny", 0.0095}, {"homer-60k", 0.003}};
-    const char *g = gs_test_shared_path("groundtruth"); /* a static buffer: copied */
-    char dir[4096];
-    snprintf(dir, sizeof dir, "%s", g ? g : "");
-    if (!g || !gs_test_shared_path("meshes/bunny-5k.obj")) {
+    static char names[256][GS_TEST_NAME_MAX];
+    int n_names = gs_test_shared_names(names, 256);
+    if (n_names < 0 || !gs_test_shared_path("meshes/bunny-5k.obj")) {
         printf("shared data absent (no groundtruth/ or meshes/bunny-5k.obj): ground-truth part skipped\n");
         return;
     }
     const char *q = getenv("GEOSEP_QUICK");
     int quick = q && strcmp(q, "1") == 0, tested = 0;
-    DIR *dh = opendir(dir);
-    CHECK_MSG(dh != NULL, "cannot list %s", dir);
-    struct dirent *e;
-    while (dh && (e = readdir(dh)) != NULL) {
-        size_t l = strlen(e->d_name);
-        if (l <= 3 || l >= 128 || strcmp(e->d_name + l - 3, ".gt") != 0) continue;
-        char name[128], obj[4096], gtp[4096];
-        memcpy(name, e->d_name, l - 3);
-        name[l - 3] = 0;
+    for (int i = 0; i < n_names; ++i) {
+        const char *name = names[i];
+        char obj[4096], gtp[4096];
         if (!gs_test_shared_pair(name, obj, gtp, sizeof obj)) {
             printf("%s: skipped (no meshes/%s.obj)\n", name, name);
             continue;
@@ -568,7 +560,6 @@ static void test_shared(void)
         gs_gt_free(gt);
         gs_mesh_free(m);
     }
-    if (dh) closedir(dh);
     CHECK(tested > 0);
 }
 

@@ -2,9 +2,11 @@
 #include "check.h"
 #include "geosep.h"
 
+#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <unistd.h>
 
 int gs_test_failures = 0;
@@ -48,6 +50,30 @@ int gs_test_shared_pair(const char *name, char *obj, char *gt, size_t n)
     if (!p) return 0;
     snprintf(gt, n, "%s", p);
     return 1;
+}
+
+static int cmp_name(const void *a, const void *b)
+{
+    return strcmp(a, b);
+}
+
+int gs_test_shared_names(char (*names)[GS_TEST_NAME_MAX], int max)
+{
+    const char *g = gs_test_shared_path("groundtruth");
+    if (!g) return -1;
+    DIR *dh = opendir(g);
+    CHECK_MSG(dh != NULL, "cannot list %s", g);
+    int n = 0;
+    for (struct dirent *e; dh && n < max && (e = readdir(dh)) != NULL;) {
+        size_t l = strlen(e->d_name);
+        if (l > 3 && l < GS_TEST_NAME_MAX + 3 && strcmp(e->d_name + l - 3, ".gt") == 0) {
+            memcpy(names[n], e->d_name, l - 3);
+            names[n++][l - 3] = 0;
+        }
+    }
+    if (dh) closedir(dh);
+    qsort(names, (size_t)n, sizeof names[0], cmp_name);
+    return n;
 }
 
 gs_test_errs gs_test_db_errors(const gs_db *db, const uint32_t *src, uint32_t k, const double *want, uint32_t n)

@@ -50,6 +50,13 @@ const char *gs_test_shared_path(const char *relative);
  * missing. */
 int gs_test_shared_pair(const char *name, char *obj, char *gt, size_t n);
 
+/* The names M of the shared groundtruth/M.gt files (M shorter than
+ * GS_TEST_NAME_MAX), in name order, into names (at most max of them).
+ * Returns how many; -1 if there is no groundtruth/ folder (one that cannot
+ * be listed fails a CHECK). */
+#define GS_TEST_NAME_MAX 128
+int gs_test_shared_names(char (*names)[GS_TEST_NAME_MAX], int max);
+
 /* Section 5's errors of a database's fields from the k vertices src
  * against want (k fields of n values, in the same order), averaged over
  * the sources (max: the largest); CHECKs that every field is answered and
