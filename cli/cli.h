@@ -23,6 +23,9 @@ double now(void);
 int is_help(const char *a);
 int parse_u32(const char *s, uint32_t *out);
 int parse_double(const char *s, double *out);
+/* --heat-refine's value: "auto" (GS_HEAT_REFINE_AUTO) or 0 to
+ * GS_HEAT_REFINE_MAX; -1 for anything else (*out untouched). */
+int parse_heat_refine(const char *s, uint32_t *out);
 /* Value of option argv[*i] ("--opt VALUE" or "--opt=VALUE"); NULL if absent. */
 const char *opt_value(int argc, char **argv, int *i, const char *name);
 int is_opt(const char *arg, const char *name);

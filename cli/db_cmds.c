@@ -133,8 +133,7 @@ static int build_option(gs_build_options *o, const char **out, int *quiet, int a
     if ((v = opt_value(argc, argv, i, "--fmm-start")))
         return parse_double(v, &o->solver.fmm_exact_start) ? fail(EXIT_USAGE, "build: --fmm-start '%s' is not a number", v) : 0;
     if ((v = opt_value(argc, argv, i, "--heat-refine")))
-        return !strcmp(v, "auto") ? (o->solver.heat_refine = GS_HEAT_REFINE_AUTO, 0)
-               : parse_u32(v, &o->solver.heat_refine) || o->solver.heat_refine > GS_HEAT_REFINE_MAX
+        return parse_heat_refine(v, &o->solver.heat_refine)
                    ? fail(EXIT_USAGE, "build: --heat-refine '%s': expected 0 to %d or auto", v, GS_HEAT_REFINE_MAX)
                    : 0;
     if ((v = opt_value(argc, argv, i, "--tol")))

@@ -300,8 +300,7 @@ static int solve_option(solve_opts *o, int argc, char **argv, int *i)
                 return fail(EXIT_USAGE, "solve: --fmm-start '%s': expected a number >= 0", v);
             return 0;
         case 11:
-            if (!strcmp(v, "auto")) o->sopt.heat_refine = GS_HEAT_REFINE_AUTO;
-            else if (parse_u32(v, &o->sopt.heat_refine) || o->sopt.heat_refine > GS_HEAT_REFINE_MAX)
+            if (parse_heat_refine(v, &o->sopt.heat_refine))
                 return fail(EXIT_USAGE, "solve: --heat-refine '%s': expected 0 to %d or auto", v, GS_HEAT_REFINE_MAX);
             return 0;
         default: o->out = v; return 0;

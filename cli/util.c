@@ -56,6 +56,15 @@ int parse_u32(const char *s, uint32_t *out)
     return 0;
 }
 
+int parse_heat_refine(const char *s, uint32_t *out)
+{
+    uint32_t n;
+    if (!strcmp(s, "auto")) n = GS_HEAT_REFINE_AUTO;
+    else if (parse_u32(s, &n) || n > GS_HEAT_REFINE_MAX) return -1;
+    *out = n;
+    return 0;
+}
+
 int parse_double(const char *s, double *out)
 {
     char *end;
