@@ -15,8 +15,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef gs_test_errs errs;
-
 /* The method's own fields from the sources, on the whole mesh, with the
  * options a build with heat_refine (GS_HEAT_REFINE_AUTO: the default) uses
  * for its patches. out: k x nv. */
@@ -29,8 +27,7 @@ static int own_fields(const gs_mesh *m, gs_method method, uint32_t heat_refine, 
     uint32_t n = gs_mesh_num_vertices(m);
     gs_solver_options so;
     gs_solver_options_default(&so);
-    if (method == GS_METHOD_HEAT)
-        so.heat_refine = heat_refine == GS_HEAT_REFINE_AUTO ? gs_heat_refine_auto(n) : heat_refine;
+    so.heat_refine = heat_refine; /* AUTO: the solver resolves it from the whole mesh, as the build does */
     int ok = gs_patch_create(m, NULL, 0, &p, &err) == GS_OK && gs_solver_create_ex(p, method, &so, &s, &err) == GS_OK;
     CHECK_MSG(ok, "%s solver: %s", gs_method_name(method), err.message);
     for (uint32_t j = 0; ok && j < k; ++j) {
@@ -47,11 +44,11 @@ static int own_fields(const gs_mesh *m, gs_method method, uint32_t heat_refine, 
  * given) and check it against the method's own fields from src: ME <=
  * max_me, RMSE <= max_rmse; the database records the heat resolution
  * used. Returns the errors (ME +inf if it could not be built). */
-static errs check_mesh(const char *name, const gs_mesh *m, gs_method method, uint32_t heat_refine,
+static gs_test_errs check_mesh(const char *name, const gs_mesh *m, gs_method method, uint32_t heat_refine,
                        const uint32_t *src, uint32_t k, double max_me, double max_rmse)
 {
     uint32_t n = gs_mesh_num_vertices(m);
-    errs e = {INFINITY, INFINITY, INFINITY};
+    gs_test_errs e = {INFINITY, INFINITY, INFINITY};
     double *want = malloc((size_t)k * n * sizeof *want);
     CHECK(want != NULL);
     if (!want || !own_fields(m, method, heat_refine, src, k, want)) {
@@ -137,9 +134,9 @@ static void generated(const char *spec, gs_method method, double max_me, double 
     if (!m) return;
     uint32_t n = gs_mesh_num_vertices(m), src[12];
     for (uint32_t j = 0; j < 12; ++j) src[j] = (uint32_t)(((uint64_t)j * 2654435761u + 17) % n);
-    errs e = check_mesh(spec, m, method, GS_HEAT_REFINE_AUTO, src, 12, max_me, max_rmse);
+    gs_test_errs e = check_mesh(spec, m, method, GS_HEAT_REFINE_AUTO, src, 12, max_me, max_rmse);
     if (method == GS_METHOD_HEAT) {
-        errs e0 = check_mesh(spec, m, method, 0, src, 12, INFINITY, INFINITY);
+        gs_test_errs e0 = check_mesh(spec, m, method, 0, src, 12, INFINITY, INFINITY);
         CHECK_MSG(e.me < e0.me && e.rmse < e0.rmse, "%s: refined ME %g RMSE %g, as it is %g %g", spec, e.me, e.rmse,
                   e0.me, e0.rmse);
     }

@@ -34,8 +34,6 @@ static const target targets[] = {
      0.0045, 0.0135, 72.2},
 };
 
-typedef gs_test_errs errs;
-
 static void exact_fields(const gs_mesh *m, const uint32_t *src, uint32_t k, double *out)
 {
     gs_patch *p;
@@ -141,7 +139,7 @@ static void run_target(const target *t)
     if (rc == GS_OK) {
         gs_db_info info;
         CHECK(gs_db_get_info(db, &info, &err) == GS_OK);
-        errs e = gs_test_db_errors(db, src, k, exact, n);
+        gs_test_errs e = gs_test_db_errors(db, src, k, exact, n);
         printf("%-24s n=%5u  ME %.3f%% (paper <= %.2f)  RMSE %.3f%% (<= %.2f)  max %.2f%%  cost %.1f (<= %.1f)"
                "  depth %.1f/%u  build %.2f s\n",
                t->name, n, 100 * e.me, 100 * t->me, 100 * e.rmse, 100 * t->rmse, 100 * e.max, info.cost,
@@ -240,7 +238,7 @@ static void variants(void)
         int rc = gs_db_build(m, &o, &db, NULL, &err);
         CHECK_MSG(rc == GS_OK, "variant %d: %s", v, err.message);
         if (rc) continue;
-        errs e = gs_test_db_errors(db, src, 8, exact, n);
+        gs_test_errs e = gs_test_db_errors(db, src, 8, exact, n);
         gs_db_info info;
         CHECK(gs_db_get_info(db, &info, &err) == GS_OK);
         /* the default source mode follows the method: vertices for graph fields */
