@@ -31,12 +31,22 @@
 extern "C" {
 #endif
 
+/* GS_API marks the functions exported from the shared library; everything
+ * else in it is hidden (built with -fvisibility=hidden). */
+#if defined(_WIN32) && defined(GEOSEP_SHARED_BUILD)
+#define GS_API __declspec(dllexport)
+#elif defined(__GNUC__) && __GNUC__ >= 4
+#define GS_API __attribute__((visibility("default")))
+#else
+#define GS_API
+#endif
+
 #define GEOSEP_VERSION_MAJOR 0
 #define GEOSEP_VERSION_MINOR 1
 #define GEOSEP_VERSION_PATCH 0
 
 /* "MAJOR.MINOR.PATCH" of the linked library; static storage. */
-const char *gs_version_string(void);
+GS_API const char *gs_version_string(void);
 
 #define GS_NONE UINT32_MAX
 
@@ -54,7 +64,7 @@ enum {
 };
 
 /* Static text for a status code ("ok", "i/o error", ...). Never NULL. */
-const char *gs_status_string(int status);
+GS_API const char *gs_status_string(int status);
 
 /* Detailed message for the last failure of a call given this struct. */
 typedef struct gs_error {
@@ -95,7 +105,7 @@ typedef enum gs_mesh_format {
  * Accepted and reported by gs_mesh_get_report(): several components,
  * boundary loops, genus, vertices used by no face.
  * Polygons are fan-triangulated. *out receives a new mesh (caller frees). */
-int gs_mesh_load(const char *path, gs_mesh_format format, gs_mesh **out,
+GS_API int gs_mesh_load(const char *path, gs_mesh_format format, gs_mesh **out,
                  gs_error *err);
 
 /* Build a mesh from arrays: xyz holds 3*n_vertices doubles, tri holds
@@ -103,17 +113,17 @@ int gs_mesh_load(const char *path, gs_mesh_format format, gs_mesh **out,
  * gs_mesh_load: in particular n_faces = 0 is GS_EMESH, as a file without
  * faces (there is no surface to measure distances on; vertices used by no
  * face are accepted when there is a face). Arrays are copied. *out receives a new mesh (caller frees). */
-int gs_mesh_create(const double *xyz, uint32_t n_vertices, const uint32_t *tri,
+GS_API int gs_mesh_create(const double *xyz, uint32_t n_vertices, const uint32_t *tri,
                    uint32_t n_faces, gs_mesh **out, gs_error *err);
 
-void gs_mesh_free(gs_mesh *mesh);
+GS_API void gs_mesh_free(gs_mesh *mesh);
 
-uint32_t gs_mesh_num_vertices(const gs_mesh *mesh);
-uint32_t gs_mesh_num_faces(const gs_mesh *mesh);
+GS_API uint32_t gs_mesh_num_vertices(const gs_mesh *mesh);
+GS_API uint32_t gs_mesh_num_faces(const gs_mesh *mesh);
 /* Borrowed pointers, valid while the mesh lives: 3*n_vertices doubles and
  * 3*n_faces indices. */
-const double *gs_mesh_positions(const gs_mesh *mesh);
-const uint32_t *gs_mesh_faces(const gs_mesh *mesh);
+GS_API const double *gs_mesh_positions(const gs_mesh *mesh);
+GS_API const uint32_t *gs_mesh_faces(const gs_mesh *mesh);
 
 /* Health report: what is accepted but worth knowing. */
 typedef struct gs_mesh_report {
@@ -133,7 +143,7 @@ typedef struct gs_mesh_report {
 } gs_mesh_report;
 
 /* Fill *report (caller-owned). Never fails for a valid mesh. */
-int gs_mesh_get_report(const gs_mesh *mesh, gs_mesh_report *report,
+GS_API int gs_mesh_get_report(const gs_mesh *mesh, gs_mesh_report *report,
                        gs_error *err);
 
 /* Generate a test or demo mesh from a spec string (all sizes in mesh units;
@@ -155,26 +165,26 @@ int gs_mesh_get_report(const gs_mesh *mesh, gs_mesh_report *report,
  * 1e-30 to 1e30, no blanks, signs, hex, inf or nan. Bad specs give GS_EARG
  * naming the spec and the bad argument, sizes over 2^26 vertices GS_ELIMIT.
  * *out receives a new mesh (caller frees). */
-int gs_mesh_generate(const char *spec, gs_mesh **out, gs_error *err);
+GS_API int gs_mesh_generate(const char *spec, gs_mesh **out, gs_error *err);
 
 /* 1-to-4 midpoint subdivision: every face is split into four by its edge
  * midpoints (flat: the surface, and so its geodesic distances, are
  * unchanged). Vertex ids 0..n_vertices-1 are kept; each edge's midpoint is
  * appended in order of first appearance. *out receives a new mesh (caller
  * frees). GS_ELIMIT if the result would exceed 2^31 vertices or faces. */
-int gs_mesh_subdivide(const gs_mesh *mesh, gs_mesh **out, gs_error *err);
+GS_API int gs_mesh_subdivide(const gs_mesh *mesh, gs_mesh **out, gs_error *err);
 
 /* Choose k distinct vertices used by faces, deterministically: candidates
  * are the referenced vertices in increasing id order (m of them); a
  * splitmix64 generator with state = seed draws v = candidates[next() % m],
  * skipping repeats, until k are chosen (the procedure of the shared
  * ground-truth files). out receives k ids in draw order. GS_EARG if k > m. */
-int gs_mesh_random_vertices(const gs_mesh *mesh, uint32_t k, uint64_t seed, uint32_t *out,
+GS_API int gs_mesh_random_vertices(const gs_mesh *mesh, uint32_t k, uint64_t seed, uint32_t *out,
                             gs_error *err);
 
 /* Write a mesh as OBJ (vertex order kept; "%.17g" so it reads back bit-exact).
  * The file is written to a temporary name and renamed: never left partial. */
-int gs_mesh_save_obj(const gs_mesh *mesh, const char *path, gs_error *err);
+GS_API int gs_mesh_save_obj(const gs_mesh *mesh, const char *path, gs_error *err);
 
 /* ======================================================================== */
 /* Patches: a subset of a mesh's faces with its own vertex numbering         */
@@ -191,17 +201,17 @@ int gs_mesh_save_obj(const gs_mesh *mesh, const char *path, gs_error *err);
  * the mesh, which must outlive it. *out receives a new patch (caller frees). */
 typedef struct gs_patch gs_patch;
 
-int gs_patch_create(const gs_mesh *mesh, const uint32_t *faces,
+GS_API int gs_patch_create(const gs_mesh *mesh, const uint32_t *faces,
                     uint32_t n_faces, gs_patch **out, gs_error *err);
-void gs_patch_free(gs_patch *patch);
+GS_API void gs_patch_free(gs_patch *patch);
 
-uint32_t gs_patch_num_vertices(const gs_patch *patch);
-uint32_t gs_patch_num_faces(const gs_patch *patch);
+GS_API uint32_t gs_patch_num_vertices(const gs_patch *patch);
+GS_API uint32_t gs_patch_num_faces(const gs_patch *patch);
 /* Mesh id of a local vertex / face (GS_NONE if out of range). */
-uint32_t gs_patch_vertex_to_mesh(const gs_patch *patch, uint32_t local);
-uint32_t gs_patch_face_to_mesh(const gs_patch *patch, uint32_t local);
+GS_API uint32_t gs_patch_vertex_to_mesh(const gs_patch *patch, uint32_t local);
+GS_API uint32_t gs_patch_face_to_mesh(const gs_patch *patch, uint32_t local);
 /* Local id of a mesh vertex, GS_NONE if the patch does not contain it. */
-uint32_t gs_patch_vertex_from_mesh(const gs_patch *patch, uint32_t mesh_vertex);
+GS_API uint32_t gs_patch_vertex_from_mesh(const gs_patch *patch, uint32_t mesh_vertex);
 
 /* ======================================================================== */
 /* Geodesic distance fields on a patch                                      */
@@ -215,9 +225,9 @@ typedef enum gs_method {
 } gs_method;
 
 /* Text name ("exact", "graph", "fmm", "heat") of a method, or NULL. */
-const char *gs_method_name(gs_method method);
+GS_API const char *gs_method_name(gs_method method);
 /* Method from its name; GS_EARG if unknown. */
-int gs_method_from_name(const char *name, gs_method *method, gs_error *err);
+GS_API int gs_method_from_name(const char *name, gs_method *method, gs_error *err);
 
 /* A source point. face == GS_NONE: the vertex `vertex` (local id).
  * Otherwise the point sum_i bary[i] * corner_i of local face `face`
@@ -229,8 +239,8 @@ typedef struct gs_source {
 } gs_source;
 
 /* Convenience constructors. */
-gs_source gs_source_vertex(uint32_t local_vertex);
-gs_source gs_source_point(uint32_t local_face, double b0, double b1, double b2);
+GS_API gs_source gs_source_vertex(uint32_t local_vertex);
+GS_API gs_source gs_source_point(uint32_t local_face, double b0, double b1, double b2);
 
 /* A reusable distance solver bound to one patch. It allocates its working
  * memory once (growing it when needed) and can solve any number of sources;
@@ -238,7 +248,7 @@ gs_source gs_source_point(uint32_t local_face, double b0, double b1, double b2);
  * must outlive the solver. *out receives a new solver (caller frees). */
 typedef struct gs_solver gs_solver;
 
-int gs_solver_create(const gs_patch *patch, gs_method method, gs_solver **out,
+GS_API int gs_solver_create(const gs_patch *patch, gs_method method, gs_solver **out,
                      gs_error *err);
 
 /* Parameters of the approximate methods (ignored by the others). */
@@ -285,16 +295,16 @@ typedef struct gs_solver_options {
  * 0.40% once; the paper's target is 0.5%), while from about 20,000
  * vertices they are (bunny-20k 0.45%, stanford-bunny's 35,947 0.44%). */
 #define GS_HEAT_REFINE_AUTO_VERTICES 32000u
-uint32_t gs_heat_refine_auto(uint32_t nv);
+GS_API uint32_t gs_heat_refine_auto(uint32_t nv);
 
-void gs_solver_options_default(gs_solver_options *opt);
+GS_API void gs_solver_options_default(gs_solver_options *opt);
 
 /* gs_solver_create with options (NULL: defaults). GS_EARG if an option is
  * out of range (heat_time in [GS_HEAT_TIME_MIN, GS_HEAT_TIME_MAX], fmm_exact_start finite and
  * >= 0, heat_refine at most GS_HEAT_REFINE_MAX or GS_HEAT_REFINE_AUTO). *out receives a new solver (caller frees); opt is copied. */
-int gs_solver_create_ex(const gs_patch *patch, gs_method method, const gs_solver_options *opt,
+GS_API int gs_solver_create_ex(const gs_patch *patch, gs_method method, const gs_solver_options *opt,
                         gs_solver **out, gs_error *err);
-void gs_solver_free(gs_solver *solver);
+GS_API void gs_solver_free(gs_solver *solver);
 
 /* Distance field from a set of sources (the pointwise minimum of their
  * fields). dist receives gs_patch_num_vertices() doubles, in local vertex
@@ -302,16 +312,16 @@ void gs_solver_free(gs_solver *solver);
  * an unreferenced vertex). max_distance > 0 stops the propagation early:
  * every vertex with distance <= max_distance is exact, others may be
  * +INFINITY or any value > max_distance. Pass 0 or INFINITY for no bound. */
-int gs_solver_solve(gs_solver *solver, const gs_source *sources,
+GS_API int gs_solver_solve(gs_solver *solver, const gs_source *sources,
                     uint32_t n_sources, double max_distance, double *dist,
                     gs_error *err);
 
 /* Statistics of the last solve (for benchmarks); any pointer may be NULL. */
-void gs_solver_last_stats(const gs_solver *solver, uint64_t *windows_created,
+GS_API void gs_solver_last_stats(const gs_solver *solver, uint64_t *windows_created,
                           uint64_t *windows_propagated, double *seconds);
 
 /* One-shot convenience: create a solver, solve, free it. */
-int gs_distance_field(const gs_patch *patch, gs_method method,
+GS_API int gs_distance_field(const gs_patch *patch, gs_method method,
                       const gs_source *sources, uint32_t n_sources,
                       double max_distance, double *dist, gs_error *err);
 
@@ -371,7 +381,7 @@ typedef struct gs_build_options {
     void *progress_user;
 } gs_build_options;
 
-void gs_build_options_default(gs_build_options *opt);
+GS_API void gs_build_options_default(gs_build_options *opt);
 
 typedef struct gs_build_stats {
     double seconds_tree, seconds_fields, seconds_fits, seconds_total;
@@ -388,21 +398,21 @@ typedef struct gs_build_stats {
  * origin is built from a copy moved to the origin (far out, positions lose
  * the digits that tell nearby separator points apart); the database keeps
  * the mesh's own positions. */
-int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt, gs_db **out,
+GS_API int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt, gs_db **out,
                 gs_build_stats *stats, gs_error *err);
 
 /* Write atomically (temporary file, then rename). */
-int gs_db_save(const gs_db *db, const char *path, gs_error *err);
+GS_API int gs_db_save(const gs_db *db, const char *path, gs_error *err);
 
 /* Open a database file (memory-mapped). Every offset, count and checksum is
  * validated before use: a corrupt or truncated file gives GS_EPARSE with the
  * section and field that is wrong, never a crash. */
-int gs_db_open(const char *path, gs_db **out, gs_error *err);
+GS_API int gs_db_open(const char *path, gs_db **out, gs_error *err);
 
 /* Same from a caller's buffer (copied). */
-int gs_db_open_memory(const void *data, size_t size, gs_db **out, gs_error *err);
+GS_API int gs_db_open_memory(const void *data, size_t size, gs_db **out, gs_error *err);
 
-void gs_db_free(gs_db *db);
+GS_API void gs_db_free(gs_db *db);
 
 typedef struct gs_db_info {
     uint32_t format_version;
@@ -424,25 +434,25 @@ typedef struct gs_db_info {
                                /*   for methods other than heat)              */
 } gs_db_info;
 
-int gs_db_get_info(const gs_db *db, gs_db_info *info, gs_error *err);
+GS_API int gs_db_get_info(const gs_db *db, gs_db_info *info, gs_error *err);
 
 /* Approximate geodesic distance between vertices x and y: +INFINITY if they
  * are not connected, NaN if an id is out of range. Thread-safe, allocation
  * free. */
-double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y);
+GS_API double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y);
 
 /* n pairs (pairs[2i], pairs[2i+1]) -> out[i]. GS_EARG names the first
  * out-of-range id. */
-int gs_db_distances(const gs_db *db, const uint32_t *pairs, size_t n, double *out,
+GS_API int gs_db_distances(const gs_db *db, const uint32_t *pairs, size_t n, double *out,
                     gs_error *err);
 
 /* Distances from x to every vertex (out: n_vertices doubles). */
-int gs_db_field(const gs_db *db, uint32_t x, double *out, gs_error *err);
+GS_API int gs_db_field(const gs_db *db, uint32_t x, double *out, gs_error *err);
 
 /* Borrowed: the vertex positions the database was built from (3 *
  * n_vertices doubles, x y z per vertex), valid while db lives; NULL if db
  * is NULL. (To check that a mesh is the database's.) */
-const double *gs_db_positions(const gs_db *db);
+GS_API const double *gs_db_positions(const gs_db *db);
 
 /* ---- Distances between surface points (src/query/points.c) ------------- */
 
@@ -470,18 +480,18 @@ typedef struct gs_surface_point {
 #define GS_POINT_WEIGHT_SUM_TOL 1e-9
 
 /* Constructors (no validation). */
-gs_surface_point gs_surface_point_make(uint32_t v0, uint32_t v1, uint32_t v2, double w0, double w1, double w2);
-gs_surface_point gs_surface_point_vertex(uint32_t v);
+GS_API gs_surface_point gs_surface_point_make(uint32_t v0, uint32_t v1, uint32_t v2, double w0, double w1, double w2);
+GS_API gs_surface_point gs_surface_point_vertex(uint32_t v);
 
 /* The point sum_i bary[i] * corner_i of face `face` of mesh (its corners in
  * the mesh's order). GS_EARG if face >= gs_mesh_num_faces or a NULL
  * argument; the weights are checked by the queries, not here. */
-int gs_surface_point_from_face(const gs_mesh *mesh, uint32_t face, double b0, double b1, double b2,
+GS_API int gs_surface_point_from_face(const gs_mesh *mesh, uint32_t face, double b0, double b1, double b2,
                                gs_surface_point *out, gs_error *err);
 
 /* GS_OK if p is valid for db (rules above), else GS_EARG with a message
  * naming the bad corner or weight. */
-int gs_db_point_check(const gs_db *db, const gs_surface_point *p, gs_error *err);
+GS_API int gs_db_point_check(const gs_db *db, const gs_surface_point *p, gs_error *err);
 
 /* Approximate geodesic distance between two surface points p = sum_i l_i v_i
  * and q = sum_j m_j w_j (nonzero weights only), from the database's vertex
@@ -512,12 +522,12 @@ int gs_db_point_check(const gs_db *db, const gs_surface_point *p, gs_error *err)
  *  - +INFINITY if p and q are not connected; NaN if db, p or q is NULL or
  *    a point is invalid (gs_db_point_check says why).
  * At most 9 vertex queries. Thread-safe, allocation free. */
-double gs_db_point_distance(const gs_db *db, const gs_surface_point *p, const gs_surface_point *q);
+GS_API double gs_db_point_distance(const gs_db *db, const gs_surface_point *p, const gs_surface_point *q);
 
 /* n pairs (pairs[2i], pairs[2i+1]) -> out[i]. Invalid points give NaN in
  * out[] and GS_EARG naming the first one (pair, point and what is wrong);
  * the other pairs are still answered. Thread-safe, allocation free. */
-int gs_db_point_distances(const gs_db *db, const gs_surface_point *pairs, size_t n, double *out,
+GS_API int gs_db_point_distances(const gs_db *db, const gs_surface_point *pairs, size_t n, double *out,
                           gs_error *err);
 
 /* Distances from p to every vertex (out: n_vertices doubles), each equal
@@ -525,7 +535,7 @@ int gs_db_point_distances(const gs_db *db, const gs_surface_point *pairs, size_t
  * gs_db_field. GS_EARG for an invalid p or NULL argument, GS_ENOMEM if the
  * work arrays (8 bytes x n_vertices per corner after the first, freed
  * before returning) cannot be allocated. Thread-safe. */
-int gs_db_point_field(const gs_db *db, const gs_surface_point *p, double *out, gs_error *err);
+GS_API int gs_db_point_field(const gs_db *db, const gs_surface_point *p, double *out, gs_error *err);
 
 /* ======================================================================== */
 /* Evaluation (paper section 5) and the LAND baseline                       */
@@ -540,7 +550,7 @@ typedef struct gs_field_errors {
     uint64_t n_invalid;      /* candidate negative or non-finite, d finite  */
 } gs_field_errors;
 
-int gs_field_errors_compute(const double *exact, const double *approx, uint32_t n,
+GS_API int gs_field_errors_compute(const double *exact, const double *approx, uint32_t n,
                             uint32_t source, gs_field_errors *out, gs_error *err);
 
 /* LAND (Burghard & Klein 2015), the baseline of the paper's Table 1: m
@@ -561,28 +571,28 @@ typedef struct gs_land gs_land;
 /* Choose m landmarks (1 <= m <= number of vertices used by faces, else
  * GS_EARG) and solve their fields with `method` on the whole mesh. The mesh
  * is only read during the call. *out receives a new object (caller frees). */
-int gs_land_build(const gs_mesh *mesh, uint32_t m, gs_method method, gs_land **out,
+GS_API int gs_land_build(const gs_mesh *mesh, uint32_t m, gs_method method, gs_land **out,
                   gs_error *err);
 
 /* LAND's estimate (the lower bound) of d(x, y): 0 if x == y; +INFINITY if x
  * and y are not connected (or lie in a component without a landmark); NaN
  * if an id is out of range. Allocation free. */
-double gs_land_distance(const gs_land *l, uint32_t x, uint32_t y);
+GS_API double gs_land_distance(const gs_land *l, uint32_t x, uint32_t y);
 
 /* Both bounds (lower <= exact <= upper for exact landmark fields); either
  * pointer may be NULL. GS_EARG if an id is out of range. */
-int gs_land_bounds(const gs_land *l, uint32_t x, uint32_t y, double *lower, double *upper,
+GS_API int gs_land_bounds(const gs_land *l, uint32_t x, uint32_t y, double *lower, double *upper,
                    gs_error *err);
 
 /* Estimates from x to every vertex (out: gs_land_num_vertices() doubles). */
-int gs_land_field(const gs_land *l, uint32_t x, double *out, gs_error *err);
+GS_API int gs_land_field(const gs_land *l, uint32_t x, double *out, gs_error *err);
 
-uint32_t gs_land_num_vertices(const gs_land *l);
-uint32_t gs_land_num_landmarks(const gs_land *l);
+GS_API uint32_t gs_land_num_vertices(const gs_land *l);
+GS_API uint32_t gs_land_num_landmarks(const gs_land *l);
 /* Borrowed: the landmark vertex ids in the order chosen, valid while l lives. */
-const uint32_t *gs_land_landmarks(const gs_land *l);
+GS_API const uint32_t *gs_land_landmarks(const gs_land *l);
 
-void gs_land_free(gs_land *l);
+GS_API void gs_land_free(gs_land *l);
 
 /* ======================================================================== */
 /* Ground-truth distance files (format GEOGT1, doc/file-formats.md)         */
@@ -598,14 +608,14 @@ typedef struct gs_gt {
 
 /* Read a GEOGT1 file; checks magic, counts against the file size, source
  * ids < n_vertices. *out receives a new gs_gt (caller frees with gs_gt_free). */
-int gs_gt_read(const char *path, gs_gt **out, gs_error *err);
+GS_API int gs_gt_read(const char *path, gs_gt **out, gs_error *err);
 
 /* Write a GEOGT1 file atomically (temporary file, then rename). dist holds
  * n_sources * n_vertices doubles, row-major by source. */
-int gs_gt_write(const char *path, uint32_t n_vertices, uint32_t n_sources,
+GS_API int gs_gt_write(const char *path, uint32_t n_vertices, uint32_t n_sources,
                 const uint32_t *sources, const double *dist, gs_error *err);
 
-void gs_gt_free(gs_gt *gt);
+GS_API void gs_gt_free(gs_gt *gt);
 
 #ifdef __cplusplus
 }
