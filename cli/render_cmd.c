@@ -112,9 +112,11 @@ static int read_field(const char *path, uint32_t n, double *f)
         int nt = split_fields(r.line, t, 2);
         if (nt == 0) {
             rc = fail(EXIT_RUNTIME, "%s:%lu: empty line (expected one value per vertex)", path, r.ln);
-        } else if (nt > 1 || parse_double(t[0], &f[k < n ? k : 0])) {
+        } else if (nt > 1) {
+            rc = fail(EXIT_RUNTIME, "%s:%lu: more than one value on the line (expected one value per line)", path, r.ln);
+        } else if (parse_double(t[0], &f[k < n ? k : 0])) {
             rc = fail(EXIT_RUNTIME, "%s:%lu: '%s' is not a number (expected one value per line)", path, r.ln,
-                      shown(nt > 1 ? r.line : t[0], show, sizeof show));
+                      shown(t[0], show, sizeof show));
         } else if (k == n) {
             rc = fail(EXIT_RUNTIME, "%s:%lu: more values than the mesh's %u vertices", path, r.ln, n);
         } else {
