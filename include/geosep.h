@@ -565,13 +565,15 @@ GS_API int gs_db_point_field(const gs_db *db, const gs_surface_point *p, double 
  * (inf or NaN) corner value is neutral grey (R = G = B); no field: a plain
  * light surface. Isolines: dark lines about 1.5 pixels wide (at any zoom:
  * from the field's screen-space gradient) at the levels
- * min + k (max - min) / (isolines + 1), k = 1..isolines. Separators: for
- * every face whose corners lie in different leaves, the segments where
- * each node's separator crosses it (between the midpoints of the edges it
- * cuts, through the centroid when the three corners lie in three
- * subtrees), coloured and thickest at the root, thinner deeper down, on
- * top of the surface (hidden where the surface is in front). Points: dots
- * (about 9 pixels), hidden where the surface is in front. */
+ * min + k (max - min) / (isolines + 1), k = 1..isolines. Separators: each
+ * node's separator drawn between the vertices of its two subtrees (the
+ * database keeps each vertex's leaf, not the curves): through the
+ * midpoints of the edges it cuts (and a face's centroid where three
+ * subtrees meet), then smoothed; by depth red (the root's, 4 pixels
+ * wide), orange, blue, green, purple, then dark grey, thinner deeper down
+ * (to 1.2 pixels), on top of the surface, hidden where the surface is in
+ * front. Points: white dots in a dark ring (9 pixels), hidden where the
+ * surface is in front. */
 typedef struct gs_render_options {
     uint32_t width, height;      /* pixels, GS_RENDER_MIN_SIZE..MAX [640x480] */
     double azimuth_deg;          /* finite [30]                              */
