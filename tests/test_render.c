@@ -384,6 +384,43 @@ static void test_separators(void)
     gs_mesh_free(m);
 }
 
+/* Extreme fields and mesh scales: drawn, never a crash or a NaN (the
+ * sanitizer build checks the conversions). */
+static void test_extremes(void)
+{
+    gs_mesh *g = gen("grid:9,9");
+    uint32_t nv = gs_mesh_num_vertices(g), nf = gs_mesh_num_faces(g);
+    double *f = malloc(nv * sizeof *f), *xyz = malloc(3 * nv * sizeof *xyz);
+    for (uint32_t v = 0; v < nv; ++v) f[v] = v % 2 ? 1.7e308 : -1.7e308;
+    gs_render_options o = opts(64, 64, 10, 10);
+    o.field = f;
+    image im = render(g, &o);
+    CHECK(!is_bg(px(&im, 32, 32)));
+    free(im.p);
+    for (uint32_t v = 0; v < nv; ++v) f[v] = v == 3 ? 1e-300 : 0;
+    im = render(g, &o);
+    CHECK(!is_bg(px(&im, 32, 32)));
+    free(im.p);
+    double scales[] = {1e-45, 1e45};
+    for (int t = 0; t < 2; ++t) {
+        for (uint32_t i = 0; i < 3 * nv; ++i) xyz[i] = gs_mesh_positions(g)[i] * scales[t] + (i % 3 == 0 ? 1e3 * scales[t] : 0);
+        gs_mesh *m = NULL;
+        gs_error err = {0};
+        CHECK_MSG(gs_mesh_create(xyz, nv, gs_mesh_faces(g), nf, &m, &err) == GS_OK, "%s", err.message);
+        if (!m) continue;
+        gs_render_options q = opts(100, 100, 0, 0);
+        image a = render(m, &q);
+        uint64_t n = 0;
+        for (size_t k = 0; k < 100 * 100; ++k) n += !is_bg(a.p + 3 * k);
+        CHECK_MSG(n == 90 * 90, "scale %g: %llu pixels drawn, expected 8100", scales[t], (unsigned long long)n);
+        free(a.p);
+        gs_mesh_free(m);
+    }
+    free(f);
+    free(xyz);
+    gs_mesh_free(g);
+}
+
 /* ---- PNG ------------------------------------------------------------------- */
 
 static uint8_t *read_png(const char *path, uint32_t *w, uint32_t *h)
@@ -536,6 +573,7 @@ int main(void)
     test_orientation();
     test_points();
     test_separators();
+    test_extremes();
     test_png();
     test_bad_args();
     return gs_test_finish("test_render");

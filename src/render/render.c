@@ -495,7 +495,7 @@ static void render_band(const scene *s, band *b, uint8_t *rgb)
             uint8_t *o = rgb + 3 * ((size_t)(b->y0 + y) * W + x);
             for (int k = 0; k < 3; ++k) {
                 float v = acc[k] * inv * 255.0f + 0.5f;
-                o[k] = (uint8_t)(v < 0 ? 0 : v > 255 ? 255 : v);
+                o[k] = (uint8_t)(!(v >= 0) ? 0 : v > 255 ? 255 : v);
             }
         }
 }
