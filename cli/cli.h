@@ -73,4 +73,8 @@ int cmd_eval(int argc, char **argv);
 int cmd_land(int argc, char **argv);
 extern const char usage_build[], usage_query[], usage_field[], usage_eval[], usage_land[];
 
+/* Pictures (render_cmd.c). */
+int cmd_render(int argc, char **argv);
+extern const char usage_render[];
+
 #endif

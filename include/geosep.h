@@ -456,6 +456,16 @@ GS_API int gs_db_field(const gs_db *db, uint32_t x, double *out, gs_error *err);
  * is NULL. (To check that a mesh is the database's.) */
 GS_API const double *gs_db_positions(const gs_db *db);
 
+/* The bisection tree (read-only; for drawing the separators). Node 0 is
+ * the root; a node's parent has a smaller id; the root has depth 0 and
+ * parent GS_NONE; gs_db_get_info gives n_nodes. */
+/* The leaf node of vertex v: GS_NONE if v is used by no face, v is out of
+ * range or db is NULL. Thread-safe, allocation free. */
+GS_API uint32_t gs_db_vertex_leaf(const gs_db *db, uint32_t v);
+/* Parent (GS_NONE for the root) and depth of a node; either pointer may be
+ * NULL. GS_EARG if db is NULL or node >= n_nodes. Thread-safe. */
+GS_API int gs_db_tree_node(const gs_db *db, uint32_t node, uint32_t *parent, uint32_t *depth, gs_error *err);
+
 /* ---- Distances between surface points (src/query/points.c) ------------- */
 
 /* A point of the surface: p = sum_i weight[i] * position(corner[i]), with
@@ -538,6 +548,65 @@ GS_API int gs_db_point_distances(const gs_db *db, const gs_surface_point *pairs,
  * work arrays (8 bytes x n_vertices per corner after the first, freed
  * before returning) cannot be allocated. Thread-safe. */
 GS_API int gs_db_point_field(const gs_db *db, const gs_surface_point *p, double *out, gs_error *err);
+
+/* ======================================================================== */
+/* Pictures (src/render): a software rasterizer, PNG output                 */
+/* ======================================================================== */
+
+/* What to draw. The camera looks at the mesh from direction (azimuth,
+ * elevation) in degrees, y up: (0, 0) looks from +z towards -z with +x to
+ * the right (a flat generated mesh face-on), azimuth 90 looks from +x,
+ * elevation 90 from +y (above). Orthographic, fitted so that the vertices
+ * used by faces fill the image less a margin of 5% on every side. Shading:
+ * Lambert (two-sided) + ambient, smooth vertex normals, 3x3 supersampling
+ * (2x2 above 4 megapixels, 1x1 above 16), white background (255,255,255).
+ * Colours: the field by a viridis colour map from its smallest (dark
+ * violet) to its largest finite value (yellow); a face with a non-finite
+ * (inf or NaN) corner value is neutral grey (R = G = B); no field: a plain
+ * light surface. Isolines: dark lines about 1.5 pixels wide (at any zoom:
+ * from the field's screen-space gradient) at the levels
+ * min + k (max - min) / (isolines + 1), k = 1..isolines. Separators: each
+ * node's separator drawn between the vertices of its two subtrees (the
+ * database keeps each vertex's leaf, not the curves): through the
+ * midpoints of the edges it cuts (and a face's centroid where three
+ * subtrees meet), then smoothed; by depth red (the root's, 4 pixels
+ * wide), orange, blue, green, purple, then dark grey, thinner deeper down
+ * (to 1.2 pixels), on top of the surface, hidden where the surface is in
+ * front. Points: white dots in a dark ring (9 pixels), hidden where the
+ * surface is in front. */
+typedef struct gs_render_options {
+    uint32_t width, height;      /* pixels, GS_RENDER_MIN_SIZE..MAX [640x480] */
+    double azimuth_deg;          /* finite [30]                              */
+    double elevation_deg;        /* finite [20]                              */
+    const double *field;         /* n_vertices values, or NULL [NULL]        */
+    uint32_t isolines;           /* 0..GS_RENDER_MAX_ISOLINES; ignored       */
+                                 /*   without a field [10]                   */
+    const gs_db *separators;     /* NULL or a database of this mesh (same    */
+                                 /*   vertex count and positions) [NULL]     */
+    const double *points;        /* 3 * n_points coordinates, finite [NULL]  */
+    uint32_t n_points;           /*   [0]                                    */
+} gs_render_options;
+
+#define GS_RENDER_MIN_SIZE 16u
+#define GS_RENDER_MAX_SIZE 8192u
+#define GS_RENDER_MAX_ISOLINES 1000u
+
+/* Fill *opt with the defaults above. */
+GS_API void gs_render_options_default(gs_render_options *opt);
+
+/* Draw the mesh into rgb: width * height * 3 bytes (caller-owned), rows top
+ * to bottom, R G B per pixel. The options' arrays are only read during the
+ * call. GS_EARG (naming the option) if an argument is NULL or out of range
+ * or the separators' database is not this mesh's; GS_ENOMEM. rgb is
+ * untouched on failure. Thread-safe (no shared state: any number of calls
+ * at once, on the same mesh and database too). */
+GS_API int gs_render(const gs_mesh *mesh, const gs_render_options *opt, uint8_t *rgb, gs_error *err);
+
+/* gs_render into an 8-bit RGB PNG file (libpng), written atomically
+ * (temporary file, then rename): on failure no file, nor a partial one, is
+ * left (an existing file is kept as it was). GS_EIO naming the path if it
+ * cannot be written. Thread-safe. */
+GS_API int gs_render_png(const gs_mesh *mesh, const gs_render_options *opt, const char *path, gs_error *err);
 
 /* ======================================================================== */
 /* Evaluation (paper section 5) and the LAND baseline                       */

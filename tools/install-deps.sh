@@ -6,7 +6,7 @@ set -euo pipefail
 # libopenblas-dev: an optimised BLAS for CHOLMOD at run time (without it apt
 # installs the reference BLAS, slower for the heat method's factorisations).
 pkgs=(build-essential cmake pkg-config libmetis-dev libsuitesparse-dev
-      libopenblas-dev)
+      libopenblas-dev libpng-dev)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
