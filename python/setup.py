@@ -58,9 +58,15 @@ binding_sources = sorted(glob.glob(os.path.join(HERE, "src", "*.c")))
 if not library_sources:
     raise RuntimeError(f"no library sources under {ROOT}/src: build from a geosep source tree")
 
+# Headers, so that a change to one rebuilds the extension (setuptools
+# compares only these and the sources with the built module).
+headers = sorted(glob.glob(os.path.join(ROOT, "include", "*.h")) + glob.glob(os.path.join(ROOT, "src", "*", "*.h"))
+                 + glob.glob(os.path.join(HERE, "src", "*.h")))
+
 extension = Extension(
     "geosep._geosep",
     sources=binding_sources + library_sources,
+    depends=headers,
     include_dirs=[os.path.join(ROOT, "include"), numpy.get_include()] + cholmod_include(),
     define_macros=[("_POSIX_C_SOURCE", "200809L")],
     libraries=["metis", "cholmod", "m"],

@@ -4,7 +4,8 @@
 # missing, so it is fast when everything is there.
 set -euo pipefail
 pkgs=(build-essential cmake pkg-config libmetis-dev libsuitesparse-dev
-      liblapacke-dev libopenblas-dev)
+      liblapacke-dev libopenblas-dev
+      python3-dev python3-numpy python3-pytest python3-venv python3-setuptools python3-wheel)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

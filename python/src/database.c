@@ -68,8 +68,12 @@ static void on_progress(void *user, const char *stage, double fraction)
                 if (!p->exc_type) p->exc_type = Py_NewRef(PyExc_SystemError);
             }
         }
-    } else {
-        if (new_stage && p->stage[0]) write_stderr("\n"); /* one line per stage */
+    } else if (new_stage && p->stage[0]) { /* the previous stage is done: one line per stage */
+        if (p->percent < 100) {
+            p->percent = 100;
+            show_bar(p, 1.0);
+        }
+        write_stderr("\n");
     }
     if (new_stage) {
         PyOS_snprintf(p->stage, sizeof p->stage, "%s", stage);
