@@ -36,11 +36,38 @@ def cholmod_include():
     return []  # cholmod.h on the default include path
 
 
+def write_version_header(folder):
+    """include/geosep_version.h.in configured as CMake's configure_file does
+    (@PROJECT_VERSION_MAJOR@ ...) into folder; False if the tree has none."""
+    template = os.path.join(ROOT, "include", "geosep_version.h.in")
+    if not os.path.exists(template):
+        return False
+    major, minor, patch = project_version().split(".")
+    with open(template, encoding="utf-8") as f:
+        text = f.read()
+    for key, value in (("MAJOR", major), ("MINOR", minor), ("PATCH", patch)):
+        text = text.replace(f"@PROJECT_VERSION_{key}@", value)
+    if "@" in text:
+        raise RuntimeError(f"{template}: a variable setup.py does not know: {text[text.index('@'):][:40]}")
+    os.makedirs(folder, exist_ok=True)
+    path = os.path.join(folder, "geosep_version.h")
+    old = open(path, encoding="utf-8").read() if os.path.exists(path) else None
+    if old != text:  # unchanged: keep its time stamp
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(text)
+    return True
+
+
 class BuildExt(build_ext):
-    """build_ext that compiles the sources in parallel (one job per core, or
-    GEOSEP_BUILD_JOBS): the library has a few dozen files."""
+    """build_ext that generates the version header and compiles the sources
+    in parallel (one job per core, or GEOSEP_BUILD_JOBS): the library has a
+    few dozen files."""
 
     def build_extensions(self):
+        generated = os.path.join(os.path.abspath(self.build_temp), "generated")
+        if write_version_header(generated):
+            for ext in self.extensions:
+                ext.include_dirs.insert(0, generated)
         compile_serial = self.compiler.compile
         jobs = int(os.environ.get("GEOSEP_BUILD_JOBS", "0")) or os.cpu_count() or 1
 
@@ -60,8 +87,8 @@ if not library_sources:
 
 # Headers, so that a change to one rebuilds the extension (setuptools
 # compares only these and the sources with the built module).
-headers = sorted(glob.glob(os.path.join(ROOT, "include", "*.h")) + glob.glob(os.path.join(ROOT, "src", "*", "*.h"))
-                 + glob.glob(os.path.join(HERE, "src", "*.h")))
+headers = sorted(glob.glob(os.path.join(ROOT, "include", "*.h*")) + glob.glob(os.path.join(ROOT, "src", "*", "*.h"))
+                 + glob.glob(os.path.join(HERE, "src", "*.h")) + [os.path.join(ROOT, "CMakeLists.txt")])
 
 extension = Extension(
     "geosep._geosep",
@@ -70,7 +97,9 @@ extension = Extension(
     include_dirs=[os.path.join(ROOT, "include"), numpy.get_include()] + cholmod_include(),
     define_macros=[("_POSIX_C_SOURCE", "200809L")],
     libraries=["metis", "cholmod", "m"],
-    extra_compile_args=["-std=c11", "-fopenmp", "-Wall", "-Wextra"],
+    # as the CMake build: hidden visibility (the module exports PyInit__geosep
+    # and the library's GS_API functions only)
+    extra_compile_args=["-std=c11", "-fopenmp", "-fvisibility=hidden", "-Wall", "-Wextra"],
     extra_link_args=["-fopenmp"],
 )
 
