@@ -260,7 +260,19 @@ typedef struct gs_repair {
                               /*   v < n_input_vertices)                    */
     uint32_t *face_origin;    /* n_faces: input triangle each face is (or   */
                               /*   was split from)                          */
+    uint8_t *face_change;     /* n_faces: GS_REPAIR_FACE_*: how its corners */
+                              /*   relate to face_origin's                  */
 } gs_repair;
+
+enum {
+    GS_REPAIR_FACE_SAME = 0,    /* the input triangle's corners, in order     */
+                                /*   (each possibly replaced by its copy or   */
+                                /*   by the vertex it was welded into)        */
+    GS_REPAIR_FACE_FLIPPED = 1, /* the same, reversed: (c0, c2, c1)           */
+    GS_REPAIR_FACE_SPLIT = 2    /* one of the two pieces of the input         */
+                                /*   triangle, split at a zero-area face's    */
+                                /*   middle corner                            */
+};
 
 /* Repair a triangle soup into a valid mesh, knowingly: faces repeating a
  * vertex and duplicate faces are dropped; zero-area faces are removed

@@ -223,7 +223,24 @@ static result repair(const soup *s, const char *name)
     }
     CHECK_MSG(pos_ok, "%s: a vertex moved or lost its id", name);
     CHECK_MSG(map_ok, "%s: the vertex map is inconsistent", name);
-    for (uint32_t f = 0; f < nf; ++f) CHECK(r->face_origin[f] < s->nf);
+    /* each face is its input triangle's corners (their aliases), in order
+     * or reversed as face_change says, or a piece of a split one */
+    int faces_ok = 1;
+    for (uint32_t f = 0; f < nf; ++f) {
+        uint32_t o = r->face_origin[f];
+        if (o >= s->nf || r->face_change[f] > GS_REPAIR_FACE_SPLIT) {
+            faces_ok = 0;
+            continue;
+        }
+        if (r->face_change[f] == GS_REPAIR_FACE_SPLIT) continue;
+        static const int order[2][3] = {{0, 1, 2}, {0, 2, 1}};
+        for (int k = 0; k < 3; ++k) {
+            uint32_t in = s->tri[3 * (size_t)o + order[r->face_change[f]][k]], out = t[3 * (size_t)f + k], found = 0;
+            for (uint32_t a = r->alias_start[in]; a < r->alias_start[in + 1]; ++a) found |= r->alias[a] == out;
+            if (!found) faces_ok = 0;
+        }
+    }
+    CHECK_MSG(faces_ok, "%s: a face is not its input triangle as face_origin and face_change say", name);
     char buf[4096];
     size_t len = gs_repair_format(r, buf, sizeof buf);
     CHECK(len > 0 && len == strlen(buf));

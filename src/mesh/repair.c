@@ -35,7 +35,7 @@ typedef struct rp {
     uint32_t nf, cap;          /* working faces (dead ones included) */
     uint32_t *tri;             /* 3 * cap input vertex ids */
     uint32_t *orig;            /* input face of each working face */
-    uint8_t *alive;
+    uint8_t *alive;            /* 0 dropped; else 1, | 2 if made by a split */
     uint32_t *vuf;             /* union-find of welded vertices (root: min id) */
     uint32_t *stamp;           /* per vertex root: round it was touched in */
     gs_repair *r;
@@ -296,7 +296,9 @@ static int split_across(rp *s, uint32_t f, const ekey *e, size_t ne, uint32_t ro
     note(s, GS_REPAIR_ZERO_AREA_SPLIT, s->orig[f], c[0], c[1], c[2]);
     s->alive[f] = 0;
     n[0] = a, n[1] = m, n[2] = d; /* before add_face, which may move s->tri */
+    s->alive[other] = 3;
     *rc = add_face(s, m, b, d, forig);
+    if (*rc == GS_OK) s->alive[s->nf - 1] = 3;
     return 1;
 }
 
@@ -380,6 +382,7 @@ static int compact(rp *s)
     for (uint32_t f = 0; f < s->nf; ++f) {
         if (!s->alive[f]) continue;
         memmove(s->tri + 3 * (size_t)F, s->tri + 3 * (size_t)f, 3 * sizeof *s->tri);
+        s->alive[F] = s->alive[f];
         s->orig[F++] = s->orig[f];
     }
     s->F = s->nf = F;
@@ -572,6 +575,7 @@ static int orient(rp *s)
     for (uint32_t f = 0; f < F; ++f) {
         if (!flip[f]) continue;
         uint32_t *c = s->tri + 3 * (size_t)f, t = c[1];
+        s->alive[f] |= 4;
         note(s, GS_REPAIR_FLIPPED_FACE, s->orig[f], c[0], c[1], c[2]);
         c[1] = c[2];
         c[2] = t;
@@ -733,7 +737,9 @@ static int fill_maps(rp *s, const ids *d)
     r->alias = gs__malloc(nh + s->nv + 1, sizeof *r->alias);
     r->vertex_origin = gs__malloc(d->nv_out ? d->nv_out : 1, sizeof *r->vertex_origin);
     r->face_origin = gs__malloc(s->F ? s->F : 1, sizeof *r->face_origin);
-    if (!p || !r->vertex_map || !r->alias_start || !r->alias || !r->vertex_origin || !r->face_origin) {
+    r->face_change = gs__malloc(s->F ? s->F : 1, 1);
+    if (!p || !r->vertex_map || !r->alias_start || !r->alias || !r->vertex_origin || !r->face_origin ||
+        !r->face_change) {
         free(p);
         return gs__fail(s->err, GS_ENOMEM, "repair: out of memory");
     }
@@ -794,7 +800,12 @@ static int fill_maps(rp *s, const ids *d)
         note(s, GS_REPAIR_SPLIT_VERTEX, copy_face[k], v, s->nv + k, GS_NONE);
     }
     free(mark), free(copy_face);
-    for (uint32_t f = 0; f < s->F; ++f) r->face_origin[f] = s->orig[f];
+    for (uint32_t f = 0; f < s->F; ++f) {
+        r->face_origin[f] = s->orig[f];
+        r->face_change[f] = (s->alive[f] & 2) ? GS_REPAIR_FACE_SPLIT
+                            : (s->alive[f] & 4) ? GS_REPAIR_FACE_FLIPPED
+                                                : GS_REPAIR_FACE_SAME;
+    }
     r->n_vertices = d->nv_out;
     r->n_faces = s->F;
     return GS_OK;
@@ -810,6 +821,7 @@ void gs_repair_free(gs_repair *info)
     free(info->alias);
     free(info->vertex_origin);
     free(info->face_origin);
+    free(info->face_change);
     free(info);
 }
 
