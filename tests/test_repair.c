@@ -785,6 +785,93 @@ static void test_file_and_errors(void)
     gs_repair_free(NULL);
 }
 
+/* Random soups on a small lattice (many coincident positions, shared
+ * edges, fans, flips, duplicates, degenerate faces): the repair either
+ * gives a mesh that passes every check above or says nothing is left. */
+static uint64_t rng_state = 0x9E3779B97F4A7C15u;
+static uint32_t rnd(uint32_t n)
+{
+    uint64_t z = (rng_state += 0x9E3779B97F4A7C15u);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9u;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBu;
+    return (uint32_t)((z ^ (z >> 31)) % n);
+}
+
+static void test_random_soups(void)
+{
+    int n_ok = 0, n_empty = 0;
+    for (int it = 0; it < 400; ++it) {
+        soup s = {0};
+        uint32_t nv = 4 + rnd(24), nf = 1 + rnd(40), side = 2 + rnd(3);
+        for (uint32_t v = 0; v < nv; ++v) /* lattice points: coincident and collinear ones */
+            add_v(&s, rnd(side), rnd(side), rnd(2) ? 0 : rnd(side));
+        for (uint32_t f = 0; f < nf; ++f) {
+            uint32_t a = rnd(nv), b = rnd(nv), c = rnd(nv);
+            if (f > 0 && rnd(3) == 0) { /* reuse an edge of an earlier face */
+                const uint32_t *t = s.tri + 3 * rnd(f);
+                a = t[1], b = t[0];
+                if (rnd(4) == 0) a = t[0], b = t[1];
+            }
+            add_f(&s, a, b, c);
+        }
+        gs_mesh *m = NULL;
+        gs_repair *r = NULL;
+        gs_error err = {0};
+        int rc = gs_mesh_repair(s.xyz, s.nv, s.tri, s.nf, &m, &r, &err);
+        if (rc == GS_EMESH && strstr(err.message, "nothing is left")) {
+            n_empty++;
+        } else {
+            CHECK_MSG(rc == GS_OK, "random soup %d: %s", it, err.message);
+            if (rc == GS_OK) {
+                gs_mesh_free(m);
+                gs_repair_free(r);
+                char name[64];
+                snprintf(name, sizeof name, "random soup %d", it);
+                result x = repair(&s, name);
+                done(&x);
+                n_ok++;
+            }
+        }
+        soup_free(&s);
+    }
+    CHECK(n_ok > 200);
+    if (getenv("GEOSEP_TEST_VERBOSE")) fprintf(stderr, "random soups: %d repaired, %d empty\n", n_ok, n_empty);
+}
+
+/* The shared meshes are valid: repair leaves each one as it is. */
+static void test_shared_unchanged(void)
+{
+    static const char *const names[] = {"bunny-5k", "bunny-10k", "bunny-20k", "fandisk", "homer", "homer-60k",
+                                        "rocker-arm", "spot", "stanford-bunny"};
+    int seen = 0;
+    for (size_t i = 0; i < sizeof names / sizeof *names; ++i) {
+        char rel[128];
+        snprintf(rel, sizeof rel, "meshes/%s.obj", names[i]);
+        const char *path = gs_test_shared_path(rel);
+        if (!path) continue;
+        seen++;
+        gs_mesh *a = NULL, *b = NULL;
+        gs_repair *r = NULL;
+        gs_error err = {0};
+        CHECK_MSG(gs_mesh_load(path, GS_FORMAT_AUTO, &a, &err) == GS_OK, "%s", err.message);
+        CHECK_MSG(gs_mesh_repair_file(path, GS_FORMAT_AUTO, &b, &r, &err) == GS_OK, "%s", err.message);
+        if (a && b) {
+            uint32_t nv = gs_mesh_num_vertices(a), nf = gs_mesh_num_faces(a);
+            CHECK_MSG(gs_mesh_num_vertices(b) == nv && gs_mesh_num_faces(b) == nf &&
+                          !memcmp(gs_mesh_faces(a), gs_mesh_faces(b), 3 * (size_t)nf * sizeof(uint32_t)) &&
+                          !memcmp(gs_mesh_positions(a), gs_mesh_positions(b), 3 * (size_t)nv * sizeof(double)),
+                      "%s: repair changed a valid mesh", names[i]);
+            uint64_t total = 0;
+            for (int k = 0; k < GS_REPAIR_NUM_KINDS; ++k) total += r->count[k];
+            CHECK_MSG(total == 0, "%s: %llu changes reported", names[i], (unsigned long long)total);
+        }
+        gs_mesh_free(a);
+        gs_mesh_free(b);
+        gs_repair_free(r);
+    }
+    if (!seen) printf("test_repair: shared meshes not found, their part skipped\n");
+}
+
 int main(void)
 {
     test_clean();
@@ -802,5 +889,7 @@ int main(void)
     test_moebius();
     test_components();
     test_file_and_errors();
+    test_random_soups();
+    test_shared_unchanged();
     return gs_test_finish("test_repair");
 }

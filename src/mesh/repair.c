@@ -858,8 +858,8 @@ static int check_input(const double *xyz, uint32_t nv, const uint32_t *tri, uint
 }
 
 static int run(const double *xyz, uint32_t nv, const uint32_t *tri, uint32_t nf, const char *file,
-               const uint32_t *face_line, const char *unit, gs_mesh **out, gs_repair **info,
-               gs_error *err)
+               int is_file, const uint32_t *face_line, const char *unit, gs_mesh **out,
+               gs_repair **info, gs_error *err)
 {
     if (!out) return gs__fail(err, GS_EARG, "gs_mesh_repair: out is NULL");
     *out = NULL;
@@ -895,7 +895,7 @@ static int run(const double *xyz, uint32_t nv, const uint32_t *tri, uint32_t nf,
     gs_repair *r = s.r;
     r->n_input_vertices = nv;
     r->n_input_faces = nf;
-    snprintf(r->file, sizeof r->file, "%s", file);
+    snprintf(r->file, sizeof r->file, "%s", is_file ? file : "");
     snprintf(r->unit, sizeof r->unit, "%s", face_line ? (unit ? unit : "face") : "face");
     s.nf = nf;
     memcpy(s.tri, tri, 3 * (size_t)nf * sizeof *tri);
@@ -905,7 +905,8 @@ static int run(const double *xyz, uint32_t nv, const uint32_t *tri, uint32_t nf,
     drop_repeated(&s);
     rc = drop_duplicates(&s);
     if (!rc) rc = zero_area_faces(&s);
-    if (!rc) rc = drop_duplicates(&s);
+    /* welds can make faces duplicates; splits make faces of new edges only */
+    if (!rc && r->count[GS_REPAIR_ZERO_AREA_COLLAPSED]) rc = drop_duplicates(&s);
     if (!rc) rc = compact(&s);
     if (!rc && s.F == 0)
         rc = gs__fail(err, GS_EMESH, "%s: nothing is left after repair: every face was degenerate "
@@ -946,7 +947,7 @@ done:
 int gs_mesh_repair(const double *xyz, uint32_t n_vertices, const uint32_t *tri, uint32_t n_faces,
                    gs_mesh **out, gs_repair **info, gs_error *err)
 {
-    return run(xyz, n_vertices, tri, n_faces, "mesh", NULL, NULL, out, info, err);
+    return run(xyz, n_vertices, tri, n_faces, "mesh", 0, NULL, NULL, out, info, err);
 }
 
 int gs_mesh_repair_file(const char *path, gs_mesh_format format, gs_mesh **out, gs_repair **info,
@@ -959,7 +960,7 @@ int gs_mesh_repair_file(const char *path, gs_mesh_format format, gs_mesh **out, 
     gs_soup s;
     int rc = gs__load_soup(path, format, &s, err);
     if (rc) return rc;
-    rc = run(s.xyz, s.nv, s.tri, s.nf, path, s.face_line, s.unit ? s.unit : "line", out, info, err);
+    rc = run(s.xyz, s.nv, s.tri, s.nf, path, 1, s.face_line, s.unit ? s.unit : "line", out, info, err);
     gs__soup_free(&s);
     return rc;
 }
