@@ -200,6 +200,11 @@ typedef enum gs_repair_kind {
     GS_REPAIR_ZERO_AREA_SPLIT,     /* zero-area (collinear) face: the face    */
                                    /*   across its longest edge is split at   */
                                    /*   its middle corner, it is gone         */
+    GS_REPAIR_ZERO_AREA_NEEDLE,    /* zero-area face with a tiny edge (below  */
+                                   /*   1e-6 of its longest) that no split    */
+                                   /*   removes: that edge is collapsed (its  */
+                                   /*   ends welded, the faces of the second  */
+                                   /*   moving by the edge's length)          */
     GS_REPAIR_ZERO_AREA_BOUNDARY,  /* zero-area face whose longest edge is on */
                                    /*   the boundary: dropped (same surface)  */
     GS_REPAIR_ZERO_AREA_DROPPED,   /* zero-area face dropped otherwise: a     */
@@ -284,7 +289,8 @@ enum {
  * component is oriented consistently (the majority of its faces keep
  * theirs; a non-orientable one is cut open where needed); each vertex
  * whose faces form several fans becomes one vertex per fan. Positions never
- * move: the repaired surface is the input's, but for the faces dropped.
+ * move: the repaired surface is the input's, but for the faces dropped (and
+ * the needles collapsed: GS_REPAIR_ZERO_AREA_NEEDLE).
  * Input: xyz (3 * n_vertices, finite) and tri (3 * n_faces, indices <
  * n_vertices); GS_EMESH if a coordinate is not finite, an index out of
  * range, an edge longer than GS_MESH_MAX_EDGE, or nothing is left.

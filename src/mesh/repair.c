@@ -48,13 +48,15 @@ typedef struct rp {
 static const char *const kind_names[GS_REPAIR_NUM_KINDS] = {
     "faces naming a vertex twice (dropped)",
     "duplicate faces, same three vertices as an earlier one (dropped)",
-    "zero-area faces with corners at one position (corners welded, face gone)",
+    "zero-area faces with corners at one position (corners welded together, face gone)",
     "zero-area faces removed by splitting the face across their longest edge",
+    "zero-area needles whose tiny edge was collapsed (its ends welded)",
     "zero-area faces on the boundary (dropped, same surface)",
     "zero-area faces dropped (a zero-width gap where each was)",
     "seam edges glued to the boundary edge at the same positions",
     "boundary edges left open (more than two at the same positions)",
-    "vertices welded into a vertex at the same position (now unreferenced)",
+    "vertices welded into a vertex at the same position or across a collapsed needle edge "
+    "(now unreferenced)",
     "non-manifold edges (best-aligned pair kept, other faces detached)",
     "faces flipped to agree with their component's orientation",
     "edges cut open (non-orientable component)",
@@ -111,9 +113,13 @@ static int same_pos(const double *p, const double *q)
 
 static uint32_t cls(rp *s, uint32_t v) { return find(s->vuf, v); }
 
-static int zero_area(const rp *s, const uint32_t *c)
+/* Position of v's welded class (its smallest id): where v's corners end up
+ * (differs from v's own only after a needle's collapse). */
+static const double *cpos(rp *s, uint32_t v) { return pos(s, cls(s, v)); }
+
+static int zero_area(rp *s, const uint32_t *c)
 {
-    return gs__tri_zero_area(pos(s, c[0]), pos(s, c[1]), pos(s, c[2]));
+    return gs__tri_zero_area(cpos(s, c[0]), cpos(s, c[1]), cpos(s, c[2]));
 }
 
 static int add_face(rp *s, uint32_t a, uint32_t b, uint32_t c, uint32_t orig)
@@ -237,7 +243,7 @@ static int collapse(rp *s, uint32_t f, uint32_t round)
     int any = 0;
     for (int i = 0; i < 3; ++i) {
         uint32_t a = c[i], b = c[(i + 1) % 3];
-        if (!same_pos(pos(s, a), pos(s, b))) continue;
+        if (!same_pos(cpos(s, a), cpos(s, b))) continue;
         touch(s, a, round);
         touch(s, b, round);
         unite(s->vuf, a, b);
@@ -255,7 +261,7 @@ static int split_across(rp *s, uint32_t f, const ekey *e, size_t ne, uint32_t ro
     int li = 0;
     double best = -1;
     for (int i = 0; i < 3; ++i) {
-        const double *p = pos(s, c[i]), *q = pos(s, c[(i + 1) % 3]);
+        const double *p = cpos(s, c[i]), *q = cpos(s, c[(i + 1) % 3]);
         double l = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
                    (p[2] - q[2]) * (p[2] - q[2]);
         if (l > best) best = l, li = i;
@@ -302,6 +308,31 @@ static int split_across(rp *s, uint32_t f, const ekey *e, size_t ne, uint32_t ro
     return 1;
 }
 
+/* A needle no split removes: weld the ends of its shortest edge if that
+ * edge is below 1e-6 of the longest. 1 if done. */
+static int collapse_needle(rp *s, uint32_t f, uint32_t round)
+{
+    const uint32_t *c = s->tri + 3 * (size_t)f;
+    double l[3];
+    int lo = 0, hi = 0;
+    for (int i = 0; i < 3; ++i) {
+        const double *p = cpos(s, c[i]), *q = cpos(s, c[(i + 1) % 3]);
+        l[i] = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
+        if (l[i] < l[lo]) lo = i;
+        if (l[i] > l[hi]) hi = i;
+    }
+    if (!(l[lo] <= 1e-12 * l[hi])) return 0;
+    for (int i = 0; i < 3; ++i)
+        if (touched(s, c[i], round)) return 0;
+    uint32_t a = c[lo], b = c[(lo + 1) % 3];
+    touch(s, a, round), touch(s, b, round);
+    unite(s->vuf, a, b);
+    touch(s, a, round);
+    s->alive[f] = 0;
+    note(s, GS_REPAIR_ZERO_AREA_NEEDLE, s->orig[f], c[0], c[1], c[2]);
+    return 1;
+}
+
 static int zero_area_faces(rp *s)
 {
     ekey *e = NULL;
@@ -345,6 +376,7 @@ static int zero_area_faces(rp *s)
             if (last) continue;
             int k = split_across(s, f, e, ne, round, &rc);
             if (k > 0) changed = 1;
+            if (k < 0 && collapse_needle(s, f, round)) changed = 1;
         }
         if (rc) break;
         if (!changed || last) { /* what is left cannot be removed otherwise */
@@ -906,7 +938,8 @@ static int run(const double *xyz, uint32_t nv, const uint32_t *tri, uint32_t nf,
     rc = drop_duplicates(&s);
     if (!rc) rc = zero_area_faces(&s);
     /* welds can make faces duplicates; splits make faces of new edges only */
-    if (!rc && r->count[GS_REPAIR_ZERO_AREA_COLLAPSED]) rc = drop_duplicates(&s);
+    if (!rc && (r->count[GS_REPAIR_ZERO_AREA_COLLAPSED] || r->count[GS_REPAIR_ZERO_AREA_NEEDLE]))
+        rc = drop_duplicates(&s);
     if (!rc) rc = compact(&s);
     if (!rc && s.F == 0)
         rc = gs__fail(err, GS_EMESH, "%s: nothing is left after repair: every face was degenerate "
