@@ -41,11 +41,13 @@ extern "C" {
 #define GS_API
 #endif
 
-#define GEOSEP_VERSION_MAJOR 0
-#define GEOSEP_VERSION_MINOR 1
-#define GEOSEP_VERSION_PATCH 0
+/* GEOSEP_VERSION_MAJOR, _MINOR, _PATCH and GEOSEP_VERSION_STRING: the
+ * version of these headers (generated from the project's version). */
+#include "geosep_version.h"
 
-/* "MAJOR.MINOR.PATCH" of the linked library; static storage. */
+/* "MAJOR.MINOR.PATCH" of the linked library (may differ from
+ * GEOSEP_VERSION_STRING if the program was built against other headers);
+ * static storage. */
 GS_API const char *gs_version_string(void);
 
 #define GS_NONE UINT32_MAX

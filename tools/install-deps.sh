@@ -3,8 +3,10 @@
 # fresh Debian 12 machine; uses sudo when not root). Installs only what is
 # missing, so it is fast when everything is there.
 set -euo pipefail
+# libopenblas-dev: an optimised BLAS for CHOLMOD at run time (without it apt
+# installs the reference BLAS, slower for the heat method's factorisations).
 pkgs=(build-essential cmake pkg-config libmetis-dev libsuitesparse-dev
-      liblapacke-dev libopenblas-dev)
+      libopenblas-dev)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
