@@ -90,10 +90,9 @@ typedef enum gs_mesh_format {
 } gs_mesh_format;
 
 /* Range of edge lengths geosep accepts (mesh units): squared and 4th-power
- * lengths in the validation and the solvers then stay finite and normal.
- * (A unit icosphere scaled by 1e-75 .. 1e75 gave, with all four methods,
- * distances that divided by the scale are within 2e-14 of the unscaled ones;
- * beyond 1e+-100 the validation's 4th powers overflow or underflow.) */
+ * lengths in the validation and the solvers then stay finite and normal, and
+ * distances scale with the mesh (a mesh scaled by s has its distances
+ * scaled by s, to rounding). Rescale meshes outside this range. */
 #define GS_MESH_MAX_EDGE 1e50
 #define GS_MESH_MIN_EDGE 1e-50
 
@@ -404,14 +403,10 @@ typedef struct gs_solver_options {
                             /*   the whole mesh's, and its default)            */
 } gs_solver_options;
 
-/* Range of gs_solver_options.heat_time. Measured on sphere:4, grid:40,40
- * and torus:48,24 (mean error against exact distances, relative to the
- * largest distance; 0.03%, 0.5%, 1.5% at the default 1): small values only
- * add error (1e-4: 1.0%, 3.8%, 10.9%; 1e-8: 1.2%, 9.7%, 10.9%; 1e-12:
- * 7.2%, 21.6%, 11.3%: the heat barely leaves the source's neighbours);
- * from 1e4 to 1e13 the field no longer changes (the t -> infinity limit),
- * from about 1e14 rounding spoils it and from about 1e16 the factorisation
- * fails ("not positive definite"). 1e8 leaves 5 decades before that. */
+/* Range of gs_solver_options.heat_time. Values below the default 1 only
+ * add error (the heat barely leaves the source's neighbours); far above it
+ * the field stops changing (the t -> infinity limit) and then rounding
+ * spoils it. doc/approximate-fields.md has the measured accuracy. */
 #define GS_HEAT_TIME_MIN 1e-8
 #define GS_HEAT_TIME_MAX 1e8
 
@@ -423,11 +418,10 @@ typedef struct gs_solver_options {
 
 /* The heat method's resolution for a mesh of nv vertices: the fewest
  * 1-to-4 subdivisions (at most 2) that give at least
- * GS_HEAT_REFINE_AUTO_VERTICES vertices. The heat fields of coarse meshes
- * are not additive enough for a database to reproduce them (bunny-5k's
- * database: ME 0.80% unrefined, 0.41% refined twice; bunny-10k 0.56%,
- * 0.40% once; the paper's target is 0.5%), while from about 20,000
- * vertices they are (bunny-20k 0.45%, stanford-bunny's 35,947 0.44%). */
+ * GS_HEAT_REFINE_AUTO_VERTICES vertices. Heat fields of coarse meshes are
+ * not additive enough for a database to reproduce them to the paper's 0.5%;
+ * from about 20,000 vertices they are (doc/approximate-fields.md). Pure
+ * function, thread-safe. */
 #define GS_HEAT_REFINE_AUTO_VERTICES 32000u
 GS_API uint32_t gs_heat_refine_auto(uint32_t nv);
 
@@ -450,7 +444,8 @@ GS_API int gs_solver_solve(gs_solver *solver, const gs_source *sources,
                     uint32_t n_sources, double max_distance, double *dist,
                     gs_error *err);
 
-/* Statistics of the last solve (for benchmarks); any pointer may be NULL. */
+/* Statistics of the last solve (for benchmarks); any pointer may be NULL.
+ * Same thread rules as the solver. */
 GS_API void gs_solver_last_stats(const gs_solver *solver, uint64_t *windows_created,
                           uint64_t *windows_propagated, double *seconds);
 
@@ -764,10 +759,8 @@ GS_API int gs_field_errors_compute(const double *exact, const double *approx, ui
  * every vertex (m numbers per vertex), and the triangle-inequality bounds
  *   lower(x,y) = max_l |d(l,x) - d(l,y)|,  upper(x,y) = min_l d(l,x) + d(l,y)
  * over the landmarks l that reach x or y. LAND's estimate is the lower
- * bound (which the authors show has bounded relative error and is a metric).
- * Note: the paper's Table 1 LAND errors have RMSE > sqrt(ME), impossible for
- * the lower bound (its relative error is <= 1); they lie between what the
- * midpoint and the upper bound give (gs_land_bounds).
+ * bound (which the authors show has bounded relative error and is a metric);
+ * gs_land_bounds gives both bounds.
  * Immutable after build: safe to query from any number of threads. */
 typedef struct gs_land gs_land;
 

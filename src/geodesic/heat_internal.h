@@ -33,7 +33,7 @@
  *    surface and tilts grad log u by O(sqrt(t)), is to first order the
  *    same for both times and cancels in the difference, which leaves
  *    (1 / sqrt(t) - 1 / sqrt(4t)) grad d. Measured against exact
- *    distances (README), this halves the mean error on bunny-5k and makes
+ *    distances (doc/approximate-fields.md), this halves the mean error on bunny-5k and makes
  *    heat distances nearly additive (d(x,y) ~ d(x,s) + d(s,y) along a
  *    geodesic), which the SEP database relies on. Both systems are
  *    M-matrices (non-negative cotan weights on the intrinsic Delaunay
@@ -60,7 +60,7 @@
  *    every direction, which is what makes heat distances additive along a
  *    geodesic (bunny-5k database vs its own fields, ME 0.80% / 0.51% /
  *    0.41% for N = 0 / 1 / 2; a smaller t on the original mesh does not do
- *    that, see README). Face sources go to the sub-face holding the point.
+ *    that, see doc/approximate-fields.md). Face sources go to the sub-face holding the point.
  *    The refined mesh and its factors exist only while the solver does.
  *  - Boundaries: the paper's recommendation, the average of the Neumann
  *    heat flow (the plain system) and the Dirichlet one (u = 0 on boundary
