@@ -96,7 +96,7 @@ extension = Extension(
     depends=headers,
     include_dirs=[os.path.join(ROOT, "include"), numpy.get_include()] + cholmod_include(),
     define_macros=[("_POSIX_C_SOURCE", "200809L")],
-    libraries=["metis", "cholmod", "m"],
+    libraries=["metis", "cholmod", "png", "m"],
     # as the CMake build: hidden visibility (the module exports PyInit__geosep
     # and the library's GS_API functions only)
     extra_compile_args=["-std=c11", "-fopenmp", "-fvisibility=hidden", "-Wall", "-Wextra"],
