@@ -296,7 +296,8 @@ static PyGetSetDef db_getset[] = {
 
 static PyMethodDef db_methods[] = {
     {"build", (PyCFunction)(void (*)(void))db_build, METH_VARARGS | METH_KEYWORDS | METH_CLASS,
-     "Database.build(mesh, method=\"exact\", threads=0, progress=False, **options) -> Database\n\n"
+     "build($type, /, mesh, method='exact', threads=0, progress=False, **options)\n--\n\n"
+     "Returns a new Database.\n\n"
      "Build the query database of a Mesh (the paper's preprocessing): a nested\n"
      "bisection tree with separator curves, distance fields by `method`\n"
      "(\"exact\", \"fmm\", \"heat\" or \"graph\") and per-vertex distance functions.\n"
@@ -313,14 +314,16 @@ static PyMethodDef db_methods[] = {
      "An unknown option raises TypeError, a value out of range ValueError. The\n"
      "GIL is released during the build."},
     {"open", (PyCFunction)db_open, METH_O | METH_CLASS,
-     "Database.open(path) -> Database\n\n"
+     "open($type, path, /)\n--\n\n"
+     "Returns the opened Database.\n\n"
      "Open a database file (memory-mapped). Every offset, count and checksum is\n"
      "checked: a corrupt, truncated or incompatible file raises DatabaseError\n"
      "naming the section and field; an unreadable one OSError."},
     {"save", (PyCFunction)db_save, METH_O,
-     "save(path)\n\nWrite the database to a file, atomically (a temporary file, then a rename)."},
+     "save($self, path, /)\n--\n\nWrite the database to a file, atomically (a temporary file, then a rename)."},
     {"info", (PyCFunction)db_info, METH_NOARGS,
-     "info() -> dict\n\n"
+     "info($self, /)\n--\n\n"
+     "A dict:\n"
      "format_version, n_vertices, n_nodes, n_leaves, n_curves, avg_depth,\n"
      "max_depth, cost (numbers stored per vertex), bytes_per_vertex, file_bytes,\n"
      "and the build's parameters: method, vmax, mmax, tol, vertex_sources,\n"
