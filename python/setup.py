@@ -1,9 +1,10 @@
 """Build the geosep Python package: the extension geosep._geosep, compiled from
 the binding (python/src) and the library's own C sources (../src,
 ../include) with the flags and libraries of the CMake build (C11, OpenMP,
-METIS, CHOLMOD).
+METIS, CHOLMOD, libpng).
 
-Install (no network needed; Debian: python3-dev python3-numpy python3-venv):
+Install (no network needed; Debian: python3-dev python3-numpy python3-venv and
+the library's own build dependencies, tools/install-deps.sh):
     python3 -m venv --system-site-packages VENV
     VENV/bin/python -m pip install --no-build-isolation ./python
 """
@@ -96,7 +97,7 @@ extension = Extension(
     depends=headers,
     include_dirs=[os.path.join(ROOT, "include"), numpy.get_include()] + cholmod_include(),
     define_macros=[("_POSIX_C_SOURCE", "200809L")],
-    libraries=["metis", "cholmod", "m"],
+    libraries=["metis", "cholmod", "png", "m"],
     # as the CMake build: hidden visibility (the module exports PyInit__geosep
     # and the library's GS_API functions only)
     extra_compile_args=["-std=c11", "-fopenmp", "-fvisibility=hidden", "-Wall", "-Wextra"],
