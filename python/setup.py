@@ -1,9 +1,10 @@
 """Build the geosep Python package: the extension geosep._geosep, compiled from
 the binding (python/src) and the library's own C sources (../src,
 ../include) with the flags and libraries of the CMake build (C11, OpenMP,
-METIS, CHOLMOD).
+METIS, CHOLMOD, libpng).
 
-Install (no network needed; Debian: python3-dev python3-numpy python3-venv):
+Install (no network needed; Debian: python3-dev python3-numpy python3-venv and
+the library's own build dependencies, tools/install-deps.sh):
     python3 -m venv --system-site-packages VENV
     VENV/bin/python -m pip install --no-build-isolation ./python
 """

@@ -10,6 +10,8 @@ venv=${1:-$top/build/python-venv}
 py=python3
 [ -x /usr/bin/python3 ] && py=/usr/bin/python3
 [ -x "$venv/bin/python" ] || "$py" -m venv --system-site-packages "$venv"
-"$venv/bin/python" -m pip install -q --no-build-isolation "$top/python"
+# --no-index: everything comes from Debian (numpy through the system site
+# packages); pip never reaches for the network, even where there is none.
+"$venv/bin/python" -m pip install -q --no-index --disable-pip-version-check --no-build-isolation "$top/python"
 cd "$top"
 "$venv/bin/python" -m pytest -q python/tests

@@ -13,6 +13,7 @@ microsecond each::
     d = db.distance(0, 100)                       # float
     D = db.pairwise([0, 1, 2])                    # (3, 3) array
     exact = geosep.distance_field(mesh, 0)        # (n,) exact distances
+    geosep.render(mesh, exact, separators=db, path="bunny.png")
 
 Errors: MeshError (an invalid mesh), DatabaseError (a corrupt or
 incompatible database file), both subclasses of Error and ValueError;
@@ -29,6 +30,7 @@ from ._geosep import (
     Solver,
     Database,
     distance_field,
+    render,
 )
 
 __all__ = [
@@ -40,4 +42,5 @@ __all__ = [
     "Solver",
     "Database",
     "distance_field",
+    "render",
 ]

@@ -64,8 +64,13 @@ static void on_progress(void *user, const char *stage, double fraction)
             if (r) {
                 Py_DECREF(r);
             } else {
+#if PY_VERSION_HEX >= 0x030C0000 /* PyErr_Fetch is deprecated from 3.12 */
+                p->exc = PyErr_GetRaisedException();
+                p->exc_type = p->exc ? Py_NewRef((PyObject *)Py_TYPE(p->exc)) : Py_NewRef(PyExc_SystemError);
+#else
                 PyErr_Fetch(&p->exc_type, &p->exc, &p->exc_tb);
                 if (!p->exc_type) p->exc_type = Py_NewRef(PyExc_SystemError);
+#endif
             }
         }
     } else if (new_stage && p->stage[0]) { /* the previous stage is done: one line per stage */
@@ -177,7 +182,15 @@ static PyObject *db_build(PyObject *cls, PyObject *args, PyObject *kwargs)
     if (o.progress && !ps.callback && ps.stage[0]) write_stderr("\n");
     if (ps.exc_type) { /* the callback's exception wins */
         gs_db_free(db);
+#if PY_VERSION_HEX >= 0x030C0000
+        Py_DECREF(ps.exc_type);
+        if (ps.exc)
+            PyErr_SetRaisedException(ps.exc);
+        else
+            PyErr_SetString(PyExc_SystemError, "the progress callback failed without an exception");
+#else
         PyErr_Restore(ps.exc_type, ps.exc, ps.exc_tb);
+#endif
         return NULL;
     }
     if (rc) return gspy_raise(rc, &err, GSPY_CTX_OTHER, NULL, 0);
@@ -296,13 +309,15 @@ static PyGetSetDef db_getset[] = {
 
 static PyMethodDef db_methods[] = {
     {"build", (PyCFunction)(void (*)(void))db_build, METH_VARARGS | METH_KEYWORDS | METH_CLASS,
-     "Database.build(mesh, method=\"exact\", threads=0, progress=False, **options) -> Database\n\n"
+     "build($type, /, mesh, method='exact', threads=0, progress=False, **options)\n--\n\n"
+     "Returns a new Database.\n\n"
      "Build the query database of a Mesh (the paper's preprocessing): a nested\n"
      "bisection tree with separator curves, distance fields by `method`\n"
      "(\"exact\", \"fmm\", \"heat\" or \"graph\") and per-vertex distance functions.\n"
      "threads: 0 = all cores. progress=True draws a progress bar on stderr (one\n"
      "line per stage); a callable is called as progress(stage, fraction)\n"
-     "instead. Options, as the command line's build options (None: default):\n"
+     "instead, whenever the percentage changes (an exception it raises is\n"
+     "raised when the build ends: builds are not cancelled). Options, as the command line's build options (None: default):\n"
      "  vmax (leaf size, 30), mmax (max polynomial degree, 20), tol (fit error\n"
      "  target, 0.002), spacing (sample spacing in mean edge lengths, 0.5),\n"
      "  vertex_sources (bool; None: by the method), sampled (store sampled\n"
@@ -313,14 +328,16 @@ static PyMethodDef db_methods[] = {
      "An unknown option raises TypeError, a value out of range ValueError. The\n"
      "GIL is released during the build."},
     {"open", (PyCFunction)db_open, METH_O | METH_CLASS,
-     "Database.open(path) -> Database\n\n"
+     "open($type, path, /)\n--\n\n"
+     "Returns the opened Database.\n\n"
      "Open a database file (memory-mapped). Every offset, count and checksum is\n"
      "checked: a corrupt, truncated or incompatible file raises DatabaseError\n"
      "naming the section and field; an unreadable one OSError."},
     {"save", (PyCFunction)db_save, METH_O,
-     "save(path)\n\nWrite the database to a file, atomically (a temporary file, then a rename)."},
+     "save($self, path, /)\n--\n\nWrite the database to a file, atomically (a temporary file, then a rename)."},
     {"info", (PyCFunction)db_info, METH_NOARGS,
-     "info() -> dict\n\n"
+     "info($self, /)\n--\n\n"
+     "A dict:\n"
      "format_version, n_vertices, n_nodes, n_leaves, n_curves, avg_depth,\n"
      "max_depth, cost (numbers stored per vertex), bytes_per_vertex, file_bytes,\n"
      "and the build's parameters: method, vmax, mmax, tol, vertex_sources,\n"

@@ -34,7 +34,7 @@ static int query_pairs(const gs_db *db, const uint32_t *pairs, size_t n, double 
 }
 
 const char gspy_db_distance_doc[] =
-    "distance(x, y) -> float or ndarray\n\n"
+    "distance($self, x, y, /)\n--\n\n"
     "Approximate geodesic distance between vertices x and y. Two ints give a\n"
     "float; arrays of ids (any shape) broadcast against each other as numpy\n"
     "does and give a float64 array of the broadcast shape. +inf for pairs that\n"
@@ -116,8 +116,9 @@ static uint32_t *id_list(PyObject *obj, uint32_t limit, const char *name, npy_in
 }
 
 const char gspy_db_pairwise_doc[] =
-    "pairwise(src, dst=None) -> (len(src), len(dst)) float64 array\n\n"
-    "Distances between every vertex of src and every vertex of dst (1-D\n"
+    "pairwise($self, /, src, dst=None)\n--\n\n"
+    "Returns a (len(src), len(dst)) float64 array:\n"
+    "the distances between every vertex of src and every vertex of dst (1-D\n"
     "sequences of vertex ids; dst defaults to src): out[i, j] = d(src[i],\n"
     "dst[j]). Runs without the GIL.";
 
@@ -172,8 +173,9 @@ done:
 }
 
 const char gspy_db_field_doc[] =
-    "field(x) -> (n_vertices,) float64 array\n\n"
-    "Distances from vertex x to every vertex (+inf where unreachable). Runs\n"
+    "field($self, x, /)\n--\n\n"
+    "Returns an (n_vertices,) float64 array:\n"
+    "the distances from vertex x to every vertex (+inf where unreachable). Runs\n"
     "without the GIL.";
 
 PyObject *gspy_db_field(PyObject *self_obj, PyObject *arg)
@@ -267,7 +269,8 @@ static int point_set_get(PyObject *face_obj, PyObject *bary_obj, uint32_t n_face
 }
 
 const char gspy_db_point_distance_doc[] =
-    "point_distance(face_a, bary_a, face_b, bary_b, mesh=None) -> float or (k,) array\n\n"
+    "point_distance($self, /, face_a, bary_a, face_b, bary_b, *, mesh=None)\n--\n\n"
+    "Returns a float (one pair) or a (k,) float64 array.\n\n"
     "Approximate geodesic distance between surface points, each given by a face\n"
     "of mesh and barycentric weights (>= 0, summing to 1) of its three corners\n"
     "in the mesh's order. face_a: (k,) face ids, bary_a: (k, 3) weights (or one\n"

@@ -111,6 +111,10 @@ int gspy_solver_init_type(PyObject *module);
 PyObject *gspy_distance_field(PyObject *module, PyObject *args, PyObject *kwargs);
 extern const char gspy_distance_field_doc[];
 
+/* render.c */
+PyObject *gspy_render(PyObject *module, PyObject *args, PyObject *kwargs);
+extern const char gspy_render_doc[];
+
 /* database.c */
 int gspy_database_init_type(PyObject *module);
 

@@ -281,32 +281,34 @@ static PyGetSetDef mesh_getset[] = {
 
 static PyMethodDef mesh_methods[] = {
     {"load", (PyCFunction)(void (*)(void))mesh_load, METH_VARARGS | METH_KEYWORDS | METH_CLASS,
-     "Mesh.load(path, format=None) -> Mesh\n\n"
+     "load($type, /, path, format=None)\n--\n\n"
      "Read and validate a mesh file (.obj, .off, .ply, .stl; format=None: by the\n"
      "extension, then by the content). Polygons are fan-triangulated; vertex ids\n"
      "are the file's order. Raises OSError if the file cannot be read and\n"
      "MeshError naming the line or element if it is malformed or the mesh is\n"
      "invalid (non-manifold, inconsistently oriented, degenerate, ...)."},
     {"generate", (PyCFunction)mesh_generate, METH_VARARGS | METH_CLASS,
-     "Mesh.generate(spec) -> Mesh\n\n"
+     "generate($type, spec, /)\n--\n\n"
      "A test or demo mesh from a spec string, e.g. \"grid:20,20\" (flat 20 x 20\n"
      "vertex grid on the unit square), \"grid:NX,NY,W,H\", \"peaks:N\", \"plate:N\",\n"
      "\"cylinder:NU,NV[,R,H]\", \"cone:NU,NV[,R,H]\", \"cube:N[,S]\",\n"
      "\"torus:NU,NV[,R,r]\", \"sphere:N\" (icosphere, N subdivisions), \"two:N\" (two\n"
      "components). A bad spec raises ValueError naming the bad argument."},
     {"subdivide", (PyCFunction)mesh_subdivide, METH_NOARGS,
-     "subdivide() -> Mesh\n\n"
+     "subdivide($self, /)\n--\n\n"
      "A new mesh with every face split into four at its edge midpoints (the same\n"
      "surface). Vertex ids 0..n_vertices-1 are kept; midpoints follow."},
     {"save", (PyCFunction)mesh_save, METH_O,
-     "save(path)\n\nWrite the mesh as OBJ, exactly (written to a temporary file, then renamed)."},
+     "save($self, path, /)\n--\n\nWrite the mesh as OBJ, exactly (written to a temporary file, then renamed)."},
     {"random_vertices", (PyCFunction)(void (*)(void))mesh_random_vertices, METH_VARARGS | METH_KEYWORDS,
-     "random_vertices(k, seed=1) -> (k,) uint32 array\n\n"
+     "random_vertices($self, /, k, seed=1)\n--\n\n"
+     "Returns a (k,) uint32 array:\n"
      "k distinct vertices used by faces, drawn deterministically from seed (the\n"
      "procedure of the shared ground-truth files)."},
     {"report", (PyCFunction)mesh_report, METH_NOARGS,
-     "report() -> dict\n\n"
-     "What the validation accepted but is worth knowing: n_vertices, n_faces,\n"
+     "report($self, /)\n--\n\n"
+     "A dict of\n"
+     "what the validation accepted but is worth knowing: n_vertices, n_faces,\n"
      "n_edges, unreferenced (vertices used by no face), components (face-connected),\n"
      "boundary_edges, boundary_loops, euler (V - E + F over referenced vertices),\n"
      "genus (summed over components), min_angle_deg, max_angle_deg, min_edge,\n"
@@ -317,7 +319,7 @@ PyTypeObject gspy_MeshType = {
     PyVarObject_HEAD_INIT(NULL, 0).tp_name = "geosep.Mesh",
     .tp_basicsize = sizeof(gspy_Mesh),
     .tp_flags = Py_TPFLAGS_DEFAULT,
-    .tp_doc = "Mesh(V, F)\n\n"
+    .tp_doc = "Mesh(V, F)\n--\n\n"
               "An immutable, validated triangle mesh. V: (n, 3) array of floats (vertex\n"
               "positions); F: (m, 3) array of int32 or int64 vertex ids (zero-based,\n"
               "counter-clockwise). Both are copied. The mesh is validated as a mesh file\n"

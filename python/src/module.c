@@ -6,6 +6,7 @@
 static PyMethodDef module_methods[] = {
     {"distance_field", (PyCFunction)(void (*)(void))gspy_distance_field, METH_VARARGS | METH_KEYWORDS,
      gspy_distance_field_doc},
+    {"render", (PyCFunction)(void (*)(void))gspy_render, METH_VARARGS | METH_KEYWORDS, gspy_render_doc},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module_def = {

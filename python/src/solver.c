@@ -119,8 +119,9 @@ static PyGetSetDef solver_getset[] = {
 
 static PyMethodDef solver_methods[] = {
     {"field", (PyCFunction)(void (*)(void))solver_field, METH_VARARGS | METH_KEYWORDS,
-     "field(sources, max_distance=None) -> (n_vertices,) float64 array\n\n"
-     "Geodesic distance from the nearest of the sources (a vertex id or a\n"
+     "field($self, /, sources, max_distance=None)\n--\n\n"
+     "Returns an (n_vertices,) float64 array:\n"
+     "the geodesic distance from the nearest of the sources (a vertex id or a\n"
      "sequence of them) to every vertex; +inf where unreachable (another\n"
      "component, an unreferenced vertex). max_distance > 0 stops early: every\n"
      "vertex within it is exact, the others may be +inf or any larger value.\n"
@@ -131,7 +132,7 @@ PyTypeObject gspy_SolverType = {
     PyVarObject_HEAD_INIT(NULL, 0).tp_name = "geosep.Solver",
     .tp_basicsize = sizeof(gspy_Solver),
     .tp_flags = Py_TPFLAGS_DEFAULT,
-    .tp_doc = "Solver(mesh, method=\"exact\", *, heat_time=None, heat_refine=None, fmm_start=None)\n\n"
+    .tp_doc = "Solver(mesh, method='exact', *, heat_time=None, heat_refine=None, fmm_start=None)\n--\n\n"
               "A reusable distance-field solver on a Mesh: it allocates its memory (and,\n"
               "for \"heat\", factors its matrices) once, then solves any number of\n"
               "fields with field(). Methods: \"exact\" (exact polyhedral distances,\n"
@@ -160,9 +161,10 @@ int gspy_solver_init_type(PyObject *module)
 /* ---- geosep.distance_field ---------------------------------------------- */
 
 const char gspy_distance_field_doc[] =
-    "distance_field(mesh, sources, method=\"exact\", max_distance=None, *,\n"
-    "               heat_time=None, heat_refine=None, fmm_start=None) -> (n,) float64\n\n"
-    "Geodesic distance from the nearest of the sources (a vertex id or a\n"
+    "distance_field(mesh, sources, method='exact', max_distance=None, *, heat_time=None, heat_refine=None, "
+    "fmm_start=None)\n--\n\n"
+    "Returns an (n_vertices,) float64 array:\n"
+    "the geodesic distance from the nearest of the sources (a vertex id or a\n"
     "sequence of them) to every vertex of mesh; +inf where unreachable. The\n"
     "one-shot form of Solver(mesh, method, ...).field(sources, max_distance);\n"
     "use a Solver for many fields on one mesh.";

@@ -100,6 +100,7 @@ def test_gil_released():
         assert advances(t, lambda: db.distance(x[0], x[1])), "the batch query held the GIL"
         assert advances(t, lambda: db.pairwise(x[0, :300])), "pairwise held the GIL"
         assert advances(t, lambda: db.field(0)), "field held the GIL"
+        assert advances(t, lambda: geosep.render(mesh, size=(320, 240))), "render held the GIL"
 
 
 def test_interrupt_during_build():
