@@ -271,7 +271,7 @@ static int split_across(rp *s, uint32_t f, const ekey *e, size_t ne, uint32_t ro
     uint32_t cx = cls(s, x), cy = cls(s, y);
     uint32_t lo = cx < cy ? cx : cy, hi = cx < cy ? cy : cx;
     uint32_t other = GS_NONE, n_other = 0;
-    for (size_t i = lower(e, ne, lo, hi); i < ne && e[i].lo == lo && e[i].hi == hi; ++i)
+    for (size_t i = lower(e, ne, lo, hi); i < ne && e[i].lo == lo && e[i].hi == hi && n_other < 2; ++i)
         if (e[i].id != f && s->alive[e[i].id]) other = e[i].id, n_other++;
     if (n_other == 0) { /* the longest edge is on the boundary */
         s->alive[f] = 0;
@@ -754,8 +754,8 @@ static int cmp_vpair(const void *a, const void *b)
 {
     const vpair *x = a, *y = b;
     if (x->v != y->v) return x->v < y->v ? -1 : 1;
-    if (x->h != y->h) return x->h < y->h ? -1 : 1;
-    return 0;
+    if (x->id != y->id) return x->id < y->id ? -1 : 1;
+    return x->h < y->h ? -1 : (x->h > y->h);
 }
 
 /* vertex_map, aliases, origins, and the welded / split counts. */
@@ -776,7 +776,7 @@ static int fill_maps(rp *s, const ids *d)
         return gs__fail(s->err, GS_ENOMEM, "repair: out of memory");
     }
     for (size_t h = 0; h < nh; ++h) p[h] = (vpair){s->tri[h], d->out_tri[h], (uint32_t)h};
-    qsort(p, nh, sizeof *p, cmp_vpair); /* by input vertex, then corner */
+    qsort(p, nh, sizeof *p, cmp_vpair); /* by input vertex, then repaired id */
     uint32_t na = 0;
     size_t i = 0;
     for (uint32_t v = 0; v < s->nv; ++v) {
@@ -790,22 +790,17 @@ static int fill_maps(rp *s, const ids *d)
         }
         /* primary: v itself if one of its fans kept it, else the fan of its
          * first corner (v was welded into it) */
-        uint32_t primary = p[i].id;
-        for (size_t k = i; k < j; ++k)
+        uint32_t primary = GS_NONE, first_h = GS_NONE, first_id = GS_NONE;
+        for (size_t k = i; k < j; ++k) {
             if (p[k].id == v) primary = v;
+            if (p[k].h < first_h) first_h = p[k].h, first_id = p[k].id;
+        }
+        if (primary == GS_NONE) primary = first_id;
         r->vertex_map[v] = primary;
         r->alias[na++] = primary;
-        uint32_t first = na;
-        for (size_t k = i; k < j; ++k) {
-            uint32_t id = p[k].id, dup = id == primary;
-            for (uint32_t m = first; m < na && !dup; ++m) dup = r->alias[m] == id;
-            if (dup) continue;
-            /* insertion keeps the rest increasing (lists are short) */
-            uint32_t m = na++;
-            while (m > first && r->alias[m - 1] > id) r->alias[m] = r->alias[m - 1], --m;
-            r->alias[m] = id;
-        }
-        if (primary != v) note(s, GS_REPAIR_WELDED_VERTEX, s->orig[p[i].h / 3], v, primary, GS_NONE);
+        for (size_t k = i; k < j; ++k) /* the others, increasing, once each */
+            if (p[k].id != primary && (k == i || p[k].id != p[k - 1].id)) r->alias[na++] = p[k].id;
+        if (primary != v) note(s, GS_REPAIR_WELDED_VERTEX, s->orig[first_h / 3], v, primary, GS_NONE);
         i = j;
     }
     r->alias_start[s->nv] = na;
