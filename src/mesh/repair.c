@@ -485,6 +485,7 @@ static int glue_edges(rp *s)
 typedef struct pkey {
     double a[3], b[3]; /* end positions, a <= b lexicographically */
     uint32_t h;
+    uint32_t ca, cb;   /* the ends' classes when the edges were glued */
 } pkey;
 
 static int cmp_pos(const double *p, const double *q)
@@ -521,6 +522,8 @@ static int weld_seams(rp *s)
         pkey *x = &k[n++];
         for (int c = 0; c < 3; ++c) x->a[c] = p[c] + 0.0, x->b[c] = q[c] + 0.0;
         x->h = (uint32_t)h;
+        x->ca = cls(s, hv(s, (uint32_t)h));
+        x->cb = cls(s, hv(s, hnext((uint32_t)h)));
     }
     qsort(k, n, sizeof *k, cmp_pkey);
     for (size_t i = 0; i < n;) {
@@ -529,8 +532,12 @@ static int weld_seams(rp *s)
         if (j - i == 2) {
             uint32_t h1 = k[i].h, h2 = k[i + 1].h;
             uint32_t a = hv(s, h1), b = hv(s, hnext(h1)), c = hv(s, h2), d = hv(s, hnext(h2));
-            int same_classes = (cls(s, a) == cls(s, c) && cls(s, b) == cls(s, d)) ||
-                               (cls(s, a) == cls(s, d) && cls(s, b) == cls(s, c));
+            /* two edges of the same vertices are boundary edges only when
+             * they were detached from a non-manifold edge: they stay so
+             * (the classes of the time: welds made here along a loop of
+             * seam edges must not stop the loop's last edge) */
+            const pkey *x = &k[i], *y = &k[i + 1];
+            int same_classes = (x->ca == y->ca && x->cb == y->cb) || (x->ca == y->cb && x->cb == y->ca);
             if (h1 / 3 != h2 / 3 && !same_classes) {
                 s->opp[h1] = h2;
                 s->opp[h2] = h1;
