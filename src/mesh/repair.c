@@ -784,6 +784,18 @@ static int fill_maps(rp *s, const ids *d)
     }
     for (size_t h = 0; h < nh; ++h) p[h] = (vpair){s->tri[h], d->out_tri[h], (uint32_t)h};
     qsort(p, nh, sizeof *p, cmp_vpair); /* by input vertex, then repaired id */
+    /* a vertex that no face uses any more but was welded (its faces all
+     * collapsed) goes where its class's first corner went */
+    uint32_t *target = gs__malloc(s->nv ? s->nv : 1, sizeof *target);
+    if (!target) {
+        free(p);
+        return gs__fail(s->err, GS_ENOMEM, "repair: out of memory");
+    }
+    for (uint32_t v = 0; v < s->nv; ++v) target[v] = GS_NONE;
+    for (size_t h = 0; h < nh; ++h) {
+        uint32_t c = cls(s, s->tri[h]);
+        if (target[c] == GS_NONE) target[c] = d->out_tri[h];
+    }
     uint32_t na = 0;
     size_t i = 0;
     for (uint32_t v = 0; v < s->nv; ++v) {
@@ -791,8 +803,10 @@ static int fill_maps(rp *s, const ids *d)
         size_t j = i;
         while (j < nh && p[j].v == v) ++j;
         if (i == j) { /* no face uses v */
-            r->vertex_map[v] = v;
-            r->alias[na++] = v;
+            uint32_t t = target[cls(s, v)];
+            r->vertex_map[v] = t == GS_NONE ? v : t;
+            r->alias[na++] = r->vertex_map[v];
+            if (t != GS_NONE && t != v) note(s, GS_REPAIR_WELDED_VERTEX, GS_NONE, v, t, GS_NONE);
             continue;
         }
         /* primary: v itself if one of its fans kept it, else the fan of its
@@ -812,6 +826,7 @@ static int fill_maps(rp *s, const ids *d)
     }
     r->alias_start[s->nv] = na;
     free(p);
+    free(target);
     for (uint32_t v = 0; v < d->nv_out; ++v)
         r->vertex_origin[v] = v < s->nv ? v : d->copy_of[v - s->nv];
     /* split vertices: input vertices that got copies (each counted once);
@@ -1040,19 +1055,20 @@ size_t gs_repair_format(const gs_repair *r, char *buf, size_t size)
             const char *what = k == GS_REPAIR_WELDED_VERTEX ? "vertex %u into %u"
                                : k == GS_REPAIR_SPLIT_VERTEX ? "vertex %u, copy %u"
                                                               : NULL;
+            int located = e->line != GS_NONE || e->face != GS_NONE;
             if (what && e->vertex[0] != GS_NONE) {
-                put(&b, " (");
+                put(&b, located ? " (" : "");
                 put(&b, what, e->vertex[0], e->vertex[1]);
-                put(&b, ")");
+                put(&b, located ? ")" : "");
                 continue;
             }
             int nvx = 0;
             for (int j = 0; j < 3; ++j) {
                 if (e->vertex[j] == GS_NONE) continue;
-                put(&b, "%s%u", nvx ? " " : " (vertices ", e->vertex[j]);
+                put(&b, "%s%u", nvx ? " " : located ? " (vertices " : "vertices ", e->vertex[j]);
                 nvx++;
             }
-            if (nvx) put(&b, ")");
+            if (nvx && located) put(&b, ")");
         }
         if (r->count[k] > r->n_examples[k]) put(&b, "; ...");
         put(&b, "\n");
