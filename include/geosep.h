@@ -255,7 +255,8 @@ typedef struct gs_repair {
     /* it was welded into. Every repaired vertex that carries some of v's   */
     /* corners is listed in alias[alias_start[v] .. alias_start[v+1]),      */
     /* vertex_map[v] first, then increasing (a split vertex: itself and its */
-    /* copies; a vertex no face uses: itself).                              */
+    /* copies; a vertex no face uses: itself, or the vertex it was welded   */
+    /* into before its faces were removed).                                 */
     uint32_t *vertex_map;     /* n_input_vertices                           */
     uint32_t *alias_start;    /* n_input_vertices + 1                       */
     uint32_t *alias;          /* alias_start[n_input_vertices]              */

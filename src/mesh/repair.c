@@ -271,7 +271,7 @@ static int split_across(rp *s, uint32_t f, const ekey *e, size_t ne, uint32_t ro
     uint32_t cx = cls(s, x), cy = cls(s, y);
     uint32_t lo = cx < cy ? cx : cy, hi = cx < cy ? cy : cx;
     uint32_t other = GS_NONE, n_other = 0;
-    for (size_t i = lower(e, ne, lo, hi); i < ne && e[i].lo == lo && e[i].hi == hi; ++i)
+    for (size_t i = lower(e, ne, lo, hi); i < ne && e[i].lo == lo && e[i].hi == hi && n_other < 2; ++i)
         if (e[i].id != f && s->alive[e[i].id]) other = e[i].id, n_other++;
     if (n_other == 0) { /* the longest edge is on the boundary */
         s->alive[f] = 0;
@@ -485,6 +485,7 @@ static int glue_edges(rp *s)
 typedef struct pkey {
     double a[3], b[3]; /* end positions, a <= b lexicographically */
     uint32_t h;
+    uint32_t ca, cb;   /* the ends' classes when the edges were glued */
 } pkey;
 
 static int cmp_pos(const double *p, const double *q)
@@ -521,6 +522,8 @@ static int weld_seams(rp *s)
         pkey *x = &k[n++];
         for (int c = 0; c < 3; ++c) x->a[c] = p[c] + 0.0, x->b[c] = q[c] + 0.0;
         x->h = (uint32_t)h;
+        x->ca = cls(s, hv(s, (uint32_t)h));
+        x->cb = cls(s, hv(s, hnext((uint32_t)h)));
     }
     qsort(k, n, sizeof *k, cmp_pkey);
     for (size_t i = 0; i < n;) {
@@ -529,8 +532,12 @@ static int weld_seams(rp *s)
         if (j - i == 2) {
             uint32_t h1 = k[i].h, h2 = k[i + 1].h;
             uint32_t a = hv(s, h1), b = hv(s, hnext(h1)), c = hv(s, h2), d = hv(s, hnext(h2));
-            int same_classes = (cls(s, a) == cls(s, c) && cls(s, b) == cls(s, d)) ||
-                               (cls(s, a) == cls(s, d) && cls(s, b) == cls(s, c));
+            /* two edges of the same vertices are boundary edges only when
+             * they were detached from a non-manifold edge: they stay so
+             * (the classes of the time: welds made here along a loop of
+             * seam edges must not stop the loop's last edge) */
+            const pkey *x = &k[i], *y = &k[i + 1];
+            int same_classes = (x->ca == y->ca && x->cb == y->cb) || (x->ca == y->cb && x->cb == y->ca);
             if (h1 / 3 != h2 / 3 && !same_classes) {
                 s->opp[h1] = h2;
                 s->opp[h2] = h1;
@@ -754,8 +761,8 @@ static int cmp_vpair(const void *a, const void *b)
 {
     const vpair *x = a, *y = b;
     if (x->v != y->v) return x->v < y->v ? -1 : 1;
-    if (x->h != y->h) return x->h < y->h ? -1 : 1;
-    return 0;
+    if (x->id != y->id) return x->id < y->id ? -1 : 1;
+    return x->h < y->h ? -1 : (x->h > y->h);
 }
 
 /* vertex_map, aliases, origins, and the welded / split counts. */
@@ -776,7 +783,19 @@ static int fill_maps(rp *s, const ids *d)
         return gs__fail(s->err, GS_ENOMEM, "repair: out of memory");
     }
     for (size_t h = 0; h < nh; ++h) p[h] = (vpair){s->tri[h], d->out_tri[h], (uint32_t)h};
-    qsort(p, nh, sizeof *p, cmp_vpair); /* by input vertex, then corner */
+    qsort(p, nh, sizeof *p, cmp_vpair); /* by input vertex, then repaired id */
+    /* a vertex that no face uses any more but was welded (its faces all
+     * collapsed) goes where its class's first corner went */
+    uint32_t *target = gs__malloc(s->nv ? s->nv : 1, sizeof *target);
+    if (!target) {
+        free(p);
+        return gs__fail(s->err, GS_ENOMEM, "repair: out of memory");
+    }
+    for (uint32_t v = 0; v < s->nv; ++v) target[v] = GS_NONE;
+    for (size_t h = 0; h < nh; ++h) {
+        uint32_t c = cls(s, s->tri[h]);
+        if (target[c] == GS_NONE) target[c] = d->out_tri[h];
+    }
     uint32_t na = 0;
     size_t i = 0;
     for (uint32_t v = 0; v < s->nv; ++v) {
@@ -784,32 +803,30 @@ static int fill_maps(rp *s, const ids *d)
         size_t j = i;
         while (j < nh && p[j].v == v) ++j;
         if (i == j) { /* no face uses v */
-            r->vertex_map[v] = v;
-            r->alias[na++] = v;
+            uint32_t t = target[cls(s, v)];
+            r->vertex_map[v] = t == GS_NONE ? v : t;
+            r->alias[na++] = r->vertex_map[v];
+            if (t != GS_NONE && t != v) note(s, GS_REPAIR_WELDED_VERTEX, GS_NONE, v, t, GS_NONE);
             continue;
         }
         /* primary: v itself if one of its fans kept it, else the fan of its
          * first corner (v was welded into it) */
-        uint32_t primary = p[i].id;
-        for (size_t k = i; k < j; ++k)
+        uint32_t primary = GS_NONE, first_h = GS_NONE, first_id = GS_NONE;
+        for (size_t k = i; k < j; ++k) {
             if (p[k].id == v) primary = v;
+            if (p[k].h < first_h) first_h = p[k].h, first_id = p[k].id;
+        }
+        if (primary == GS_NONE) primary = first_id;
         r->vertex_map[v] = primary;
         r->alias[na++] = primary;
-        uint32_t first = na;
-        for (size_t k = i; k < j; ++k) {
-            uint32_t id = p[k].id, dup = id == primary;
-            for (uint32_t m = first; m < na && !dup; ++m) dup = r->alias[m] == id;
-            if (dup) continue;
-            /* insertion keeps the rest increasing (lists are short) */
-            uint32_t m = na++;
-            while (m > first && r->alias[m - 1] > id) r->alias[m] = r->alias[m - 1], --m;
-            r->alias[m] = id;
-        }
-        if (primary != v) note(s, GS_REPAIR_WELDED_VERTEX, s->orig[p[i].h / 3], v, primary, GS_NONE);
+        for (size_t k = i; k < j; ++k) /* the others, increasing, once each */
+            if (p[k].id != primary && (k == i || p[k].id != p[k - 1].id)) r->alias[na++] = p[k].id;
+        if (primary != v) note(s, GS_REPAIR_WELDED_VERTEX, s->orig[first_h / 3], v, primary, GS_NONE);
         i = j;
     }
     r->alias_start[s->nv] = na;
     free(p);
+    free(target);
     for (uint32_t v = 0; v < d->nv_out; ++v)
         r->vertex_origin[v] = v < s->nv ? v : d->copy_of[v - s->nv];
     /* split vertices: input vertices that got copies (each counted once);
@@ -1038,19 +1055,20 @@ size_t gs_repair_format(const gs_repair *r, char *buf, size_t size)
             const char *what = k == GS_REPAIR_WELDED_VERTEX ? "vertex %u into %u"
                                : k == GS_REPAIR_SPLIT_VERTEX ? "vertex %u, copy %u"
                                                               : NULL;
+            int located = e->line != GS_NONE || e->face != GS_NONE;
             if (what && e->vertex[0] != GS_NONE) {
-                put(&b, " (");
+                put(&b, located ? " (" : "");
                 put(&b, what, e->vertex[0], e->vertex[1]);
-                put(&b, ")");
+                put(&b, located ? ")" : "");
                 continue;
             }
             int nvx = 0;
             for (int j = 0; j < 3; ++j) {
                 if (e->vertex[j] == GS_NONE) continue;
-                put(&b, "%s%u", nvx ? " " : " (vertices ", e->vertex[j]);
+                put(&b, "%s%u", nvx ? " " : located ? " (vertices " : "vertices ", e->vertex[j]);
                 nvx++;
             }
-            if (nvx) put(&b, ")");
+            if (nvx && located) put(&b, ")");
         }
         if (r->count[k] > r->n_examples[k]) put(&b, "; ...");
         put(&b, "\n");
