@@ -81,4 +81,8 @@ int cmd_repair(int argc, char **argv);
 extern const char usage_repair[];
 extern const char usage_build[], usage_query[], usage_field[], usage_eval[], usage_land[];
 
+/* Pictures (render_cmd.c). */
+int cmd_render(int argc, char **argv);
+extern const char usage_render[];
+
 #endif

@@ -89,6 +89,7 @@ static void print_usage(FILE *f)
             "  field DB --source X             distances from X through the database\n"
             "  eval DB --groundtruth F.gt      accuracy against exact distances\n"
             "  land MESH --landmarks M ...     the LAND baseline, evaluated\n"
+            "  render MESH -o OUT.png ...      a picture: field, isolines, separators\n"
             "  help [COMMAND]                  this text, or a command's usage\n"
             "  version                         print the version\n",
             gs_version_string());
@@ -587,6 +588,7 @@ static const command commands[] = {
     {"field", cmd_field, usage_field},
     {"eval", cmd_eval, usage_eval},
     {"land", cmd_land, usage_land},
+    {"render", cmd_render, usage_render},
 };
 
 static const command *find_command(const char *name)

@@ -90,10 +90,9 @@ typedef enum gs_mesh_format {
 } gs_mesh_format;
 
 /* Range of edge lengths geosep accepts (mesh units): squared and 4th-power
- * lengths in the validation and the solvers then stay finite and normal.
- * (A unit icosphere scaled by 1e-75 .. 1e75 gave, with all four methods,
- * distances that divided by the scale are within 2e-14 of the unscaled ones;
- * beyond 1e+-100 the validation's 4th powers overflow or underflow.) */
+ * lengths in the validation and the solvers then stay finite and normal, and
+ * distances scale with the mesh (a mesh scaled by s has its distances
+ * scaled by s, to rounding). Rescale meshes outside this range. */
 #define GS_MESH_MAX_EDGE 1e50
 #define GS_MESH_MIN_EDGE 1e-50
 
@@ -405,14 +404,10 @@ typedef struct gs_solver_options {
                             /*   the whole mesh's, and its default)            */
 } gs_solver_options;
 
-/* Range of gs_solver_options.heat_time. Measured on sphere:4, grid:40,40
- * and torus:48,24 (mean error against exact distances, relative to the
- * largest distance; 0.03%, 0.5%, 1.5% at the default 1): small values only
- * add error (1e-4: 1.0%, 3.8%, 10.9%; 1e-8: 1.2%, 9.7%, 10.9%; 1e-12:
- * 7.2%, 21.6%, 11.3%: the heat barely leaves the source's neighbours);
- * from 1e4 to 1e13 the field no longer changes (the t -> infinity limit),
- * from about 1e14 rounding spoils it and from about 1e16 the factorisation
- * fails ("not positive definite"). 1e8 leaves 5 decades before that. */
+/* Range of gs_solver_options.heat_time. Values below the default 1 only
+ * add error (the heat barely leaves the source's neighbours); far above it
+ * the field stops changing (the t -> infinity limit) and then rounding
+ * spoils it. doc/approximate-fields.md has the measured accuracy. */
 #define GS_HEAT_TIME_MIN 1e-8
 #define GS_HEAT_TIME_MAX 1e8
 
@@ -424,11 +419,10 @@ typedef struct gs_solver_options {
 
 /* The heat method's resolution for a mesh of nv vertices: the fewest
  * 1-to-4 subdivisions (at most 2) that give at least
- * GS_HEAT_REFINE_AUTO_VERTICES vertices. The heat fields of coarse meshes
- * are not additive enough for a database to reproduce them (bunny-5k's
- * database: ME 0.80% unrefined, 0.41% refined twice; bunny-10k 0.56%,
- * 0.40% once; the paper's target is 0.5%), while from about 20,000
- * vertices they are (bunny-20k 0.45%, stanford-bunny's 35,947 0.44%). */
+ * GS_HEAT_REFINE_AUTO_VERTICES vertices. Heat fields of coarse meshes are
+ * not additive enough for a database to reproduce them to the paper's 0.5%;
+ * from about 20,000 vertices they are (doc/approximate-fields.md). Pure
+ * function, thread-safe. */
 #define GS_HEAT_REFINE_AUTO_VERTICES 32000u
 GS_API uint32_t gs_heat_refine_auto(uint32_t nv);
 
@@ -451,7 +445,8 @@ GS_API int gs_solver_solve(gs_solver *solver, const gs_source *sources,
                     uint32_t n_sources, double max_distance, double *dist,
                     gs_error *err);
 
-/* Statistics of the last solve (for benchmarks); any pointer may be NULL. */
+/* Statistics of the last solve (for benchmarks); any pointer may be NULL.
+ * Same thread rules as the solver. */
 GS_API void gs_solver_last_stats(const gs_solver *solver, uint64_t *windows_created,
                           uint64_t *windows_propagated, double *seconds);
 
@@ -589,6 +584,16 @@ GS_API int gs_db_field(const gs_db *db, uint32_t x, double *out, gs_error *err);
  * is NULL. (To check that a mesh is the database's.) */
 GS_API const double *gs_db_positions(const gs_db *db);
 
+/* The bisection tree (read-only; for drawing the separators). Node 0 is
+ * the root; a node's parent has a smaller id; the root has depth 0 and
+ * parent GS_NONE; gs_db_get_info gives n_nodes. */
+/* The leaf node of vertex v: GS_NONE if v is used by no face, v is out of
+ * range or db is NULL. Thread-safe, allocation free. */
+GS_API uint32_t gs_db_vertex_leaf(const gs_db *db, uint32_t v);
+/* Parent (GS_NONE for the root) and depth of a node; either pointer may be
+ * NULL. GS_EARG if db is NULL or node >= n_nodes. Thread-safe. */
+GS_API int gs_db_tree_node(const gs_db *db, uint32_t node, uint32_t *parent, uint32_t *depth, gs_error *err);
+
 /* ---- Distances between surface points (src/query/points.c) ------------- */
 
 /* A point of the surface: p = sum_i weight[i] * position(corner[i]), with
@@ -673,6 +678,65 @@ GS_API int gs_db_point_distances(const gs_db *db, const gs_surface_point *pairs,
 GS_API int gs_db_point_field(const gs_db *db, const gs_surface_point *p, double *out, gs_error *err);
 
 /* ======================================================================== */
+/* Pictures (src/render): a software rasterizer, PNG output                 */
+/* ======================================================================== */
+
+/* What to draw. The camera looks at the mesh from direction (azimuth,
+ * elevation) in degrees, y up: (0, 0) looks from +z towards -z with +x to
+ * the right (a flat generated mesh face-on), azimuth 90 looks from +x,
+ * elevation 90 from +y (above). Orthographic, fitted so that the vertices
+ * used by faces fill the image less a margin of 5% on every side. Shading:
+ * Lambert (two-sided) + ambient, smooth vertex normals, 3x3 supersampling
+ * (2x2 above 4 megapixels, 1x1 above 16), white background (255,255,255).
+ * Colours: the field by a viridis colour map from its smallest (dark
+ * violet) to its largest finite value (yellow); a face with a non-finite
+ * (inf or NaN) corner value is neutral grey (R = G = B); no field: a plain
+ * light surface. Isolines: dark lines about 1.5 pixels wide (at any zoom:
+ * from the field's screen-space gradient) at the levels
+ * min + k (max - min) / (isolines + 1), k = 1..isolines. Separators: each
+ * node's separator drawn between the vertices of its two subtrees (the
+ * database keeps each vertex's leaf, not the curves): through the
+ * midpoints of the edges it cuts (and a face's centroid where three
+ * subtrees meet), then smoothed; by depth red (the root's, 4 pixels
+ * wide), orange, blue, green, purple, then dark grey, thinner deeper down
+ * (to 1.2 pixels), on top of the surface, hidden where the surface is in
+ * front. Points: white dots in a dark ring (9 pixels), hidden where the
+ * surface is in front. */
+typedef struct gs_render_options {
+    uint32_t width, height;      /* pixels, GS_RENDER_MIN_SIZE..MAX [640x480] */
+    double azimuth_deg;          /* finite [30]                              */
+    double elevation_deg;        /* finite [20]                              */
+    const double *field;         /* n_vertices values, or NULL [NULL]        */
+    uint32_t isolines;           /* 0..GS_RENDER_MAX_ISOLINES; ignored       */
+                                 /*   without a field [10]                   */
+    const gs_db *separators;     /* NULL or a database of this mesh (same    */
+                                 /*   vertex count and positions) [NULL]     */
+    const double *points;        /* 3 * n_points coordinates, finite [NULL]  */
+    uint32_t n_points;           /*   [0]                                    */
+} gs_render_options;
+
+#define GS_RENDER_MIN_SIZE 16u
+#define GS_RENDER_MAX_SIZE 8192u
+#define GS_RENDER_MAX_ISOLINES 1000u
+
+/* Fill *opt with the defaults above. */
+GS_API void gs_render_options_default(gs_render_options *opt);
+
+/* Draw the mesh into rgb: width * height * 3 bytes (caller-owned), rows top
+ * to bottom, R G B per pixel. The options' arrays are only read during the
+ * call. GS_EARG (naming the option) if an argument is NULL or out of range
+ * or the separators' database is not this mesh's; GS_ENOMEM. rgb is
+ * untouched on failure. Thread-safe (no shared state: any number of calls
+ * at once, on the same mesh and database too). */
+GS_API int gs_render(const gs_mesh *mesh, const gs_render_options *opt, uint8_t *rgb, gs_error *err);
+
+/* gs_render into an 8-bit RGB PNG file (libpng), written atomically
+ * (temporary file, then rename): on failure no file, nor a partial one, is
+ * left (an existing file is kept as it was). GS_EIO naming the path if it
+ * cannot be written. Thread-safe. */
+GS_API int gs_render_png(const gs_mesh *mesh, const gs_render_options *opt, const char *path, gs_error *err);
+
+/* ======================================================================== */
 /* Evaluation (paper section 5) and the LAND baseline                       */
 /* ======================================================================== */
 
@@ -696,10 +760,8 @@ GS_API int gs_field_errors_compute(const double *exact, const double *approx, ui
  * every vertex (m numbers per vertex), and the triangle-inequality bounds
  *   lower(x,y) = max_l |d(l,x) - d(l,y)|,  upper(x,y) = min_l d(l,x) + d(l,y)
  * over the landmarks l that reach x or y. LAND's estimate is the lower
- * bound (which the authors show has bounded relative error and is a metric).
- * Note: the paper's Table 1 LAND errors have RMSE > sqrt(ME), impossible for
- * the lower bound (its relative error is <= 1); they lie between what the
- * midpoint and the upper bound give (gs_land_bounds).
+ * bound (which the authors show has bounded relative error and is a metric);
+ * gs_land_bounds gives both bounds.
  * Immutable after build: safe to query from any number of threads. */
 typedef struct gs_land gs_land;
 
