@@ -768,6 +768,21 @@ static void test_file_and_errors(void)
         gs_mesh_free(m);
         gs_repair_free(r);
     }
+    /* OFF: the same, its lines named */
+    snprintf(path, sizeof path, "%s/bowtie.off", dir);
+    f = fopen(path, "w");
+    fputs("OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n2 0 0\n2 -1 0\n3 0 1 2\n# comment\n3 1 3 4\n", f);
+    fclose(f);
+    rc = gs_mesh_repair_file(path, GS_FORMAT_AUTO, &m, &r, &err);
+    CHECK_MSG(rc == GS_OK, "%s", err.message);
+    if (rc == GS_OK) {
+        CHECK(r->count[GS_REPAIR_SPLIT_VERTEX] == 1 && r->example[GS_REPAIR_SPLIT_VERTEX][0].line == 10 &&
+              r->example[GS_REPAIR_SPLIT_VERTEX][0].face == 1);
+        gs_mesh_free(m);
+        gs_repair_free(r);
+    }
+    unlink(path);
+    snprintf(path, sizeof path, "%s/bowtie.obj", dir);
     /* parse-level safety stays: an index out of range is an error */
     f = fopen(path, "w");
     fputs("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 4\n", f);
