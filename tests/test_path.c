@@ -395,7 +395,7 @@ static void test_shared(int quick)
                     CHECK(gs_path_num_points(p) == 0);
                 } else {
                     char what[GS_TEST_NAME_MAX + 64];
-                    snprintf(what, sizeof what, "%s %u -> %u", names[i], s.vertex, v);
+                    snprintf(what, sizeof what, "%.100s %u -> %u", names[i], s.vertex, v);
                     check_path(m, p, want, gs_mesh_positions(m) + 3 * (size_t)s.vertex,
                                gs_mesh_positions(m) + 3 * (size_t)v, what);
                     if (want > 0) worst = fmax(worst, fabs(gs_path_length(p) - want) / want);
