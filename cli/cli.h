@@ -81,6 +81,13 @@ int cmd_repair(int argc, char **argv);
 extern const char usage_repair[];
 extern const char usage_build[], usage_query[], usage_field[], usage_eval[], usage_land[];
 
+/* "F:b0,b1,b2" (a surface point, as solve --source-point): 0 or -1. */
+int parse_point(const char *a, gs_source *s);
+
+/* Exact paths (path_cmd.c). */
+int cmd_path(int argc, char **argv);
+extern const char usage_path[];
+
 /* Pictures (render_cmd.c). */
 int cmd_render(int argc, char **argv);
 extern const char usage_render[];

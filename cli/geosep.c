@@ -83,6 +83,7 @@ static void print_usage(FILE *f)
             "  generate SPEC -o OUT.obj        write a generated test mesh\n"
             "  subdivide MESH -o OUT.obj       1-to-4 midpoint subdivision (same surface)\n"
             "  solve MESH --source V ...       distance field from sources\n"
+            "  path --exact MESH X Y           exact shortest path (a polyline)\n"
             "  build MESH -o DB                build a query database\n"
             "  query DB X Y                    approximate geodesic distance\n"
             "  query DB --points FILE          ... between surface points (face, weights)\n"
@@ -243,7 +244,7 @@ static int add_source(solve_opts *o, gs_source s, const char *arg)
 }
 
 /* "F:b0,b1,b2" */
-static int parse_point(const char *a, gs_source *s)
+int parse_point(const char *a, gs_source *s)
 {
     char buf[256], *colon, *c1, *c2;
     if (strlen(a) >= sizeof buf) return -1;
@@ -583,6 +584,7 @@ static const command commands[] = {
     {"generate", cmd_generate, usage_generate},
     {"subdivide", cmd_subdivide, usage_subdivide},
     {"solve", cmd_solve, usage_solve},
+    {"path", cmd_path, usage_path},
     {"build", cmd_build, usage_build},
     {"query", cmd_query, usage_query},
     {"field", cmd_field, usage_field},
