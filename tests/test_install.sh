@@ -5,12 +5,13 @@
 # functions of geosep.h); then builds examples/c/distance.c
 #  (a) with pkg-config, against the shared library and statically,
 #  (b) with CMake: find_package(geosep) + geosep::geosep, and geosep::geosep_static,
+#      also from a C++ project,
 #  (c) in a parent CMake project that add_subdirectory()s the source tree
 #      with CMAKE_BUILD_TYPE=Debug: the build type stays Debug and geosep's
 #      tests are not in the parent's ctest;
 # and runs each program: the version it prints is VERSION and its distances
 # on the flat grid equal the straight-line ones (within 1%).
-# Skips (exit 77) without pkg-config, cc or nm.
+# Skips (exit 77) without pkg-config, cc, nm, readelf or cmake.
 set -uo pipefail
 src=${1:?usage: test_install.sh SRC BUILD LIBDIR VERSION}
 build=${2:?}
@@ -115,6 +116,42 @@ sed -i "s/find_package(geosep $version /find_package(geosep $((${version%%.*} + 
 if cmake -S "$T/static" -B "$T/b-static2" -DCMAKE_PREFIX_PATH="$P" >"$T/log" 2>&1; then
     ko "find_package(geosep $((${version%%.*} + 1)).0) should fail"
 else ok "find_package(geosep $((${version%%.*} + 1)).0) is refused"; fi
+
+# a C++ project (C not enabled): the header and both targets
+if command -v c++ >/dev/null; then
+    mkdir -p "$T/cxx"
+    cat >"$T/cxx/CMakeLists.txt" <<EOF
+cmake_minimum_required(VERSION 3.18)
+project(geosep_cxx CXX)
+find_package(geosep CONFIG REQUIRED)
+add_executable(shared main.cpp)
+target_link_libraries(shared PRIVATE geosep::geosep)
+add_executable(static main.cpp)
+target_link_libraries(static PRIVATE geosep::geosep_static)
+EOF
+    cat >"$T/cxx/main.cpp" <<'EOF'
+#include <geosep.h>
+#include <cstdio>
+int main()
+{
+    gs_mesh *mesh = nullptr;
+    gs_error err{};
+    if (gs_mesh_generate("sphere:2", &mesh, &err) != GS_OK) return std::printf("%s\n", err.message), 1;
+    std::printf("geosep %s: %u vertices\n", gs_version_string(), gs_mesh_num_vertices(mesh));
+    gs_mesh_free(mesh);
+    return 0;
+}
+EOF
+    check "C++ project: find_package(geosep), both targets: configure" \
+        cmake -S "$T/cxx" -B "$T/b-cxx" -DCMAKE_PREFIX_PATH="$P" -DCMAKE_CXX_FLAGS="-Wall -Werror"
+    check "C++ project: build" cmake --build "$T/b-cxx"
+    for kind in shared static; do
+        check "C++ project: $kind program runs" \
+            bash -c "[ \"\$('$T/b-cxx/$kind')\" = 'geosep $version: 162 vertices' ]"
+    done
+else
+    echo "skip - C++ project (no c++ compiler)"
+fi
 
 # ---- (c) add_subdirectory from a parent project ---------------------------
 mkdir -p "$T/parent"

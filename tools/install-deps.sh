@@ -6,7 +6,8 @@ set -euo pipefail
 # libopenblas-dev: an optimised BLAS for CHOLMOD at run time (without it apt
 # installs the reference BLAS, slower for the heat method's factorisations).
 pkgs=(build-essential cmake pkg-config libmetis-dev libsuitesparse-dev
-      libopenblas-dev libpng-dev)
+      libopenblas-dev libpng-dev
+      python3-dev python3-numpy python3-pytest python3-venv python3-setuptools python3-wheel)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -16,13 +16,6 @@
 
 #define N_PAIRS 5
 
-static int failed(const char *what, int status, const gs_error *err)
-{
-    fprintf(stderr, "distance: %s failed (%s): %s\n", what, gs_status_string(status),
-            err->message);
-    return 1;
-}
-
 static double straight_line(const double *xyz, uint32_t a, uint32_t b)
 {
     double dx = xyz[3 * a] - xyz[3 * b], dy = xyz[3 * a + 1] - xyz[3 * b + 1],
@@ -35,6 +28,7 @@ int main(int argc, char **argv)
     gs_error err = {0};
     gs_mesh *mesh = NULL;
     gs_db *db = NULL;
+    const char *step = "reading the mesh";
     int rc;
 
     printf("geosep %s\n", gs_version_string());
@@ -54,9 +48,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: distance [MESH | --generate SPEC]\n");
         return 2;
     }
-    if (rc != GS_OK) return failed("reading the mesh", rc, &err);
-    uint32_t n = gs_mesh_num_vertices(mesh);
-    printf("mesh %s: %u vertices, %u faces\n", what, n, gs_mesh_num_faces(mesh));
+    if (rc != GS_OK) goto done;
+    printf("mesh %s: %u vertices, %u faces\n", what, gs_mesh_num_vertices(mesh),
+           gs_mesh_num_faces(mesh));
 
     /* 2. The database: built once per mesh (save it with gs_db_save, open it
      *    later with gs_db_open). Default options: exact distance fields, all
@@ -64,18 +58,11 @@ int main(int argc, char **argv)
     gs_build_options opt;
     gs_build_options_default(&opt);
     gs_build_stats stats;
-    rc = gs_db_build(mesh, &opt, &db, &stats, &err);
-    if (rc != GS_OK) {
-        gs_mesh_free(mesh);
-        return failed("building the database", rc, &err);
-    }
     gs_db_info info;
-    rc = gs_db_get_info(db, &info, &err);
-    if (rc != GS_OK) {
-        gs_db_free(db);
-        gs_mesh_free(mesh);
-        return failed("reading the database info", rc, &err);
-    }
+    step = "building the database";
+    rc = gs_db_build(mesh, &opt, &db, &stats, &err);
+    if (rc == GS_OK) rc = gs_db_get_info(db, &info, &err);
+    if (rc != GS_OK) goto done;
     printf("database: %u nodes, %.0f bytes per vertex, built in %.2f s\n", info.n_nodes,
            info.bytes_per_vertex, stats.seconds_total);
 
@@ -84,19 +71,19 @@ int main(int argc, char **argv)
      *    one pair). */
     uint32_t v[2 * N_PAIRS];
     double d[N_PAIRS];
+    step = "querying";
     rc = gs_mesh_random_vertices(mesh, 2 * N_PAIRS, 1, v, &err);
     if (rc == GS_OK) rc = gs_db_distances(db, v, N_PAIRS, d, &err);
-    if (rc != GS_OK) {
-        gs_db_free(db);
-        gs_mesh_free(mesh);
-        return failed("querying", rc, &err);
-    }
+    if (rc != GS_OK) goto done;
     const double *xyz = gs_mesh_positions(mesh);
     for (int i = 0; i < N_PAIRS; i++)
         printf("distance(%u, %u) = %.6f   straight line %.6f\n", v[2 * i], v[2 * i + 1], d[i],
                straight_line(xyz, v[2 * i], v[2 * i + 1]));
 
-    gs_db_free(db);
+done:
+    if (rc != GS_OK)
+        fprintf(stderr, "distance: %s failed (%s): %s\n", step, gs_status_string(rc), err.message);
+    gs_db_free(db); /* both accept NULL */
     gs_mesh_free(mesh);
-    return 0;
+    return rc == GS_OK ? 0 : 1;
 }
