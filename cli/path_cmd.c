@@ -32,7 +32,7 @@ static int parse_end(const char *a, gs_source *s)
         *s = gs_source_vertex(v);
         return 0;
     }
-    return parse_point(a, s);
+    return parse_source_point(a, s);
 }
 
 int cmd_path(int argc, char **argv)
