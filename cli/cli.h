@@ -102,6 +102,10 @@ int cmd_repair(int argc, char **argv);
 extern const char usage_repair[];
 extern const char usage_build[], usage_query[], usage_field[], usage_eval[], usage_land[];
 
+/* Exact paths (path_cmd.c). */
+int cmd_path(int argc, char **argv);
+extern const char usage_path[];
+
 /* Pictures (render_cmd.c). */
 int cmd_render(int argc, char **argv);
 extern const char usage_render[];

@@ -83,6 +83,7 @@ static void print_usage(FILE *f)
             "  generate SPEC -o OUT.obj        write a generated test mesh\n"
             "  subdivide MESH -o OUT.obj       1-to-4 midpoint subdivision (same surface)\n"
             "  solve MESH --source V ...       distance field from sources\n"
+            "  path --exact MESH X Y           exact shortest path (a polyline)\n"
             "  build MESH -o DB                build a query database\n"
             "  query DB X Y                    approximate geodesic distance\n"
             "  query DB --points FILE          ... between surface points (face, weights)\n"
@@ -565,6 +566,7 @@ static const command commands[] = {
     {"generate", cmd_generate, usage_generate},
     {"subdivide", cmd_subdivide, usage_subdivide},
     {"solve", cmd_solve, usage_solve},
+    {"path", cmd_path, usage_path},
     {"build", cmd_build, usage_build},
     {"query", cmd_query, usage_query},
     {"field", cmd_field, usage_field},
