@@ -68,9 +68,10 @@ int split_fields(char *s, char **t, int max);
 /* Database commands (db_cmds.c). */
 int cmd_build(int argc, char **argv);
 int cmd_query(int argc, char **argv);
+int cmd_verify(int argc, char **argv);
 int cmd_field(int argc, char **argv);
 int cmd_eval(int argc, char **argv);
 int cmd_land(int argc, char **argv);
-extern const char usage_build[], usage_query[], usage_field[], usage_eval[], usage_land[];
+extern const char usage_build[], usage_query[], usage_verify[], usage_field[], usage_eval[], usage_land[];
 
 #endif

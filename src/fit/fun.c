@@ -1109,26 +1109,17 @@ static int dip_min(const gs_fun *a, const gs_fun *b, double u, double L, double 
     }
 }
 
-/* s = ga + gb on the g grid points (decoded); returns min s. */
-static float grid_sum(const gs_fun_grid *ga, const gs_fun_grid *gb, uint32_t g, float *s)
+/* s = va + vb on the g grid points; returns min s. */
+static float grid_sum(const float *va, const float *vb, uint32_t g, float *s)
 {
-    const float base = ga->base + gb->base, sa = ga->step, sb = gb->step;
-    const uint16_t *qa = ga->q, *qb = gb->q;
     uint32_t j = 0;
     float mn = INFINITY;
 #ifdef __SSE2__
-    const __m128 vb = _mm_set1_ps(base), va = _mm_set1_ps(sa), vs = _mm_set1_ps(sb);
-    const __m128i z = _mm_setzero_si128();
     __m128 vm = _mm_set1_ps(INFINITY);
-    for (; j + 8 <= g; j += 8) {
-        __m128i xa = _mm_loadu_si128((const __m128i *)(qa + j)), xb = _mm_loadu_si128((const __m128i *)(qb + j));
-        __m128 a0 = _mm_cvtepi32_ps(_mm_unpacklo_epi16(xa, z)), a1 = _mm_cvtepi32_ps(_mm_unpackhi_epi16(xa, z));
-        __m128 b0 = _mm_cvtepi32_ps(_mm_unpacklo_epi16(xb, z)), b1 = _mm_cvtepi32_ps(_mm_unpackhi_epi16(xb, z));
-        __m128 v0 = _mm_add_ps(_mm_add_ps(vb, _mm_mul_ps(va, a0)), _mm_mul_ps(vs, b0));
-        __m128 v1 = _mm_add_ps(_mm_add_ps(vb, _mm_mul_ps(va, a1)), _mm_mul_ps(vs, b1));
-        _mm_storeu_ps(s + j, v0);
-        _mm_storeu_ps(s + j + 4, v1);
-        vm = _mm_min_ps(vm, _mm_min_ps(v0, v1));
+    for (; j + 4 <= g; j += 4) {
+        __m128 v = _mm_add_ps(_mm_loadu_ps(va + j), _mm_loadu_ps(vb + j));
+        _mm_storeu_ps(s + j, v);
+        vm = _mm_min_ps(vm, v);
     }
     float m4[4];
     _mm_storeu_ps(m4, vm);
@@ -1137,44 +1128,11 @@ static float grid_sum(const gs_fun_grid *ga, const gs_fun_grid *gb, uint32_t g, 
     mn = mn < m4[3] ? mn : m4[3];
 #endif
     for (; j < g; ++j) {
-        float v = (base + sa * (float)qa[j]) + sb * (float)qb[j];
+        float v = va[j] + vb[j];
         s[j] = v;
         mn = v < mn ? v : mn;
     }
     return mn;
-}
-
-#define GRID_TOP 65534u    /* the largest level; 0xFFFF pads */
-
-void gs_fun_grid_fill(const gs_fun *f, uint32_t g, uint16_t *q, float *base, float *step, double *vmin,
-                      double *umin)
-{
-    double v[GS_FUN_GRID_MAX], lo = INFINITY, hi = -INFINITY, ul = 0.0;
-    g = g > GS_FUN_GRID_MAX ? GS_FUN_GRID_MAX : g;
-    for (uint32_t j = 0; j < g; ++j) {
-        double u = f->closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1);
-        v[j] = gs_fun_value(f, u);
-        if (v[j] < lo) lo = v[j], ul = u;
-        if (v[j] > hi) hi = v[j];
-    }
-    if (vmin) *vmin = lo;
-    if (umin) *umin = ul;
-    for (uint32_t j = g; j < gs_fun_grid_padded(g); ++j) q[j] = 0xFFFFu;
-    if (!(lo >= 0.0 && hi <= FLT_MAX / 8)) { /* decoding would overflow (or NaN) */
-        for (uint32_t j = 0; j < g; ++j) q[j] = 0;
-        *base = 0.0f, *step = NAN;
-        return;
-    }
-    float b = (float)lo, st;
-    if (b > lo) b = nextafterf(b, 0.0f);
-    double sd = (hi - b) / GRID_TOP;
-    st = (float)sd;
-    if (st < sd) st = nextafterf(st, INFINITY);
-    for (uint32_t j = 0; j < g; ++j) {
-        double l = st > 0.0f ? nearbyint((v[j] - b) / st) : 0.0;
-        q[j] = (uint16_t)(l < 0.0 ? 0.0 : (l > GRID_TOP ? GRID_TOP : l));
-    }
-    *base = b, *step = st;
 }
 
 /* The grid's candidate points, s[j] = e[j + 1] for j < g with e[0] and
@@ -1301,11 +1259,11 @@ uint32_t gs_fun_seam_cell(const gs_fun *f, uint32_t g)
  * the sum: the lower of f's two one-sided limits there (p(1), p(-1)) plus
  * the other function's lower grid value beside the seam is not above thr.
  * The seam's cell comes from d when the caller kept it. */
-static int seam_low(const gs_fun *f, const gs_fun_dip *d, const gs_fun_grid *go, uint32_t g, float thr)
+static int seam_low(const gs_fun *f, const gs_fun_dip *d, const float *vo, uint32_t g, float thr)
 {
     uint32_t j = d && d->seam_cell < g ? d->seam_cell : gs_fun_seam_cell(f, g);
-    uint16_t q0 = go->q[j], q1 = go->q[j + 1 < g ? j + 1 : 0];
-    float o = go->base + go->step * (float)(q0 < q1 ? q0 : q1);
+    float q0 = vo[j], q1 = vo[j + 1 < g ? j + 1 : 0];
+    float o = q0 < q1 ? q0 : q1;
     double v = d && d->seam == d->seam ? d->seam : seam_value(f);
     return v + o <= thr * (1.0 + 1e-6);
 }
@@ -1323,15 +1281,16 @@ static int seam_windows(const gs_fun *f, const gs_fun *o, double h, double *best
            window_min(f, o, us + SEAM_EPS, us + w, best, bu, exact);
 }
 
-double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const gs_fun_grid *ga, const gs_fun_grid *gb,
-                            uint32_t g, const gs_fun_dip *da, const gs_fun_dip *db, double *u_at)
+double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, const float *gb, uint32_t g,
+                            const gs_fun_dip *da, const gs_fun_dip *db, double *u_at)
 {
     if (unreachable(a) || unreachable(b) || g < 3 || g > GS_FUN_GRID_MAX || a->kind == GS_FUN_SAMPLED ||
-        b->kind == GS_FUN_SAMPLED || a->closed != b->closed || ga->step != ga->step || gb->step != gb->step)
+        b->kind == GS_FUN_SAMPLED || a->closed != b->closed)
         return gs_fun_pair_min(a, b, u_at);
     int closed = a->closed != 0;
     float e[GS_FUN_GRID_MAX + 8], *s = e + 1; /* s with its ends' neighbours (grid_minima) */
     float mn = grid_sum(ga, gb, g, s);
+    if (!(mn <= FLT_MAX)) return gs_fun_pair_min(a, b, u_at); /* beyond float range (or NaN) */
     /* j1: the lowest grid value (a discrete local minimum); j2: the lowest
      * other discrete local minimum when the grid cannot tell it from j1 */
     uint32_t j1 = GS_NONE_U32, j2 = GS_NONE_U32;
