@@ -383,7 +383,8 @@ static void m_prefix(unsigned char *b) { uint32_t v = 2; memcpy(section(b, GS__S
 static void m_curve_range(unsigned char *b) { uint32_t v = 1000; memcpy(section(b, GS__SEC_NODES) + 20 * 2 + 12, &v, 4); }
 static void m_curve_node(unsigned char *b) { uint32_t v = 0; memcpy(section(b, GS__SEC_CURVES) + 24 * 2, &v, 4); }
 static void m_curve_closed(unsigned char *b) { uint32_t v = 1; memcpy(section(b, GS__SEC_CURVES) + 24 * 2 + 4, &v, 4); }
-static void m_grid(unsigned char *b) { uint32_t v = 1; memcpy(section(b, GS__SEC_CURVES) + 12, &v, 4); }
+static void m_grid(unsigned char *b) { uint32_t v = 26; memcpy(section(b, GS__SEC_CURVES) + 12, &v, 4); }
+static void m_degree1(unsigned char *b) { uint32_t v = 2; memcpy(section(b, GS__SEC_CURVES) + 12, &v, 4); }
 static void m_leaf_internal(unsigned char *b) { uint32_t v = 2; memcpy(section(b, GS__SEC_LEAVES) + 4 * 4, &v, 4); }
 static void m_leaf_range(unsigned char *b) { uint32_t v = 99; memcpy(section(b, GS__SEC_LEAVES) + 4 * 0, &v, 4); }
 /* vertex 1 moves to leaf 3: it would need 3 minima, its record holds 1 */
@@ -442,7 +443,8 @@ static void test_structure(void)
         {m_curve_range, 1, "past n_curves"},
         {m_curve_node, 1, "curve 2 is in node 2's range but names node 0"},
         {m_curve_closed, 0, "vertex 2, function 2: closed 0 (curve 1)"},
-        {m_grid, 1, "curve 0 has closed 0, n_samples 50, grid 1"},
+        {m_grid, 1, "curve 0 has closed 0, n_samples 50, degree1 26"},
+        {m_degree1, 0, "vertex 0, function 0: degree 2, its curve's degree1 2"},
         {m_leaf_internal, 1, "vertex 4 has leaf 2, which is not a leaf node"},
         {m_leaf_range, 1, "vertex 0 has leaf 99"},
         {m_leaf_count, 1, "section 'leaf_vstart': node 1 has 2 table vertices"},

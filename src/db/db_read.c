@@ -235,10 +235,10 @@ static int check_curves(reader *r)
         if (j < n->curve_start || j - n->curve_start >= n->n_curves)
             return BAD(r, "%s: section 'curves': curve %u names node %u whose curves are [%u, +%u)", r->name, j,
                        c->node, n->curve_start, n->n_curves);
-        if (c->closed > 1 || c->n_samples < 2 || (c->grid && (c->grid < 3 || c->grid > GS__DB_MAX_GRID)) ||
+        if (c->closed > 1 || c->n_samples < 2 || c->degree1 > GS_FUN_MAX_DEGREE + 1 ||
             !(c->length >= 0 && isfinite(c->length)))
-            return BAD(r, "%s: section 'curves': curve %u has closed %u, n_samples %u, grid %u, length %g", r->name,
-                       j, c->closed, c->n_samples, c->grid, c->length);
+            return BAD(r, "%s: section 'curves': curve %u has closed %u, n_samples %u, degree1 %u, length %g", r->name,
+                       j, c->closed, c->n_samples, c->degree1, c->length);
     }
     return GS_OK;
 }
@@ -401,12 +401,16 @@ static int check_record(reader *r, uint32_t x, uint32_t *path)
                     return BAD(r, "%s: section 'records': vertex %u, function %llu: coefficient %u is %g", r->name, x,
                                (unsigned long long)k, i, v);
             }
-            if (!b.sampled && cv->grid) { /* the quick reject's bound is one */
+            if (!b.sampled && b.degree >= cv->degree1)
+                return BAD(r, "%s: section 'records': vertex %u, function %llu: degree %u, its curve's degree1 %u",
+                           r->name, x, (unsigned long long)k, b.degree, cv->degree1);
+            if (!b.sampled) { /* the quick reject's bound is one (on the query's grid) */
                 double c[GS_FUN_MAX_DEGREE + 1];
                 gs__db_fblock_coef(&b, c);
                 gs_fun f = {GS_FUN_CHEBYSHEV, b.degree, b.squared, b.closed, b.shift, mv, c};
-                for (uint32_t i = 0; i < cv->grid; ++i) {
-                    double u = b.closed ? -1.0 + 2.0 * i / cv->grid : -1.0 + 2.0 * i / (cv->grid - 1);
+                const uint32_t g = gs_fun_grid_points(cv->degree1 - 1);
+                for (uint32_t i = 0; i < g; ++i) {
+                    double u = b.closed ? -1.0 + 2.0 * i / g : -1.0 + 2.0 * i / (g - 1);
                     double v = gs_fun_value(&f, u);
                     if (!(mv <= v * (1.0 + 1e-9) + 1e-300))
                         return BAD(r, "%s: section 'records': vertex %u, function %llu: minimum %.9g is above the "

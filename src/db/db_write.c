@@ -159,7 +159,7 @@ static uint64_t encode_vertex(const gs_db_content *c, const uint32_t *grid, cons
     uint64_t k0 = c->fun_start[x], nf = c->fun_start[x + 1] - k0, at = 4 * nf;
     for (uint64_t k = 0; k < nf; ++k) {
         float entry;
-        uint32_t g = grid[fcurve[k0 + k]];
+        uint32_t g = grid[fcurve[k0 + k]] ? gs_fun_grid_points(grid[fcurve[k0 + k]] - 1) : 0;
         uint32_t b = encode(&c->funs[k0 + k], g, out ? out + at : NULL, &entry, numbers, bad);
         if (out) memcpy(out + 4 * k, &entry, 4);
         at += b;
@@ -167,9 +167,9 @@ static uint64_t encode_vertex(const gs_db_content *c, const uint32_t *grid, cons
     return gs__pad8(at);
 }
 
-/* The curve of every function (fcurve) and each curve's query grid: 4
- * points per degree of its highest Chebyshev function and some (as
- * gs_fun_grid_points), 0 when one is sampled or none is reachable. */
+/* The curve of every function (fcurve) and each curve's degree1: 1 + the
+ * highest degree of its Chebyshev functions, 0 when one is sampled or none
+ * is reachable. */
 static int curve_grids(const gs_db_content *c, uint32_t *grid, uint32_t *fcurve, gs_error *err)
 {
     uint32_t *path = gs__malloc((size_t)c->n_nodes + 1, sizeof *path);
@@ -196,7 +196,7 @@ static int curve_grids(const gs_db_content *c, uint32_t *grid, uint32_t *fcurve,
         }
     }
     for (uint32_t j = 0; j < c->n_curves; ++j)
-        grid[j] = deg[j] == 0 || deg[j] == UINT32_MAX ? 0 : gs_fun_grid_points(deg[j] - 1);
+        grid[j] = deg[j] == UINT32_MAX ? 0 : deg[j];
     free(path), free(deg);
     return GS_OK;
 }

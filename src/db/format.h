@@ -29,8 +29,6 @@
 _Static_assert(GS_HEAT_REFINE_MAX <= 3, "heat_refine must fit build_flags bits 2-3");
 #define GS__DB_MAX_SAMPLED 65535u
 #define GS__DB_MAX_SHIFT 2.0
-/* Largest grid a curve may name (query minimiser, src/query/pair.c). */
-#define GS__DB_MAX_GRID 96u
 /* Records are addressed in 8-byte units by a u32: at most 32 GiB of them. */
 #define GS__DB_MAX_RECORDS_BYTES ((uint64_t)UINT32_MAX * 8u)
 
@@ -94,8 +92,9 @@ typedef struct gs_db_node {
 /* A curve (section 'curves', 24 bytes, in place). */
 typedef struct gs_db_disk_curve {
     uint32_t node, closed, n_samples;
-    uint32_t grid;   /* points of the query's grid for this curve's        */
-                     /*   functions (0: none, sampled functions)           */
+    uint32_t degree1; /* 1 + the highest degree of its Chebyshev functions */
+                      /*   (0: none reachable, or sampled): the query's    */
+                      /*   grid for the curve (gs_fun_grid_points)         */
     double length;
 } gs_db_disk_curve;
 

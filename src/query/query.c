@@ -235,8 +235,9 @@ static double pair_min(const gs_db *db, cursor *cx, cursor *cy, uint32_t k, uint
     if (!decode(cursor_block(cx, k), cx->end, cx->ent[k], &a) || !decode(cursor_block(cy, k), cy->end, cy->ent[k], &b))
         return NAN;
     if (a.b.sampled || b.b.sampled) return sampled_pair(&a, &b);
-    uint32_t g = db->curves[c].grid;
-    if (!g) return gs_fun_pair_min(&a.f, &b.f, NULL);
+    uint32_t d1 = db->curves[c].degree1;
+    if (!d1) return gs_fun_pair_min(&a.f, &b.f, NULL);
+    uint32_t g = gs_fun_grid_points(d1 - 1);
     float va[GS_FUN_GRID_MAX + 8], vb[GS_FUN_GRID_MAX + 8];
     gs__grid_values(&a.f, g, va);
     gs__grid_values(&b.f, g, vb);
