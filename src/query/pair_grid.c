@@ -9,6 +9,16 @@
 
 
 #define ROWS (GS_FUN_MAX_DEGREE + 1)
+
+/* Rows a grid of g points needs: the degrees gs_fun_grid_points gives g
+ * for (g = 4 m + 9, at least 33; the largest grid serves every degree), so
+ * that a small grid's table stays small in memory. */
+static uint32_t rows_for(uint32_t g)
+{
+    if (g >= GS_FUN_GRID_MAX) return ROWS;
+    uint32_t r = g >= 9 ? (g - 9) / 4 + 1 : 1;
+    return r > ROWS ? ROWS : (r < 7 ? 7 : r);
+}
 #define STRIDE(g) ((((g) + 3u) + 3u) & ~3u) /* g + 3 points, padded to 4 */
 
 /* tab[kind][g]: ROWS rows of STRIDE(g) floats: T_k(t_j), paths t_j = -1 +
@@ -28,7 +38,7 @@ static void fill(int loop, uint32_t g)
         double t = loop ? -1.0 + 2.0 * ((double)jj - 1.0) / g : (jj + 1 == n ? 1.0 : -1.0 + 2.0 * jj / (g - 1));
         double t0 = 1.0, t1 = t;
         tab[j] = 1.0f;
-        for (uint32_t k = 1; k < ROWS; ++k) {
+        for (uint32_t k = 1; k < rows_for(g); ++k) {
             tab[(size_t)k * s + j] = (float)t1;
             double t2 = 2.0 * t * t1 - t0;
             t0 = t1, t1 = t2;
@@ -142,8 +152,10 @@ void gs__grid_values(const gs_fun *f, uint32_t g, float *v)
     int loop = f->closed != 0;
     uint32_t s = STRIDE(g), n = loop ? g + 3 : g;
     float p[STRIDE(GS_FUN_GRID_MAX) + 4];
-    dot(table(loop, g), s, f->coef, f->degree > GS_FUN_MAX_DEGREE ? GS_FUN_MAX_DEGREE : f->degree, (n + 3u) & ~3u,
-        p);
+    /* a degree beyond the grid's rows (a curve's degree1 below one of its
+     * functions: a corrupt file not verified) reads no further than them */
+    uint32_t m = f->degree < rows_for(g) ? f->degree : rows_for(g) - 1;
+    dot(table(loop, g), s, f->coef, m, (n + 3u) & ~3u, p);
     if (!loop) {
         to_values(p, (g + 3u) & ~3u, f->squared);
         memcpy(v, p, sizeof *v * g);
