@@ -65,20 +65,49 @@ static const float *table(int loop, uint32_t g)
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #define HAVE_AVX2_PATH 1
+/* Eight (then four) vectors of 8 points at once, in registers: independent
+ * sums, whose multiply-adds overlap instead of waiting for each other. */
 __attribute__((target("avx2,fma"))) static void dot_avx2(const float *tab, uint32_t s, const float *cf, uint32_t m,
                                                           uint32_t n, float *p)
 {
     uint32_t j = 0;
-    for (; j + 16 <= n; j += 16) {
-        __m256 a0 = _mm256_setzero_ps(), a1 = a0;
+    for (; j + 64 <= n; j += 64) {
+        __m256 a0 = _mm256_setzero_ps(), a1 = a0, a2 = a0, a3 = a0, a4 = a0, a5 = a0, a6 = a0, a7 = a0;
         for (uint32_t k = 0; k <= m; ++k) {
             __m256 ck = _mm256_set1_ps(cf[k]);
             const float *r = tab + (size_t)k * s + j;
             a0 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r), a0);
             a1 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 8), a1);
+            a2 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 16), a2);
+            a3 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 24), a3);
+            a4 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 32), a4);
+            a5 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 40), a5);
+            a6 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 48), a6);
+            a7 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 56), a7);
         }
+        _mm256_storeu_ps(p + j, a0), _mm256_storeu_ps(p + j + 8, a1);
+        _mm256_storeu_ps(p + j + 16, a2), _mm256_storeu_ps(p + j + 24, a3);
+        _mm256_storeu_ps(p + j + 32, a4), _mm256_storeu_ps(p + j + 40, a5);
+        _mm256_storeu_ps(p + j + 48, a6), _mm256_storeu_ps(p + j + 56, a7);
+    }
+    for (; j + 32 <= n; j += 32) {
+        __m256 a0 = _mm256_setzero_ps(), a1 = a0, a2 = a0, a3 = a0;
+        for (uint32_t k = 0; k <= m; ++k) {
+            __m256 ck = _mm256_set1_ps(cf[k]);
+            const float *r = tab + (size_t)k * s + j;
+            a0 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r), a0);
+            a1 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 8), a1);
+            a2 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 16), a2);
+            a3 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 24), a3);
+        }
+        _mm256_storeu_ps(p + j, a0), _mm256_storeu_ps(p + j + 8, a1);
+        _mm256_storeu_ps(p + j + 16, a2), _mm256_storeu_ps(p + j + 24, a3);
+    }
+    for (; j + 8 <= n; j += 8) {
+        __m256 a0 = _mm256_setzero_ps();
+        for (uint32_t k = 0; k <= m; ++k)
+            a0 = _mm256_fmadd_ps(_mm256_set1_ps(cf[k]), _mm256_loadu_ps(tab + (size_t)k * s + j), a0);
         _mm256_storeu_ps(p + j, a0);
-        _mm256_storeu_ps(p + j + 8, a1);
     }
     for (; j < n; j += 4) {
         __m128 a0 = _mm_setzero_ps();
@@ -103,18 +132,20 @@ static void dot(const float *tab, uint32_t s, const double *c, uint32_t m, uint3
 #endif
     uint32_t j = 0;
 #ifdef __SSE2__
-    for (; j + 8 <= n; j += 8) {
-        __m128 a0 = _mm_setzero_ps(), a1 = a0;
+    for (; j + 16 <= n; j += 16) { /* four independent sums */
+        __m128 a0 = _mm_setzero_ps(), a1 = a0, a2 = a0, a3 = a0;
         for (uint32_t k = 0; k <= m; ++k) {
             __m128 ck = _mm_set1_ps(cf[k]);
             const float *r = tab + (size_t)k * s + j;
             a0 = _mm_add_ps(a0, _mm_mul_ps(ck, _mm_loadu_ps(r)));
             a1 = _mm_add_ps(a1, _mm_mul_ps(ck, _mm_loadu_ps(r + 4)));
+            a2 = _mm_add_ps(a2, _mm_mul_ps(ck, _mm_loadu_ps(r + 8)));
+            a3 = _mm_add_ps(a3, _mm_mul_ps(ck, _mm_loadu_ps(r + 12)));
         }
-        _mm_storeu_ps(p + j, a0);
-        _mm_storeu_ps(p + j + 4, a1);
+        _mm_storeu_ps(p + j, a0), _mm_storeu_ps(p + j + 4, a1);
+        _mm_storeu_ps(p + j + 8, a2), _mm_storeu_ps(p + j + 12, a3);
     }
-    for (; j < n; j += 4) {
+    for (; j + 4 <= n; j += 4) {
         __m128 a0 = _mm_setzero_ps();
         for (uint32_t k = 0; k <= m; ++k)
             a0 = _mm_add_ps(a0, _mm_mul_ps(_mm_set1_ps(cf[k]), _mm_loadu_ps(tab + (size_t)k * s + j)));
@@ -130,14 +161,36 @@ static void dot(const float *tab, uint32_t s, const double *c, uint32_t m, uint3
 
 /* p -> the distance: max(p, 0), its square root for a squared series
  * (n a multiple of 4, p readable that far). */
+#ifdef HAVE_AVX2_PATH
+__attribute__((target("avx2,fma"))) static void to_values_avx2(float *p, uint32_t n, int squared)
+{
+    const __m256 z = _mm256_setzero_ps();
+    uint32_t j = 0;
+    if (squared)
+        for (; j + 8 <= n; j += 8) _mm256_storeu_ps(p + j, _mm256_sqrt_ps(_mm256_max_ps(_mm256_loadu_ps(p + j), z)));
+    else
+        for (; j + 8 <= n; j += 8) _mm256_storeu_ps(p + j, _mm256_max_ps(_mm256_loadu_ps(p + j), z));
+    for (; j < n; ++j) {
+        float v = p[j] > 0.0f ? p[j] : 0.0f;
+        p[j] = squared ? sqrtf(v) : v;
+    }
+}
+#endif
+
 static void to_values(float *p, uint32_t n, int squared)
 {
+#ifdef HAVE_AVX2_PATH
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
+        to_values_avx2(p, n, squared);
+        return;
+    }
+#endif
 #ifdef __SSE2__
     const __m128 z = _mm_setzero_ps();
-    for (uint32_t j = 0; j < n; j += 4) {
-        __m128 v = _mm_max_ps(_mm_loadu_ps(p + j), z);
-        _mm_storeu_ps(p + j, squared ? _mm_sqrt_ps(v) : v);
-    }
+    if (squared)
+        for (uint32_t j = 0; j < n; j += 4) _mm_storeu_ps(p + j, _mm_sqrt_ps(_mm_max_ps(_mm_loadu_ps(p + j), z)));
+    else
+        for (uint32_t j = 0; j < n; j += 4) _mm_storeu_ps(p + j, _mm_max_ps(_mm_loadu_ps(p + j), z));
 #else
     for (uint32_t j = 0; j < n; ++j) {
         float v = p[j] > 0.0f ? p[j] : 0.0f;
