@@ -11,7 +11,7 @@ const char usage_build[] =
     "usage: geosep build MESH -o DB [--method exact|graph|fmm|heat] [--vmax N] [--mmax N] [--tol F]\n"
     "                    [--threads N] [--vertex-sources|--sample-sources] [--sampled] [--seed N]\n"
     "                    [--spacing F] [--max-samples N] [--field-memory MIB] [--heat-time M] [--heat-refine N|auto]\n"
-    "                    [--fmm-start R] [--leaf-exact] [--quiet]\n"
+    "                    [--fmm-start R] [--leaf-exact] [--quiet] [--repair]\n"
     "  Build a query database (-o or --output DB): nested bisection tree\n"
     "  (leaves of at most --vmax vertices, default 30), distance fields from\n"
     "  every separator sample inside its patch (--method, default exact), and\n"
@@ -36,7 +36,11 @@ const char usage_build[] =
     "  solved; default auto: meshes under 32,000 vertices are subdivided to\n"
     "  reach that, at most twice).\n"
     "  Shows progress on a terminal; prints the stage times and the size\n"
-    "  (--quiet: neither).\n";
+    "  (--quiet: neither).\n"
+    "  --repair: repair the mesh in memory first (geosep repair --help; what was\n"
+    "  done goes to stderr): the database is of the repaired mesh, whose vertex\n"
+    "  ids are the input's plus appended copies, and the vertex map (input id ->\n"
+    "  repaired ids, doc/repair.md) is written next to it as DB.vmap.\n";
 const char usage_query[] =
     "usage: geosep query DB X Y\n"
     "       geosep query DB --pairs FILE                (FILE: lines 'X Y')\n"
@@ -171,10 +175,12 @@ int cmd_build(int argc, char **argv)
     gs_build_options o;
     gs_build_options_default(&o);
     const char *mesh_path = NULL, *out = NULL;
-    int quiet = 0;
+    int quiet = 0, repair = 0;
     for (int i = 1; i < argc; ++i) {
         if (is_help(argv[i])) return fputs(usage_build, stdout), 0;
-        if (argv[i][0] == '-' && argv[i][1]) {
+        if (!strcmp(argv[i], "--repair")) {
+            repair = 1;
+        } else if (argv[i][0] == '-' && argv[i][1]) {
             int rc = build_option(&o, &out, &quiet, argc, argv, &i);
             if (rc) return rc;
         } else if (!mesh_path)
@@ -184,7 +190,8 @@ int cmd_build(int argc, char **argv)
     }
     if (!mesh_path || !out) return fail(EXIT_USAGE, "build: need MESH and -o DB (see geosep build --help)");
     gs_mesh *m = NULL;
-    int rc = load_mesh(mesh_path, &m);
+    gs_repair *rep = NULL;
+    int rc = load_mesh_opt(mesh_path, repair, &m, &rep);
     if (rc) return rc;
     bar b = {isatty(2) && !quiet, now(), now(), NULL, -1};
     o.progress = on_progress;
@@ -196,6 +203,7 @@ int cmd_build(int argc, char **argv)
     if (b.tty) fputc('\n', stderr);
     if (rc) {
         gs_mesh_free(m);
+        gs_repair_free(rep);
         /* a bad option value is a usage error, whoever detects it */
         return rc == GS_EARG ? fail(EXIT_USAGE, "build: %s", err.message) : lib_fail("build", rc, &err);
     }
@@ -203,6 +211,15 @@ int cmd_build(int argc, char **argv)
     rc = gs_db_save(db, out, &err);
     tw = now() - tw;
     if (rc) rc = lib_fail(out, rc, &err);
+    if (!rc && rep) { /* the map next to the database; without it, no database */
+        size_t n = strlen(out) + 8;
+        char *map = malloc(n);
+        if (!map) rc = fail(EXIT_RUNTIME, "out of memory");
+        else snprintf(map, n, "%s.vmap", out);
+        if (!rc && (rc = write_vertex_map(map, rep))) unlink(out);
+        if (!rc && !quiet) printf("%s: vertex map of the repair (input id -> repaired ids)\n", map);
+        free(map);
+    }
     gs_db_info info;
     if (!rc && !quiet && gs_db_get_info(db, &info, &err) == GS_OK) {
         printf("%s: %u vertices, %u nodes (%u leaves), %u curves, depth avg %.2f max %u\n", out,
@@ -218,6 +235,7 @@ int cmd_build(int argc, char **argv)
     }
     gs_db_free(db);
     gs_mesh_free(m);
+    gs_repair_free(rep);
     return rc;
 }
 
@@ -230,38 +248,11 @@ static int open_db(const char *path, gs_db **db)
     return rc ? lib_fail(path, rc, &err) : 0;
 }
 
-static void print_distance(FILE *f, double d)
-{
-    if (isinf(d))
-        fputs("inf\n", f);
-    else
-        fprintf(f, "%.17g\n", d);
-}
-
 static int query_id(const char *s, uint32_t n, uint32_t *v)
 {
     if (parse_u32(s, v)) return fail(EXIT_USAGE, "query: '%s' is not a vertex id", s);
     if (*v >= n) return fail(EXIT_USAGE, "query: vertex %u out of range (the database has %u)", *v, n);
     return 0;
-}
-
-static int query_pairs(const gs_db *db, uint32_t n, const char *path)
-{
-    line_reader r;
-    int rc = lines_open(&r, path), got = 0;
-    while (!rc && (got = lines_next(&r)) > 0) {
-        char *t[3];
-        int k = split_fields(r.line, t, 3);
-        if (k == 0) continue;
-        uint32_t x, y;
-        if (k != 2 || parse_u32(t[0], &x) || parse_u32(t[1], &y) || x >= n || y >= n)
-            rc = fail(EXIT_RUNTIME, "%s:%lu: expected two vertex ids below %u", path, r.ln, n);
-        else
-            print_distance(stdout, gs_db_distance(db, x, y));
-    }
-    if (got < 0) rc = EXIT_RUNTIME;
-    lines_close(&r);
-    return rc;
 }
 
 /* ---- surface points -------------------------------------------------------- */
@@ -283,60 +274,11 @@ static int load_db_mesh(const char *path, const gs_db *db, uint32_t n, gs_mesh *
     return rc;
 }
 
-/* A validation message without the library's "surface point: " prefix. */
-static const char *point_message(const gs_error *e)
+static int query_file(const gs_db *db, const gs_mesh *mesh, uint32_t n, const char *path, int points)
 {
-    static const char prefix[] = "surface point: ";
-    return strncmp(e->message, prefix, sizeof prefix - 1) ? e->message : e->message + sizeof prefix - 1;
-}
-
-/* A point from text: with a mesh, a face id and three weights (t[0..3]);
- * without, three vertex ids and three weights (t[0..5]). 0, or -1 with
- * the reason in why. */
-static int make_point(const gs_db *db, const gs_mesh *mesh, char **t, gs_surface_point *p, char *why, size_t n)
-{
-    int nid = mesh ? 1 : 3;
-    uint32_t id[3];
-    double w[3];
-    char tok[80]; /* the field as the message shows it */
-    for (int k = 0; k < nid; ++k)
-        if (parse_u32(t[k], &id[k]))
-            return snprintf(why, n, "'%s' is not a %s id", shown(t[k], tok, sizeof tok), mesh ? "face" : "vertex"), -1;
-    for (int k = 0; k < 3; ++k)
-        if (parse_double(t[nid + k], &w[k]))
-            return snprintf(why, n, "weight '%s' is not a number", shown(t[nid + k], tok, sizeof tok)), -1;
-    gs_error e = {0};
-    if (mesh && gs_surface_point_from_face(mesh, id[0], w[0], w[1], w[2], p, &e))
-        return snprintf(why, n, "%s", e.message), -1;
-    if (!mesh) *p = gs_surface_point_make(id[0], id[1], id[2], w[0], w[1], w[2]);
-    if (gs_db_point_check(db, p, &e)) return snprintf(why, n, "%s", point_message(&e)), -1;
-    return 0;
-}
-
-static int query_points(const gs_db *db, const gs_mesh *mesh, const char *path)
-{
-    const int per = mesh ? 4 : 6;
-    const char *form = mesh ? "'f b0 b1 b2  g c0 c1 c2' (face id and three weights, twice)"
-                            : "'v0 v1 v2 l0 l1 l2  w0 w1 w2 m0 m1 m2' (three vertex ids and three weights, twice)";
     line_reader r;
-    int rc = lines_open(&r, path), got = 0;
-    while (!rc && (got = lines_next(&r)) > 0) {
-        char *t[13];
-        int k = split_fields(r.line, t, 2 * per + 1);
-        if (k == 0) continue;
-        if (k != 2 * per) {
-            rc = fail(EXIT_RUNTIME, "%s:%lu: expected %d fields %s, got %s%d", path, r.ln, 2 * per, form,
-                      k > 2 * per ? "more than " : "", k > 2 * per ? 2 * per : k);
-            break;
-        }
-        gs_surface_point p[2];
-        char why[600];
-        for (int j = 0; j < 2 && !rc; ++j)
-            if (make_point(db, mesh, t + j * per, &p[j], why, sizeof why))
-                rc = fail(EXIT_RUNTIME, "%s:%lu: %s point: %s", path, r.ln, j ? "second" : "first", why);
-        if (!rc) print_distance(stdout, gs_db_point_distance(db, &p[0], &p[1]));
-    }
-    if (got < 0) rc = EXIT_RUNTIME;
+    int rc = lines_open(&r, path);
+    if (!rc) rc = points ? query_points(db, mesh, &r, stdout) : query_pairs(db, n, &r, stdout);
     lines_close(&r);
     return rc;
 }
@@ -388,10 +330,10 @@ int cmd_query(int argc, char **argv)
     gs_db_info info;
     gs_db_get_info(db, &info, NULL);
     if (pairs)
-        rc = query_pairs(db, info.n_vertices, pairs);
+        rc = query_file(db, NULL, info.n_vertices, pairs, 0);
     else if (points) {
         gs_mesh *m = NULL;
-        if (!meshp || !(rc = load_db_mesh(meshp, db, info.n_vertices, &m))) rc = query_points(db, m, points);
+        if (!meshp || !(rc = load_db_mesh(meshp, db, info.n_vertices, &m))) rc = query_file(db, m, info.n_vertices, points, 1);
         gs_mesh_free(m);
     } else {
         uint32_t x, y;
@@ -419,27 +361,6 @@ static int field_gt(const gs_db *db, uint32_t n, const char *from, const char *o
     free(d);
     gs_gt_free(gt);
     return rc;
-}
-
-/* "V0,V1,V2:L0,L1,L2" (no mesh) or "F:b0,b1,b2" (with the mesh) into the
- * tokens make_point reads: exactly one ':', the counts of fields, none
- * empty. */
-static int split_point(char *s, int mesh, char **t)
-{
-    char *c = strchr(s, ':');
-    if (!c || strchr(c + 1, ':')) return -1;
-    *c = ',';
-    int k = 0, want = mesh ? 4 : 6, nid = mesh ? 1 : 3;
-    for (char *f = s;; ++k) {
-        if (k == want) return -1;
-        t[k] = f;
-        if (!(f = strchr(f, ','))) break;
-        *f++ = 0;
-    }
-    if (++k != want || t[nid] != c + 1) return -1;
-    for (int i = 0; i < want; ++i)
-        if (!*t[i]) return -1;
-    return 0;
 }
 
 static int field_point(const gs_db *db, uint32_t n, const char *opt, const char *spec, const char *meshp,
