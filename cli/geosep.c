@@ -87,6 +87,7 @@ static void print_usage(FILE *f)
             "  build MESH -o DB                build a query database\n"
             "  query DB X Y                    approximate geodesic distance\n"
             "  query DB --points FILE          ... between surface points (face, weights)\n"
+            "  verify DB                       check a database whole (checksums, records)\n"
             "  field DB --source X             distances from X through the database\n"
             "  eval DB --groundtruth F.gt      accuracy against exact distances\n"
             "  land MESH --landmarks M ...     the LAND baseline, evaluated\n"
@@ -569,6 +570,7 @@ static const command commands[] = {
     {"path", cmd_path, usage_path},
     {"build", cmd_build, usage_build},
     {"query", cmd_query, usage_query},
+    {"verify", cmd_verify, usage_verify},
     {"field", cmd_field, usage_field},
     {"eval", cmd_eval, usage_eval},
     {"land", cmd_land, usage_land},

@@ -546,13 +546,6 @@ typedef struct gs_build_options {
                              /*   about 2 x this + n_owned x n_samples x 4     */
                              /*   bytes for the largest node + the factors     */
                              /*   (heat) + the database [384]                  */
-    int no_query_cache;      /* 1: the database returned answers queries from  */
-                             /*   its sections, without the query cache       */
-                             /*   gs_db_open builds (3-5 times the file in     */
-                             /*   memory; its queries are several times        */
-                             /*   faster): for a build that is only saved      */
-                             /*   (geosep build), it saves that memory and the */
-                             /*   time to fill it [0]                          */
     gs_progress_fn progress; /* may be NULL                                    */
     void *progress_user;
 } gs_build_options;
@@ -580,12 +573,35 @@ GS_API int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt, gs_db *
 /* Write atomically (temporary file, then rename). */
 GS_API int gs_db_save(const gs_db *db, const char *path, gs_error *err);
 
-/* Open a database file (memory-mapped). Every offset, count and checksum is
- * validated before use: a corrupt or truncated file gives GS_EPARSE with the
- * section and field that is wrong, never a crash. */
+/* Open a database file (memory-mapped, used in place: nothing is built in
+ * memory, so opening takes about the same time whatever the size). The
+ * structure is validated (header and its checksum, section table, counts,
+ * tree, record index: what makes every read of a query land inside the
+ * file): a truncated file or a corrupt structure gives GS_EPARSE naming the
+ * section and field, never a crash; a file of another format version gives
+ * GS_EFORMAT naming its version. The sections' checksums and the stored
+ * values are not read: a corrupt value in an unchecked file may give a
+ * wrong distance (never a crash, never a read outside the file); open with
+ * GS_DB_OPEN_VERIFY or call gs_db_verify to check them. *out: new database,
+ * freed with gs_db_free. Thread-safe (distinct out). */
 GS_API int gs_db_open(const char *path, gs_db **out, gs_error *err);
 
-/* Same from a caller's buffer (copied). */
+/* Flags of gs_db_open_ex. */
+#define GS_DB_OPEN_VERIFY 1u /* also gs_db_verify's full check (reads the whole file) */
+
+/* gs_db_open with flags (0 or GS_DB_OPEN_VERIFY); GS_EARG for unknown bits. */
+GS_API int gs_db_open_ex(const char *path, unsigned flags, gs_db **out, gs_error *err);
+
+/* The full check of an open database: every section's checksum, then every
+ * record (each function's block well formed, coefficients finite and in
+ * range, its minimum not above its values), positions and leaf tables.
+ * GS_OK, or GS_EPARSE naming the section, vertex and field. Reads the whole
+ * file (about 10 ms per 100 MB for the checksums, more for the records).
+ * Thread-safe; db is not modified. */
+GS_API int gs_db_verify(const gs_db *db, gs_error *err);
+
+/* Same as gs_db_open_ex(.., GS_DB_OPEN_VERIFY, ..) from a caller's buffer
+ * (copied: the database owns its copy). */
 GS_API int gs_db_open_memory(const void *data, size_t size, gs_db **out, gs_error *err);
 
 GS_API void gs_db_free(gs_db *db);
@@ -598,6 +614,9 @@ typedef struct gs_db_info {
     double cost;             /* numbers stored per vertex, as Table 1 counts */
     double bytes_per_vertex; /* whole file / n_vertices                      */
     uint64_t file_bytes;
+    uint64_t n_functions;    /* separator distance functions stored          */
+    uint64_t records_bytes;  /* of which the functions' records (minima,     */
+                             /*   blocks)                                    */
     gs_method method;
     uint32_t vmax, mmax;
     double tol;

@@ -12,6 +12,7 @@
 #include "fit/cheb.h"
 #include "fit/fit.h"
 #include "fit/fun.h"
+#include "query/pair_grid.h"
 
 #define DENSE 20000
 #define MAXN 1024
@@ -434,25 +435,24 @@ typedef struct pstats {
 
 static long cell_diff, cell_loops; /* grid_pair_min with and without the seam cells */
 
-/* The query engine's minimiser: grid values as the database caches them.
+/* The query engine's minimiser: grid values as the query computes them.
  * For loops it also runs with the seam cells given, as the cache gives
  * them, and counts any answer or minimiser that is not the same bit for
  * bit (cell_diff). */
 static double grid_pair_min(const gs_fun *a, const gs_fun *b, double *u)
 {
     uint32_t m = a->degree > b->degree ? a->degree : b->degree, g = gs_fun_grid_points(m);
-    uint16_t qa[GS_FUN_GRID_MAX], qb[GS_FUN_GRID_MAX];
-    gs_fun_grid ga = {qa, 0, 0}, gb = {qb, 0, 0};
-    gs_fun_grid_fill(a, g, qa, &ga.base, &ga.step, NULL, NULL);
-    gs_fun_grid_fill(b, g, qb, &gb.base, &gb.step, NULL, NULL);
+    float ga[GS_FUN_GRID_MAX], gb[GS_FUN_GRID_MAX];
+    gs__grid_values(a, g, ga);
+    gs__grid_values(b, g, gb);
     gs_fun_dip da, db;
     gs_fun_dip_find(a, &da), gs_fun_dip_find(b, &db);
     CHECK(da.seam_cell == GS_FUN_NO_CELL && db.seam_cell == GS_FUN_NO_CELL);
-    double r = gs_fun_pair_min_grid(a, b, &ga, &gb, g, &da, &db, u);
+    double r = gs_fun_pair_min_grid(a, b, ga, gb, g, &da, &db, u);
     if (a->closed && b->closed) {
         double u2 = 0.0;
         da.seam_cell = gs_fun_seam_cell(a, g), db.seam_cell = gs_fun_seam_cell(b, g);
-        double r2 = gs_fun_pair_min_grid(a, b, &ga, &gb, g, &da, &db, &u2);
+        double r2 = gs_fun_pair_min_grid(a, b, ga, gb, g, &da, &db, &u2);
         cell_diff += memcmp(&r, &r2, sizeof r) != 0 || (u && memcmp(u, &u2, sizeof u2) != 0);
         cell_loops++;
     }
@@ -670,38 +670,43 @@ static void test_grid_loops(void)
 
 /* The tolerance schedule over tree depth: tol at the root, 1.5x per level,
  * capped at max(tol, 2%). */
-/* The cache's 16-bit grid: every decoded value within half a level (plus
- * float rounding) of the function's value, the padding above every level,
- * the lowest exact value reported, and no grid (step NaN) for values a
- * float cannot hold. */
-static void test_grid_fill(void)
+/* The query's grid values (src/query/pair_grid.c): a path's within float
+ * rounding of the function's values; a loop's, interpolated (cubic) from its
+ * own variable's uniform points, within the interpolation bound 3/128 h^4
+ * max|p''''| (exact when the shift falls on the grid); values beyond float
+ * range give a minimiser answer all the same (the robust one). */
+static void test_grid_values(void)
 {
-    double c[4] = {2.0, -0.7, 0.4, 0.05}, big[2] = {1e60, 1e59};
-    for (int closed = 0; closed < 2; ++closed) {
-        gs_fun f = {GS_FUN_CHEBYSHEV, 3, closed, closed, closed ? 0.37 : 0.0, 0.0, c};
+    double c[7] = {2.0, -0.7, 0.4, 0.05, 0.03, -0.01, 0.004}, big[2] = {1e60, 1e59};
+    static const double shifts[3] = {0.0, 0.37, -1.5};
+    for (int t = 0; t < 4; ++t) {
+        int closed = t > 0;
+        gs_fun f = {GS_FUN_CHEBYSHEV, 6, (uint32_t)(t & 1), (uint32_t)closed, closed ? shifts[t - 1] : 0.0, 0.0, c};
         uint32_t g = gs_fun_grid_points(f.degree);
-        uint16_t q[GS_FUN_GRID_MAX];
-        float base, step;
-        double vmin, umin, worst = 0.0, lo = INFINITY;
-        gs_fun_grid_fill(&f, g, q, &base, &step, &vmin, &umin);
-        CHECK(step > 0.0f && base >= 0.0f);
-        for (uint32_t j = 0; j < g; ++j) {
-            double u = closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1), v = gs_fun_value(&f, u);
-            worst = fmax(worst, fabs((double)(base + step * (float)q[j]) - v));
-            lo = fmin(lo, v);
-            CHECK(q[j] <= 65534u);
+        float v[GS_FUN_GRID_MAX];
+        gs__grid_values(&f, g, v);
+        double h = 2.0 / g, p4 = 0.0, worst = 0.0;
+        for (uint32_t k = 4; k <= f.degree; ++k) {
+            double k2 = (double)k * k;
+            p4 += fabs(c[k]) * k2 * (k2 - 1) * (k2 - 4) * (k2 - 9) / 105.0;
         }
-        for (uint32_t j = g; j < gs_fun_grid_padded(g); ++j) CHECK(q[j] == 0xFFFFu);
-        CHECK_MSG(worst <= 0.5 * step + 1e-6 * lo, "grid decoding off by %.3g (step %.3g)", worst, (double)step);
-        CHECK(vmin == lo && gs_fun_value(&f, umin) == lo);
-        printf("  16-bit grid (%s, %u points): worst decoding error %.3g, step %.3g\n", closed ? "loop" : "path", g,
-               worst, (double)step);
+        double bound = closed && f.shift != 0.0 ? 3.0 / 128.0 * h * h * h * h * p4 + 1e-6 : 1e-6;
+        for (uint32_t j = 0; j < g; ++j) {
+            double u = closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1);
+            gs_fun sq = f;
+            sq.squared = 0; /* the bound is on the series: compare p, then its root */
+            double pv = gs_fun_value(&sq, u), e = fabs((double)v[j] - gs_fun_value(&f, u));
+            if (f.squared) e = fabs((double)v[j] * v[j] - pv);
+            worst = fmax(worst, e);
+        }
+        CHECK_MSG(worst <= bound * (1 + 1e-3) + 1e-6, "grid (%s, shift %g): off by %.3g, bound %.3g",
+                  closed ? "loop" : "path", f.shift, worst, bound);
+        printf("  grid values (%s, shift %g, %u points): worst error %.3g (bound %.3g)\n", closed ? "loop" : "path",
+               f.shift, g, worst, bound);
     }
-    gs_fun h = {GS_FUN_CHEBYSHEV, 1, 0, 0, 0.0, 0.0, big};
-    uint16_t q[GS_FUN_GRID_MAX];
-    float base, step;
-    gs_fun_grid_fill(&h, 33, q, &base, &step, NULL, NULL);
-    CHECK(step != step); /* no grid: queries take the robust minimiser */
+    gs_fun a = {GS_FUN_CHEBYSHEV, 1, 0, 0, 0.0, 0.0, big}, b = a;
+    double r = gs_fun_pair_min(&a, &b, NULL), rg = grid_pair_min(&a, &b, NULL);
+    CHECK(r == rg); /* no float grid: the robust minimiser */
 }
 
 static void test_depth_tol(void)
@@ -735,7 +740,7 @@ int main(void)
     CHECK_MSG(cell_diff == 0 && cell_loops > 1000, "seam cells given: %ld of %ld loop pairs differ", cell_diff,
               cell_loops);
     test_seam_cell();
-    test_grid_fill();
+    test_grid_values();
     test_infinity();
     test_sampled();
     return gs_test_finish("test_fit");

@@ -877,8 +877,7 @@ static int assemble(builder *b, const leaf_tables *lt, gs_db **out, gs_error *er
     c.avg_depth = t->avg_leaf_depth;
     c.max_depth = t->max_depth;
     c.n_leaves = t->n_leaves;
-    c.no_query_cache = b->opt->no_query_cache != 0;
-    int rc = gs_db_pack(&c, out, err);
+    int rc = gs__db_pack(&c, out, err);
     free(nodes);
     free(curves);
     return rc;
