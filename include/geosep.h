@@ -159,6 +159,9 @@ GS_API int gs_mesh_get_report(const gs_mesh *mesh, gs_mesh_report *report,
  *                             R/4 (the apex, cut off, would be at 4H/3) [1,1]
  *   "cube:N[,S]"              closed cube surface of side S, N x N quads per face [1]
  *   "torus:NU,NV[,R,r]"       closed torus, radii R > r [1,0.4]; NU,NV >= 3
+ *   "knot:NU,NV[,r]"          closed tube of radius r <= 0.5 [0.4] around the
+ *                             trefoil ((2 + cos 3t) cos 2t, (2 + cos 3t) sin 2t,
+ *                             sin 3t): NU >= 8 rings of NV >= 3 vertices
  *   "sphere:N"                closed unit icosphere, N <= 9 subdivisions
  *   "two:N"                   two disjoint flat N x N grids (two components)
  * Integers are plain digits; sizes plain decimals ("2", "0.5", "1e-3") from
@@ -552,6 +555,37 @@ typedef struct gs_field_errors {
 
 GS_API int gs_field_errors_compute(const double *exact, const double *approx, uint32_t n,
                             uint32_t source, gs_field_errors *out, gs_error *err);
+
+/* The tail of the errors over many fields (what a user's single answers
+ * see). me, rmse: the paper's measures, each field's ME / RMSE averaged over
+ * the fields (section 5); all the others pool every (source, y) pair used:
+ * p99, p999: nearest-rank quantiles of e (the value at rank ceil(q N));
+ * max; near_me: the mean e over the "near pairs", those whose exact d is
+ * below near_frac times the median exact d of all pairs used (the CLI and
+ * the benchmarks use near_frac = 0.1); max_under / max_over: the largest e
+ * where d^ < d / d^ > d; n_under_5pct / n_over_5pct: pairs with e > 5%.
+ * Pairs are used as gs_field_errors_compute uses them. With no pair used,
+ * every measure is NaN. */
+typedef struct gs_error_stats {
+    double me, rmse, p99, p999, max;
+    double near_me, near_frac, median_d;
+    double max_under, max_over;
+    uint64_t n_used, n_near, n_under_5pct, n_over_5pct, n_skipped, n_invalid;
+    uint32_t n_fields;       /* fields with at least one pair used          */
+} gs_error_stats;
+
+/* An accumulator of pairs' errors: 9 bytes per pair used. Create, add fields,
+ * read the result (as often as wanted), free. Not thread-safe per object. */
+typedef struct gs_error_acc gs_error_acc;
+GS_API int gs_error_acc_create(gs_error_acc **out, gs_error *err);
+/* Add one field's pairs (same arguments and rules as gs_field_errors_compute).
+ * GS_ENOMEM leaves the accumulator as it was before the call's pairs. */
+GS_API int gs_error_acc_add(gs_error_acc *acc, const double *exact, const double *approx, uint32_t n,
+                            uint32_t source, gs_error *err);
+/* The statistics of every pair added so far (near_frac >= 0: see above);
+ * needs 4 bytes per pair of scratch (GS_ENOMEM otherwise). */
+GS_API int gs_error_acc_result(const gs_error_acc *acc, double near_frac, gs_error_stats *out, gs_error *err);
+GS_API void gs_error_acc_free(gs_error_acc *acc);
 
 /* LAND (Burghard & Klein 2015), the baseline of the paper's Table 1: m
  * landmarks chosen by farthest-point sampling with geodesic distances (the
