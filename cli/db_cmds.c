@@ -11,24 +11,26 @@ const char usage_build[] =
     "usage: geosep build MESH -o DB [--method exact|graph|fmm|heat] [--vmax N] [--mmax N] [--tol F]\n"
     "                    [--threads N] [--vertex-sources|--sample-sources] [--sampled] [--seed N]\n"
     "                    [--spacing F] [--max-samples N] [--field-memory MIB] [--heat-time M] [--heat-refine N|auto]\n"
-    "                    [--fmm-start R] [--leaf-exact] [--quiet]\n"
+    "                    [--fmm-start R] [--no-leaf-exact] [--quiet]\n"
     "  Build a query database (-o or --output DB): nested bisection tree\n"
     "  (leaves of at most --vmax vertices, default 30), distance fields from\n"
     "  every separator sample inside its patch (--method, default exact), and\n"
     "  per-vertex polynomial separator distance functions of degree <= --mmax\n"
     "  (20) fitted to mean relative error\n"
-    "  --tol (0.002) at the root, 1.5x looser per tree level (at most 2%).\n"
+    "  --tol (0.003) at the root, 1.5x looser per tree level (at most 2%).\n"
     "  --vertex-sources: fields from the corners of the sample\n"
     "  triangles + barycentric interpolation (the paper's way; the default for\n"
     "  fmm and heat); --sample-sources: from the samples (the default for\n"
     "  exact fields). --sampled: store\n"
     "  the sampled values (SEPsam) instead of polynomials. --spacing: separator\n"
     "  sample spacing in mean edge lengths (0.5). --max-samples: longer curves\n"
-    "  are thinned to this many samples (96; 0 = no cap). --field-memory: MiB\n"
+    "  are thinned to this many samples (192; 0 = no cap), then split into\n"
+    "  pieces of at most 48 sample intervals (each its own function). --field-memory: MiB\n"
     "  for one block of distance fields (384, also for 0; two live at a time).\n"
-    "  --leaf-exact: also store the exact distances between the vertices of each\n"
-    "  leaf (paper sec. 3.1, matrix D; at most vmax numbers per vertex) instead\n"
-    "  of answering same-leaf queries with the Euclidean distance. --threads:\n"
+    "  Exact distances between the vertices of each leaf are stored (paper sec.\n"
+    "  3.1, matrix D; at most vmax numbers per vertex); --no-leaf-exact answers\n"
+    "  same-leaf queries with the Euclidean distance instead (smaller, but off\n"
+    "  by up to 56% on curved leaves; --leaf-exact: the default). --threads:\n"
     "  build threads (0 = all cores, the default). --seed: the partitioning\n"
     "  seed (1). --heat-time,\n"
     "  --heat-refine and --fmm-start: the field method's parameters (see geosep\n"
@@ -113,6 +115,7 @@ static int build_option(gs_build_options *o, const char **out, int *quiet, int a
     if (!strcmp(a, "--sample-sources")) return o->vertex_sources = 0, 0;
     if (!strcmp(a, "--sampled")) return o->sampled = 1, 0;
     if (!strcmp(a, "--leaf-exact")) return o->leaf_exact = 1, 0;
+    if (!strcmp(a, "--no-leaf-exact")) return o->leaf_exact = 0, 0;
     if (!strcmp(a, "--quiet")) return *quiet = 1, 0;
     if ((v = opt_value(argc, argv, i, "-o")) || (v = opt_value(argc, argv, i, "--output"))) return *out = v, 0;
     if ((v = opt_value(argc, argv, i, "--method"))) {
@@ -208,6 +211,9 @@ int cmd_build(int argc, char **argv)
         printf("fields %llu (%s), functions %llu, mean degree %.2f, mean fit error %.3f%%, %llu above tol\n",
                (unsigned long long)st.n_fields, gs_method_name(o.method), (unsigned long long)st.n_functions,
                st.mean_degree, 100 * st.mean_fit_error, (unsigned long long)st.n_over_tol);
+        printf("certified fits (error <= 2%% at the samples and within their Lipschitz band between them): "
+               "all but %llu; the worst %.2f%%\n",
+               (unsigned long long)st.n_uncertified, 100 * st.max_fit_error);
         printf("time: tree %.2f s, fields %.2f s, fits %.2f s, write %.2f s, total %.2f s\n", st.seconds_tree,
                st.seconds_fields, st.seconds_fits, tw, st.seconds_total + tw);
         printf("size: %llu bytes, %.1f bytes/vertex, cost %.1f numbers/vertex\n",

