@@ -30,6 +30,12 @@ int parse_heat_refine(const char *s, uint32_t *out);
 const char *opt_value(int argc, char **argv, int *i, const char *name);
 int is_opt(const char *arg, const char *name);
 int load_mesh(const char *path, gs_mesh **m);
+/* load_mesh, or with repair != 0 gs_mesh_repair_file with its summary on
+ * stderr; *info (if info is not NULL) receives the repair (NULL without
+ * repair; caller frees). 0 or an exit code (message printed). */
+int load_mesh_opt(const char *path, int repair, gs_mesh **m, gs_repair **info);
+/* The vertex map file (doc/repair.md), written atomically. */
+int write_vertex_map(const char *path, const gs_repair *r);
 
 /* Atomic text output (temporary file + rename); path NULL or "-": stdout. */
 typedef struct out_file {
@@ -71,6 +77,12 @@ int cmd_query(int argc, char **argv);
 int cmd_field(int argc, char **argv);
 int cmd_eval(int argc, char **argv);
 int cmd_land(int argc, char **argv);
+int cmd_repair(int argc, char **argv);
+extern const char usage_repair[];
 extern const char usage_build[], usage_query[], usage_field[], usage_eval[], usage_land[];
+
+/* Pictures (render_cmd.c). */
+int cmd_render(int argc, char **argv);
+extern const char usage_render[];
 
 #endif

@@ -11,7 +11,7 @@ const char usage_build[] =
     "usage: geosep build MESH -o DB [--method exact|graph|fmm|heat] [--vmax N] [--mmax N] [--tol F]\n"
     "                    [--threads N] [--vertex-sources|--sample-sources] [--sampled] [--seed N]\n"
     "                    [--spacing F] [--max-samples N] [--field-memory MIB] [--heat-time M] [--heat-refine N|auto]\n"
-    "                    [--fmm-start R] [--no-leaf-exact] [--quiet]\n"
+    "                    [--fmm-start R] [--no-leaf-exact] [--quiet] [--repair]\n"
     "  Build a query database (-o or --output DB): nested bisection tree\n"
     "  (leaves of at most --vmax vertices, default 30), distance fields from\n"
     "  every separator sample inside its patch (--method, default exact), and\n"
@@ -38,7 +38,11 @@ const char usage_build[] =
     "  solved; default auto: meshes under 32,000 vertices are subdivided to\n"
     "  reach that, at most twice).\n"
     "  Shows progress on a terminal; prints the stage times and the size\n"
-    "  (--quiet: neither).\n";
+    "  (--quiet: neither).\n"
+    "  --repair: repair the mesh in memory first (geosep repair --help; what was\n"
+    "  done goes to stderr): the database is of the repaired mesh, whose vertex\n"
+    "  ids are the input's plus appended copies, and the vertex map (input id ->\n"
+    "  repaired ids, doc/repair.md) is written next to it as DB.vmap.\n";
 const char usage_query[] =
     "usage: geosep query DB X Y\n"
     "       geosep query DB --pairs FILE                (FILE: lines 'X Y')\n"
@@ -172,10 +176,12 @@ int cmd_build(int argc, char **argv)
     gs_build_options_default(&o);
     o.no_query_cache = 1; /* saved, never queried here */
     const char *mesh_path = NULL, *out = NULL;
-    int quiet = 0;
+    int quiet = 0, repair = 0;
     for (int i = 1; i < argc; ++i) {
         if (is_help(argv[i])) return fputs(usage_build, stdout), 0;
-        if (argv[i][0] == '-' && argv[i][1]) {
+        if (!strcmp(argv[i], "--repair")) {
+            repair = 1;
+        } else if (argv[i][0] == '-' && argv[i][1]) {
             int rc = build_option(&o, &out, &quiet, argc, argv, &i);
             if (rc) return rc;
         } else if (!mesh_path)
@@ -185,7 +191,8 @@ int cmd_build(int argc, char **argv)
     }
     if (!mesh_path || !out) return fail(EXIT_USAGE, "build: need MESH and -o DB (see geosep build --help)");
     gs_mesh *m = NULL;
-    int rc = load_mesh(mesh_path, &m);
+    gs_repair *rep = NULL;
+    int rc = load_mesh_opt(mesh_path, repair, &m, &rep);
     if (rc) return rc;
     bar b = {isatty(2) && !quiet, now(), now(), NULL, -1};
     o.progress = on_progress;
@@ -197,6 +204,7 @@ int cmd_build(int argc, char **argv)
     if (b.tty) fputc('\n', stderr);
     if (rc) {
         gs_mesh_free(m);
+        gs_repair_free(rep);
         /* a bad option value is a usage error, whoever detects it */
         return rc == GS_EARG ? fail(EXIT_USAGE, "build: %s", err.message) : lib_fail("build", rc, &err);
     }
@@ -204,6 +212,15 @@ int cmd_build(int argc, char **argv)
     rc = gs_db_save(db, out, &err);
     tw = now() - tw;
     if (rc) rc = lib_fail(out, rc, &err);
+    if (!rc && rep) { /* the map next to the database; without it, no database */
+        size_t n = strlen(out) + 8;
+        char *map = malloc(n);
+        if (!map) rc = fail(EXIT_RUNTIME, "out of memory");
+        else snprintf(map, n, "%s.vmap", out);
+        if (!rc && (rc = write_vertex_map(map, rep))) unlink(out);
+        if (!rc && !quiet) printf("%s: vertex map of the repair (input id -> repaired ids)\n", map);
+        free(map);
+    }
     gs_db_info info;
     if (!rc && !quiet && gs_db_get_info(db, &info, &err) == GS_OK) {
         printf("%s: %u vertices, %u nodes (%u leaves), %u curves, depth avg %.2f max %u\n", out,
@@ -222,6 +239,7 @@ int cmd_build(int argc, char **argv)
     }
     gs_db_free(db);
     gs_mesh_free(m);
+    gs_repair_free(rep);
     return rc;
 }
 

@@ -20,10 +20,12 @@
 /* ---- usage -------------------------------------------------------------- */
 
 static const char usage_info[] =
-    "usage: geosep info MESH\n"
+    "usage: geosep info MESH [--repair]\n"
     "  Print the mesh health report: counts, components, boundary loops, Euler\n"
     "  characteristic, genus, corner angles, edge lengths, bounding box.\n"
-    "  MESH: .obj .off .ply .stl\n";
+    "  MESH: .obj .off .ply .stl\n"
+    "  --repair: repair the mesh in memory first (geosep repair --help says how;\n"
+    "  what was done goes to stderr) and report on the repaired mesh.\n";
 
 static const char usage_generate[] =
     "usage: geosep generate SPEC -o OUT.obj\n"
@@ -41,7 +43,7 @@ static const char usage_subdivide[] =
 
 static const char usage_solve[] =
     "usage: geosep solve MESH --source V [--source V ...] [--source-point F:b0,b1,b2 ...]\n"
-    "                    [--method exact|graph|fmm|heat] [--max-distance D] [-o OUT] [--verbose]\n"
+    "                    [--method exact|graph|fmm|heat] [--max-distance D] [-o OUT] [--verbose] [--repair]\n"
     "       geosep solve MESH --format gt (--sources-from FILE.gt | --random K [--seed S] | --all) -o OUT.gt\n"
     "                    [--method exact|graph|fmm|heat] [--verbose]\n"
     "       method parameters: [--heat-time M] [--heat-refine N|auto] [--fmm-start R]\n"
@@ -63,7 +65,13 @@ static const char usage_solve[] =
     "  by default (N subdivisions to reach 32,000 vertices, at most 2), for the\n"
     "  fields its databases reproduce. --fmm-start R: fast\n"
     "  marching starts from exact distances within R mean edge lengths of the\n"
-    "  sources (default 4; 0: the plain march from the source vertices).\n";
+    "  sources (default 4; 0: the plain march from the source vertices).\n"
+    "  --repair (text output): repair the mesh in memory first (geosep repair\n"
+    "  --help; what was done goes to stderr). Ids stay the input's: a source\n"
+    "  vertex stands for every vertex it became (a split vertex: all its copies),\n"
+    "  a source face for the face it became; one line per input vertex, its\n"
+    "  distance (a split vertex: the least over its copies; a welded vertex: the\n"
+    "  vertex it was welded into).\n";
 
 static void print_usage(FILE *f)
 {
@@ -72,6 +80,7 @@ static void print_usage(FILE *f)
             "usage: geosep COMMAND [ARGS]   (geosep help COMMAND, geosep COMMAND --help)\n\n"
             "commands:\n"
             "  info MESH                       mesh health report\n"
+            "  repair MESH -o OUT.obj          repair a flawed mesh, say what was done\n"
             "  generate SPEC -o OUT.obj        write a generated test mesh\n"
             "  subdivide MESH -o OUT.obj       1-to-4 midpoint subdivision (same surface)\n"
             "  solve MESH --source V ...       distance field from sources\n"
@@ -81,6 +90,7 @@ static void print_usage(FILE *f)
             "  field DB --source X             distances from X through the database\n"
             "  eval DB --groundtruth F.gt      accuracy against exact distances\n"
             "  land MESH --landmarks M ...     the LAND baseline, evaluated\n"
+            "  render MESH -o OUT.png ...      a picture: field, isolines, separators\n"
             "  help [COMMAND]                  this text, or a command's usage\n"
             "  version                         print the version\n",
             gs_version_string());
@@ -107,18 +117,26 @@ static void print_report(const char *path, const gs_mesh_report *r)
 
 static int cmd_info(int argc, char **argv)
 {
-    if (argc == 2 && is_help(argv[1])) return fputs(usage_info, stdout), 0;
-    if (argc != 2 || argv[1][0] == '-') {
+    const char *path = NULL;
+    int repair = 0, n_args = 0;
+    for (int i = 1; i < argc; ++i) {
+        if (is_help(argv[i])) return fputs(usage_info, stdout), 0;
+        if (!strcmp(argv[i], "--repair")) repair = 1;
+        else if (argv[i][0] == '-' && argv[i][1])
+            return fail(EXIT_USAGE, "info: unknown option '%s' (see geosep info --help)", argv[i]);
+        else path = argv[i], n_args++;
+    }
+    if (n_args != 1) {
         fputs(usage_info, stderr);
         return fail(EXIT_USAGE, "info: expected exactly one MESH argument");
     }
     gs_mesh *m = NULL;
-    int rc = load_mesh(argv[1], &m);
+    int rc = load_mesh_opt(path, repair, &m, NULL);
     if (rc) return rc;
     gs_mesh_report r;
     gs_error err = {0};
     rc = gs_mesh_get_report(m, &r, &err);
-    if (rc == GS_OK) print_report(argv[1], &r);
+    if (rc == GS_OK) print_report(path, &r);
     gs_mesh_free(m);
     return rc ? lib_fail("info", rc, &err) : 0;
 }
@@ -202,7 +220,7 @@ typedef struct solve_opts {
     gs_method method;
     gs_solver_options sopt;
     double max_d;
-    int gt, verbose, all;
+    int gt, verbose, all, repair;
     uint32_t random_k, seed; /* --random K --seed S (GEOGT1 output) */
     gs_source *src;
     uint32_t n_src, cap_src;
@@ -309,6 +327,7 @@ static int solve_option(solve_opts *o, int argc, char **argv, int *i)
         }
     }
     if (!strcmp(a, "--verbose") || !strcmp(a, "-v")) return o->verbose = 1, 0;
+    if (!strcmp(a, "--repair")) return o->repair = 1, 0;
     return fail(EXIT_USAGE, "solve: unknown option '%s' (see geosep solve --help)", a);
 }
 
@@ -316,6 +335,9 @@ static int check_solve_opts(const solve_opts *o)
 {
     if (!o->mesh) return fail(EXIT_USAGE, "solve: missing MESH");
     if (o->gt) {
+        if (o->repair)
+            return fail(EXIT_USAGE, "solve: --repair answers by input vertex in text output; --format gt is not "
+                        "supported with it (repair the file with geosep repair, then solve the repaired mesh)");
         if ((o->sources_from != NULL) + (o->random_k != 0) + o->all != 1)
             return fail(EXIT_USAGE, "solve: --format gt needs one of --sources-from FILE.gt, --random K, --all");
         if (!o->out || !strcmp(o->out, "-")) return fail(EXIT_USAGE, "solve: --format gt needs -o OUT.gt");
@@ -348,9 +370,9 @@ static int parse_solve(solve_opts *o, int argc, char **argv)
 }
 
 /* Range checks that need the mesh: exit status 2, naming the argument. */
-static int check_sources(const solve_opts *o, const gs_mesh *m)
+static int check_sources(const solve_opts *o, const gs_mesh *m, const gs_repair *r)
 {
-    uint32_t nv = gs_mesh_num_vertices(m), nf = gs_mesh_num_faces(m);
+    uint32_t nv = r ? r->n_input_vertices : gs_mesh_num_vertices(m), nf = r ? r->n_input_faces : gs_mesh_num_faces(m);
     for (uint32_t i = 0; i < o->n_src; ++i) {
         const gs_source *s = &o->src[i];
         if (s->face == GS_NONE) {
@@ -374,6 +396,7 @@ static int check_sources(const solve_opts *o, const gs_mesh *m)
 
 typedef struct run_ctx {
     gs_mesh *mesh;
+    gs_repair *rep; /* --repair: what was done, the vertex map */
     gs_patch *patch;
     gs_solver *solver;
     double t_load, t_solve;
@@ -383,7 +406,7 @@ typedef struct run_ctx {
 static int prepare(const solve_opts *o, run_ctx *c)
 {
     double t0 = now();
-    int rc = load_mesh(o->mesh, &c->mesh);
+    int rc = load_mesh_opt(o->mesh, o->repair, &c->mesh, &c->rep);
     if (rc) return rc;
     c->t_load = now() - t0;
     gs_error err = {0};
@@ -405,13 +428,74 @@ static int run_solve(run_ctx *c, const gs_source *s, uint32_t n, double max_d, d
     return rc ? lib_fail("solve", rc, &err) : 0;
 }
 
+/* --repair: the sources by input id as sources on the repaired mesh (a
+ * vertex: every vertex it became; a point: on the face its face became). */
+static int repaired_sources(const solve_opts *o, const gs_repair *r, gs_source **out, uint32_t *n_out)
+{
+    uint32_t n = 0, cap = 0;
+    gs_source *s = NULL;
+    for (uint32_t i = 0; i < o->n_src; ++i) {
+        const gs_source *x = &o->src[i];
+        uint32_t k0 = 0, k1 = 1;
+        if (x->face == GS_NONE) k0 = r->alias_start[x->vertex], k1 = r->alias_start[x->vertex + 1];
+        for (uint32_t k = k0; k < k1; ++k) {
+            if (n == cap) {
+                cap = cap ? 2 * cap : 16;
+                gs_source *p = realloc(s, cap * sizeof *p);
+                if (!p) return free(s), fail(EXIT_RUNTIME, "out of memory");
+                s = p;
+            }
+            if (x->face == GS_NONE) {
+                s[n++] = gs_source_vertex(r->alias[k]);
+                continue;
+            }
+            uint32_t g = GS_NONE, hits = 0;
+            for (uint32_t f = 0; f < r->n_faces; ++f)
+                if (r->face_origin[f] == x->face) g = f, hits++;
+            const char *why = !hits ? "was removed by the repair (zero-area, duplicate or repeating a vertex)"
+                              : r->face_change[g] == GS_REPAIR_FACE_SPLIT ? "was split by the repair"
+                                                                          : NULL;
+            if (why) {
+                free(s);
+                return fail(EXIT_USAGE, "solve: --source-point %s: face %u %s; give a vertex source instead",
+                            o->src_arg[i], x->face, why);
+            }
+            if (r->face_change[g] == GS_REPAIR_FACE_FLIPPED)
+                s[n++] = gs_source_point(g, x->bary[0], x->bary[2], x->bary[1]);
+            else
+                s[n++] = gs_source_point(g, x->bary[0], x->bary[1], x->bary[2]);
+        }
+    }
+    *out = s;
+    *n_out = n;
+    return 0;
+}
+
 static int solve_text(const solve_opts *o, run_ctx *c)
 {
     uint32_t n = gs_mesh_num_vertices(c->mesh);
     double *d = malloc((n ? n : 1) * sizeof *d);
     if (!d) return fail(EXIT_RUNTIME, "out of memory");
-    int rc = run_solve(c, o->src, o->n_src, o->max_d, d);
+    const gs_repair *r = c->rep;
+    gs_source *src = o->src;
+    uint32_t n_src = o->n_src;
+    int rc = r ? repaired_sources(o, r, &src, &n_src) : 0;
+    if (!rc) rc = run_solve(c, src, n_src, o->max_d, d);
+    if (!rc && r) { /* by input vertex: the least over what it became */
+        double *byin = malloc(((size_t)r->n_input_vertices + 1) * sizeof *byin);
+        if (!byin) rc = fail(EXIT_RUNTIME, "out of memory");
+        for (uint32_t v = 0; byin && v < r->n_input_vertices; ++v) {
+            double best = INFINITY;
+            for (uint32_t k = r->alias_start[v]; k < r->alias_start[v + 1]; ++k)
+                if (d[r->alias[k]] < best) best = d[r->alias[k]];
+            byin[v] = best;
+        }
+        free(d);
+        d = byin;
+        n = r->n_input_vertices;
+    }
     if (!rc) rc = write_text(o->out, d, n);
+    if (src != o->src) free(src);
     free(d);
     return rc;
 }
@@ -488,7 +572,7 @@ static int cmd_solve(int argc, char **argv)
         goto done;
     }
     if (rc) goto done;
-    if ((rc = prepare(&o, &c)) || (rc = check_sources(&o, c.mesh))) goto done;
+    if ((rc = prepare(&o, &c)) || (rc = check_sources(&o, c.mesh, c.rep))) goto done;
     rc = o.gt ? solve_gt(&o, &c) : solve_text(&o, &c);
     if (!rc && o.verbose) { /* windows: the exact solver's (fmm's exact start included) */
         fprintf(stderr, "geosep: %s, %u vertices, %s: load %.3f s, solve %.3f s", o.mesh, gs_mesh_num_vertices(c.mesh),
@@ -500,6 +584,7 @@ done:
     gs_solver_free(c.solver);
     gs_patch_free(c.patch);
     gs_mesh_free(c.mesh);
+    gs_repair_free(c.rep);
     free(o.src);
     free(o.src_arg);
     return rc;
@@ -515,6 +600,7 @@ typedef struct command {
 
 static const command commands[] = {
     {"info", cmd_info, usage_info},
+    {"repair", cmd_repair, usage_repair},
     {"generate", cmd_generate, usage_generate},
     {"subdivide", cmd_subdivide, usage_subdivide},
     {"solve", cmd_solve, usage_solve},
@@ -523,6 +609,7 @@ static const command commands[] = {
     {"field", cmd_field, usage_field},
     {"eval", cmd_eval, usage_eval},
     {"land", cmd_land, usage_land},
+    {"render", cmd_render, usage_render},
 };
 
 static const command *find_command(const char *name)

@@ -41,11 +41,13 @@ extern "C" {
 #define GS_API
 #endif
 
-#define GEOSEP_VERSION_MAJOR 0
-#define GEOSEP_VERSION_MINOR 1
-#define GEOSEP_VERSION_PATCH 0
+/* GEOSEP_VERSION_MAJOR, _MINOR, _PATCH and GEOSEP_VERSION_STRING: the
+ * version of these headers (generated from the project's version). */
+#include "geosep_version.h"
 
-/* "MAJOR.MINOR.PATCH" of the linked library; static storage. */
+/* "MAJOR.MINOR.PATCH" of the linked library (may differ from
+ * GEOSEP_VERSION_STRING if the program was built against other headers);
+ * static storage. */
 GS_API const char *gs_version_string(void);
 
 #define GS_NONE UINT32_MAX
@@ -88,10 +90,9 @@ typedef enum gs_mesh_format {
 } gs_mesh_format;
 
 /* Range of edge lengths geosep accepts (mesh units): squared and 4th-power
- * lengths in the validation and the solvers then stay finite and normal.
- * (A unit icosphere scaled by 1e-75 .. 1e75 gave, with all four methods,
- * distances that divided by the scale are within 2e-14 of the unscaled ones;
- * beyond 1e+-100 the validation's 4th powers overflow or underflow.) */
+ * lengths in the validation and the solvers then stay finite and normal, and
+ * distances scale with the mesh (a mesh scaled by s has its distances
+ * scaled by s, to rounding). Rescale meshes outside this range. */
 #define GS_MESH_MAX_EDGE 1e50
 #define GS_MESH_MIN_EDGE 1e-50
 
@@ -189,6 +190,139 @@ GS_API int gs_mesh_random_vertices(const gs_mesh *mesh, uint32_t k, uint64_t see
  * The file is written to a temporary name and renamed: never left partial. */
 GS_API int gs_mesh_save_obj(const gs_mesh *mesh, const char *path, gs_error *err);
 
+/* ---- Repair: flawed meshes as people download them (doc/repair.md) ------ */
+
+/* Kinds of change gs_mesh_repair makes (pinned values, new kinds appended). */
+typedef enum gs_repair_kind {
+    GS_REPAIR_REPEATED_CORNER = 0, /* face naming a vertex twice: dropped     */
+    GS_REPAIR_DUPLICATE_FACE,      /* same three vertices as an earlier face  */
+                                   /*   (either orientation): dropped         */
+    GS_REPAIR_ZERO_AREA_COLLAPSED, /* zero-area face with corners at one      */
+                                   /*   position: they are welded, it is gone */
+    GS_REPAIR_ZERO_AREA_SPLIT,     /* zero-area (collinear) face: the face    */
+                                   /*   across its longest edge is split at   */
+                                   /*   its middle corner, it is gone         */
+    GS_REPAIR_ZERO_AREA_NEEDLE,    /* zero-area face with a tiny edge (below  */
+                                   /*   1e-6 of its longest) that no split    */
+                                   /*   removes: that edge is collapsed (its  */
+                                   /*   ends welded, the faces of the second  */
+                                   /*   moving by the edge's length)          */
+    GS_REPAIR_ZERO_AREA_BOUNDARY,  /* zero-area face whose longest edge is on */
+                                   /*   the boundary: dropped (same surface)  */
+    GS_REPAIR_ZERO_AREA_DROPPED,   /* zero-area face dropped otherwise: a     */
+                                   /*   zero-width gap where it was           */
+    GS_REPAIR_SEAM_EDGE,           /* boundary edge glued to the one boundary */
+                                   /*   edge at the same positions (seam)     */
+    GS_REPAIR_SEAM_AMBIGUOUS,      /* boundary edges left open: more than two */
+                                   /*   at the same positions                 */
+    GS_REPAIR_WELDED_VERTEX,       /* vertex merged into a coincident one:    */
+                                   /*   unreferenced, mapped to it            */
+    GS_REPAIR_NONMANIFOLD_EDGE,    /* edge of more than two faces: the best   */
+                                   /*   pair kept, the others detached        */
+    GS_REPAIR_FLIPPED_FACE,        /* face reversed to agree with its         */
+                                   /*   component's orientation               */
+    GS_REPAIR_ORIENTATION_CUT,     /* edge cut open: the component is not     */
+                                   /*   orientable (Moebius strip)            */
+    GS_REPAIR_SHEET_CUT,           /* edge cut open so that sheets meeting    */
+                                   /*   there get separate vertices           */
+    GS_REPAIR_SPLIT_VERTEX,        /* vertex whose faces form several fans    */
+                                   /*   (non-manifold, or where a cut or a    */
+                                   /*   detached face ends): one vertex per   */
+                                   /*   fan, the new copies appended          */
+    GS_REPAIR_NUM_KINDS
+} gs_repair_kind;
+
+#define GS_REPAIR_EXAMPLES 5
+
+/* Where one change was made, in the input's terms. */
+typedef struct gs_repair_example {
+    uint32_t face;      /* input triangle (polygons fan-triangulated, file  */
+                        /*   order), GS_NONE if none                         */
+    uint32_t line;      /* its line (text files) or element (binary files); */
+                        /*   GS_NONE for arrays                              */
+    uint32_t vertex[3]; /* input vertex ids concerned, GS_NONE if unused     */
+} gs_repair_example;
+
+/* What gs_mesh_repair did, and where every input vertex went. */
+typedef struct gs_repair {
+    uint32_t n_input_vertices, n_input_faces; /* faces: triangles           */
+    uint32_t n_vertices, n_faces;             /* of the repaired mesh       */
+    uint64_t count[GS_REPAIR_NUM_KINDS];      /* changes of each kind       */
+    uint32_t n_examples[GS_REPAIR_NUM_KINDS]; /* <= GS_REPAIR_EXAMPLES      */
+    gs_repair_example example[GS_REPAIR_NUM_KINDS][GS_REPAIR_EXAMPLES];
+    char file[256];       /* input file ("" for arrays), cut if longer      */
+    char unit[16];        /* what example lines count: "line", "face", ...  */
+    /* Vertex ids: input vertex v keeps id v and its position; new vertices */
+    /* (copies of split vertices) are appended. vertex_map[v] is the        */
+    /* repaired vertex v became: v itself, or for a welded vertex the one   */
+    /* it was welded into. Every repaired vertex that carries some of v's   */
+    /* corners is listed in alias[alias_start[v] .. alias_start[v+1]),      */
+    /* vertex_map[v] first, then increasing (a split vertex: itself and its */
+    /* copies; a vertex no face uses: itself, or the vertex it was welded   */
+    /* into before its faces were removed).                                 */
+    uint32_t *vertex_map;     /* n_input_vertices                           */
+    uint32_t *alias_start;    /* n_input_vertices + 1                       */
+    uint32_t *alias;          /* alias_start[n_input_vertices]              */
+    uint32_t *vertex_origin;  /* n_vertices: the input vertex at whose      */
+                              /*   position each repaired vertex is (v for  */
+                              /*   v < n_input_vertices)                    */
+    uint32_t *face_origin;    /* n_faces: input triangle each face is (or   */
+                              /*   was split from)                          */
+    uint8_t *face_change;     /* n_faces: GS_REPAIR_FACE_*: how its corners */
+                              /*   relate to face_origin's                  */
+} gs_repair;
+
+enum {
+    GS_REPAIR_FACE_SAME = 0,    /* the input triangle's corners, in order     */
+                                /*   (each possibly replaced by its copy or   */
+                                /*   by the vertex it was welded into)        */
+    GS_REPAIR_FACE_FLIPPED = 1, /* the same, reversed: (c0, c2, c1)           */
+    GS_REPAIR_FACE_SPLIT = 2    /* one of the two pieces of the input         */
+                                /*   triangle, split at a zero-area face's    */
+                                /*   middle corner                            */
+};
+
+/* Repair a triangle soup into a valid mesh, knowingly: faces repeating a
+ * vertex and duplicate faces are dropped; zero-area faces are removed
+ * without opening holes where possible (coincident corners welded, or the
+ * neighbour across the longest edge split at the middle corner); boundary
+ * edges at exactly the same positions as exactly one other boundary edge
+ * are glued (unwelded seams) and their vertices welded; of an edge's faces
+ * beyond two, the best-aligned pair is kept and the others detached; each
+ * component is oriented consistently (the majority of its faces keep
+ * theirs; a non-orientable one is cut open where needed); each vertex
+ * whose faces form several fans becomes one vertex per fan. Positions never
+ * move: the repaired surface is the input's, but for the faces dropped (and
+ * the needles collapsed: GS_REPAIR_ZERO_AREA_NEEDLE).
+ * Input: xyz (3 * n_vertices, finite) and tri (3 * n_faces, indices <
+ * n_vertices); GS_EMESH if a coordinate is not finite, an index out of
+ * range, an edge longer than GS_MESH_MAX_EDGE, or nothing is left.
+ * *out receives the repaired mesh (valid for gs_mesh_create; caller frees);
+ * *info, if info is not NULL, what was done (caller frees with
+ * gs_repair_free). A mesh that needs nothing comes out identical, with
+ * every count 0. Reentrant; the arrays are only read during the call. */
+GS_API int gs_mesh_repair(const double *xyz, uint32_t n_vertices, const uint32_t *tri,
+                          uint32_t n_faces, gs_mesh **out, gs_repair **info, gs_error *err);
+
+/* Same from a mesh file (read as gs_mesh_load reads it, but without its
+ * topological checks; the readers' own checks stay: syntax, counts,
+ * indices in range, finite coordinates). Examples name the file's lines
+ * (text) or elements (binary). */
+GS_API int gs_mesh_repair_file(const char *path, gs_mesh_format format, gs_mesh **out,
+                               gs_repair **info, gs_error *err);
+
+GS_API void gs_repair_free(gs_repair *info);
+
+/* Static text describing a kind ("non-manifold vertices split ..."), or
+ * NULL if kind is out of range. */
+GS_API const char *gs_repair_kind_name(int kind);
+
+/* The report as text (doc/repair.md shows it): a first line with the
+ * counts before and after, then one line per kind of change made with its
+ * count and examples. Written into buf (size bytes, always terminated if
+ * size > 0); returns the length of the whole text, as snprintf does. */
+GS_API size_t gs_repair_format(const gs_repair *info, char *buf, size_t size);
+
 /* ======================================================================== */
 /* Patches: a subset of a mesh's faces with its own vertex numbering         */
 /* ======================================================================== */
@@ -273,14 +407,10 @@ typedef struct gs_solver_options {
                             /*   the whole mesh's, and its default)            */
 } gs_solver_options;
 
-/* Range of gs_solver_options.heat_time. Measured on sphere:4, grid:40,40
- * and torus:48,24 (mean error against exact distances, relative to the
- * largest distance; 0.03%, 0.5%, 1.5% at the default 1): small values only
- * add error (1e-4: 1.0%, 3.8%, 10.9%; 1e-8: 1.2%, 9.7%, 10.9%; 1e-12:
- * 7.2%, 21.6%, 11.3%: the heat barely leaves the source's neighbours);
- * from 1e4 to 1e13 the field no longer changes (the t -> infinity limit),
- * from about 1e14 rounding spoils it and from about 1e16 the factorisation
- * fails ("not positive definite"). 1e8 leaves 5 decades before that. */
+/* Range of gs_solver_options.heat_time. Values below the default 1 only
+ * add error (the heat barely leaves the source's neighbours); far above it
+ * the field stops changing (the t -> infinity limit) and then rounding
+ * spoils it. doc/approximate-fields.md has the measured accuracy. */
 #define GS_HEAT_TIME_MIN 1e-8
 #define GS_HEAT_TIME_MAX 1e8
 
@@ -292,11 +422,10 @@ typedef struct gs_solver_options {
 
 /* The heat method's resolution for a mesh of nv vertices: the fewest
  * 1-to-4 subdivisions (at most 2) that give at least
- * GS_HEAT_REFINE_AUTO_VERTICES vertices. The heat fields of coarse meshes
- * are not additive enough for a database to reproduce them (bunny-5k's
- * database: ME 0.80% unrefined, 0.41% refined twice; bunny-10k 0.56%,
- * 0.40% once; the paper's target is 0.5%), while from about 20,000
- * vertices they are (bunny-20k 0.45%, stanford-bunny's 35,947 0.44%). */
+ * GS_HEAT_REFINE_AUTO_VERTICES vertices. Heat fields of coarse meshes are
+ * not additive enough for a database to reproduce them to the paper's 0.5%;
+ * from about 20,000 vertices they are (doc/approximate-fields.md). Pure
+ * function, thread-safe. */
 #define GS_HEAT_REFINE_AUTO_VERTICES 32000u
 GS_API uint32_t gs_heat_refine_auto(uint32_t nv);
 
@@ -319,7 +448,8 @@ GS_API int gs_solver_solve(gs_solver *solver, const gs_source *sources,
                     uint32_t n_sources, double max_distance, double *dist,
                     gs_error *err);
 
-/* Statistics of the last solve (for benchmarks); any pointer may be NULL. */
+/* Statistics of the last solve (for benchmarks); any pointer may be NULL.
+ * Same thread rules as the solver. */
 GS_API void gs_solver_last_stats(const gs_solver *solver, uint64_t *windows_created,
                           uint64_t *windows_propagated, double *seconds);
 
@@ -466,6 +596,16 @@ GS_API int gs_db_field(const gs_db *db, uint32_t x, double *out, gs_error *err);
  * is NULL. (To check that a mesh is the database's.) */
 GS_API const double *gs_db_positions(const gs_db *db);
 
+/* The bisection tree (read-only; for drawing the separators). Node 0 is
+ * the root; a node's parent has a smaller id; the root has depth 0 and
+ * parent GS_NONE; gs_db_get_info gives n_nodes. */
+/* The leaf node of vertex v: GS_NONE if v is used by no face, v is out of
+ * range or db is NULL. Thread-safe, allocation free. */
+GS_API uint32_t gs_db_vertex_leaf(const gs_db *db, uint32_t v);
+/* Parent (GS_NONE for the root) and depth of a node; either pointer may be
+ * NULL. GS_EARG if db is NULL or node >= n_nodes. Thread-safe. */
+GS_API int gs_db_tree_node(const gs_db *db, uint32_t node, uint32_t *parent, uint32_t *depth, gs_error *err);
+
 /* ---- Distances between surface points (src/query/points.c) ------------- */
 
 /* A point of the surface: p = sum_i weight[i] * position(corner[i]), with
@@ -550,6 +690,65 @@ GS_API int gs_db_point_distances(const gs_db *db, const gs_surface_point *pairs,
 GS_API int gs_db_point_field(const gs_db *db, const gs_surface_point *p, double *out, gs_error *err);
 
 /* ======================================================================== */
+/* Pictures (src/render): a software rasterizer, PNG output                 */
+/* ======================================================================== */
+
+/* What to draw. The camera looks at the mesh from direction (azimuth,
+ * elevation) in degrees, y up: (0, 0) looks from +z towards -z with +x to
+ * the right (a flat generated mesh face-on), azimuth 90 looks from +x,
+ * elevation 90 from +y (above). Orthographic, fitted so that the vertices
+ * used by faces fill the image less a margin of 5% on every side. Shading:
+ * Lambert (two-sided) + ambient, smooth vertex normals, 3x3 supersampling
+ * (2x2 above 4 megapixels, 1x1 above 16), white background (255,255,255).
+ * Colours: the field by a viridis colour map from its smallest (dark
+ * violet) to its largest finite value (yellow); a face with a non-finite
+ * (inf or NaN) corner value is neutral grey (R = G = B); no field: a plain
+ * light surface. Isolines: dark lines about 1.5 pixels wide (at any zoom:
+ * from the field's screen-space gradient) at the levels
+ * min + k (max - min) / (isolines + 1), k = 1..isolines. Separators: each
+ * node's separator drawn between the vertices of its two subtrees (the
+ * database keeps each vertex's leaf, not the curves): through the
+ * midpoints of the edges it cuts (and a face's centroid where three
+ * subtrees meet), then smoothed; by depth red (the root's, 4 pixels
+ * wide), orange, blue, green, purple, then dark grey, thinner deeper down
+ * (to 1.2 pixels), on top of the surface, hidden where the surface is in
+ * front. Points: white dots in a dark ring (9 pixels), hidden where the
+ * surface is in front. */
+typedef struct gs_render_options {
+    uint32_t width, height;      /* pixels, GS_RENDER_MIN_SIZE..MAX [640x480] */
+    double azimuth_deg;          /* finite [30]                              */
+    double elevation_deg;        /* finite [20]                              */
+    const double *field;         /* n_vertices values, or NULL [NULL]        */
+    uint32_t isolines;           /* 0..GS_RENDER_MAX_ISOLINES; ignored       */
+                                 /*   without a field [10]                   */
+    const gs_db *separators;     /* NULL or a database of this mesh (same    */
+                                 /*   vertex count and positions) [NULL]     */
+    const double *points;        /* 3 * n_points coordinates, finite [NULL]  */
+    uint32_t n_points;           /*   [0]                                    */
+} gs_render_options;
+
+#define GS_RENDER_MIN_SIZE 16u
+#define GS_RENDER_MAX_SIZE 8192u
+#define GS_RENDER_MAX_ISOLINES 1000u
+
+/* Fill *opt with the defaults above. */
+GS_API void gs_render_options_default(gs_render_options *opt);
+
+/* Draw the mesh into rgb: width * height * 3 bytes (caller-owned), rows top
+ * to bottom, R G B per pixel. The options' arrays are only read during the
+ * call. GS_EARG (naming the option) if an argument is NULL or out of range
+ * or the separators' database is not this mesh's; GS_ENOMEM. rgb is
+ * untouched on failure. Thread-safe (no shared state: any number of calls
+ * at once, on the same mesh and database too). */
+GS_API int gs_render(const gs_mesh *mesh, const gs_render_options *opt, uint8_t *rgb, gs_error *err);
+
+/* gs_render into an 8-bit RGB PNG file (libpng), written atomically
+ * (temporary file, then rename): on failure no file, nor a partial one, is
+ * left (an existing file is kept as it was). GS_EIO naming the path if it
+ * cannot be written. Thread-safe. */
+GS_API int gs_render_png(const gs_mesh *mesh, const gs_render_options *opt, const char *path, gs_error *err);
+
+/* ======================================================================== */
 /* Evaluation (paper section 5) and the LAND baseline                       */
 /* ======================================================================== */
 
@@ -604,10 +803,8 @@ GS_API void gs_error_acc_free(gs_error_acc *acc);
  * every vertex (m numbers per vertex), and the triangle-inequality bounds
  *   lower(x,y) = max_l |d(l,x) - d(l,y)|,  upper(x,y) = min_l d(l,x) + d(l,y)
  * over the landmarks l that reach x or y. LAND's estimate is the lower
- * bound (which the authors show has bounded relative error and is a metric).
- * Note: the paper's Table 1 LAND errors have RMSE > sqrt(ME), impossible for
- * the lower bound (its relative error is <= 1); they lie between what the
- * midpoint and the upper bound give (gs_land_bounds).
+ * bound (which the authors show has bounded relative error and is a metric);
+ * gs_land_bounds gives both bounds.
  * Immutable after build: safe to query from any number of threads. */
 typedef struct gs_land gs_land;
 

@@ -55,7 +55,7 @@ run help
 { [ "$rc" -eq 0 ] && grep -q "usage: geosep" "$T/out"; }; verdict "help exits 0"
 run help solve
 { [ "$rc" -eq 0 ] && grep -q -- "--sources-from" "$T/out"; }; verdict "help solve"
-for c in info generate subdivide solve; do
+for c in info generate subdivide solve repair; do
     run "$c" --help
     { [ "$rc" -eq 0 ] && grep -q "usage: geosep $c" "$T/out"; }; verdict "$c --help"
 done
@@ -377,6 +377,130 @@ run build "$D" -o "$T/r0.gsdb" --method heat --heat-refine 0
 expect_fail 2 "need MESH and -o" "build: no -o" build "$D"
 expect_fail 2 "landmarks" "land: zero landmarks" land "$D" --landmarks 0 --groundtruth "$T/grid.gt"
 { [ -z "$(find "$T" -name '*.tmp.*')" ]; }; verdict "database commands leave no temporary files"
+
+# ---- render: pictures ------------------------------------------------------
+png_ok() { head -c 8 "$1" | od -An -tx1 | tr -d ' \n' | grep -q '^89504e470d0a1a0a$'; }
+png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{ print ($1 * 16777216 + $2 * 65536 + $3 * 256 + $4) "x" ($5 * 16777216 + $6 * 65536 + $7 * 256 + $8) }'; }
+run render --help
+{ [ "$rc" -eq 0 ] && grep -q "usage: geosep render" "$T/out" && grep -q -- "--separators" "$T/out"; }; verdict "render --help"
+run help render
+{ [ "$rc" -eq 0 ] && grep -q "usage: geosep render" "$T/out"; }; verdict "help render"
+run solve "$D" --source 0 -o "$T/f.txt"
+run render "$D" -o "$T/f.png" --field "$T/f.txt" --isolines 5 --size 200x100 --view 10,30
+{ [ "$rc" -eq 0 ] && png_ok "$T/f.png" && [ "$(png_size "$T/f.png")" = "200x100" ]; }; verdict "render --field: a 200x100 PNG"
+run render "$D" -o "$T/d.png" --db "$T/grid.gsdb" --source 5 --separators "$T/grid.gsdb" --mark 7 --mark 0
+{ [ "$rc" -eq 0 ] && png_ok "$T/d.png" && [ "$(png_size "$T/d.png")" = "640x480" ]; }; verdict "render --db --source --separators --mark: 640x480 by default"
+run render "$D" -o "$T/p.png"
+{ [ "$rc" -eq 0 ] && png_ok "$T/p.png" && ! cmp -s "$T/p.png" "$T/d.png"; }; verdict "render: plain shading"
+run render "$D" -o "$T/s.png" --separators "$T/grid.gsdb" --view=0,0 --size=64x64
+{ [ "$rc" -eq 0 ] && png_ok "$T/s.png"; }; verdict "render --opt=value forms"
+# the field file: a wrong count, a bad line, an empty line, extra lines
+head -n 10 "$T/f.txt" >"$T/short.txt"
+expect_fail 1 "short.txt: 10 values, the mesh has 400 vertices" "render: field too short" render "$D" -o "$T/x.png" --field "$T/short.txt"
+{ cat "$T/f.txt"; echo 1; } >"$T/long.txt"
+expect_fail 1 "long.txt:401: more values than" "render: field too long" render "$D" -o "$T/x.png" --field "$T/long.txt"
+sed '7s/.*/1.5abc/' "$T/f.txt" >"$T/badline.txt"
+expect_fail 1 "badline.txt:7: '1.5abc' is not a number" "render: bad field line" render "$D" -o "$T/x.png" --field "$T/badline.txt"
+sed '3s/.*//' "$T/f.txt" >"$T/empty.txt"
+expect_fail 1 "empty.txt:3: empty line" "render: empty field line" render "$D" -o "$T/x.png" --field "$T/empty.txt"
+sed '3s/.*/1 2/' "$T/f.txt" >"$T/two.txt"
+expect_fail 1 "two.txt:3: more than one value" "render: two values on a line" render "$D" -o "$T/x.png" --field "$T/two.txt"
+sed '3s/.*/inf/' "$T/f.txt" >"$T/inf.txt"
+run render "$D" -o "$T/inf.png" --field "$T/inf.txt"
+{ [ "$rc" -eq 0 ] && png_ok "$T/inf.png"; }; verdict "render: inf values accepted"
+expect_fail 1 "nofile.txt: cannot open" "render: missing field file" render "$D" -o "$T/x.png" --field "$T/nofile.txt"
+# bad arguments: exit 2
+expect_fail 2 "missing -o" "render: no -o" render "$D"
+expect_fail 2 "missing MESH" "render: no mesh" render -o "$T/x.png"
+expect_fail 2 "--size '10x10'" "render: size too small" render "$D" -o "$T/x.png" --size 10x10
+expect_fail 2 "--size '8193x100'" "render: size too large" render "$D" -o "$T/x.png" --size 8193x100
+expect_fail 2 "--size '640'" "render: size without x" render "$D" -o "$T/x.png" --size 640
+expect_fail 2 "--size 'axb'" "render: size not numbers" render "$D" -o "$T/x.png" --size axb
+expect_fail 2 "--view '30'" "render: view without elevation" render "$D" -o "$T/x.png" --view 30
+expect_fail 2 "--view 'nan,0'" "render: view nan" render "$D" -o "$T/x.png" --view nan,0
+expect_fail 2 "--view 'inf,0'" "render: view inf" render "$D" -o "$T/x.png" --view inf,0
+expect_fail 2 "--isolines 'x'" "render: isolines not a number" render "$D" -o "$T/x.png" --isolines x
+expect_fail 2 "--isolines '1001'" "render: too many isolines" render "$D" -o "$T/x.png" --isolines 1001
+expect_fail 2 "exclude each other" "render: --field and --db" render "$D" -o "$T/x.png" --field "$T/f.txt" --db "$T/grid.gsdb" --source 0
+expect_fail 2 "go together" "render: --db without --source" render "$D" -o "$T/x.png" --db "$T/grid.gsdb"
+expect_fail 2 "go together" "render: --source without --db" render "$D" -o "$T/x.png" --source 3
+expect_fail 2 "--source '400'" "render: source out of range" render "$D" -o "$T/x.png" --db "$T/grid.gsdb" --source 400
+expect_fail 2 "--mark 400" "render: mark out of range" render "$D" -o "$T/x.png" --mark 400
+expect_fail 2 "unknown or incomplete option '--frob'" "render: unknown option" render "$D" -o "$T/x.png" --frob
+expect_fail 2 "unknown or incomplete option '--size'" "render: option without value" render "$D" -o "$T/x.png" --size
+expect_fail 2 "unexpected argument" "render: two meshes" render "$D" "$D" -o "$T/x.png"
+# a database of another mesh, a missing one, an unwritable output
+"$BIN" generate grid:20,20,2,1 -o "$T/other.obj" >/dev/null 2>&1
+expect_fail 1 "not built from" "render: separators of another mesh" render "$T/other.obj" -o "$T/x.png" --separators "$T/grid.gsdb"
+expect_fail 1 "not built from" "render: --db of another mesh" render "$T/other.obj" -o "$T/x.png" --db "$T/grid.gsdb" --source 0
+expect_fail 1 "nodb.gsdb" "render: missing database" render "$D" -o "$T/x.png" --separators "$T/nodb.gsdb"
+expect_fail 1 "nodir/x.png" "render: output folder missing" render "$D" -o "$T/nodir/x.png"
+expect_fail 1 "not a regular file" "render: output is a folder" render "$D" -o "$T"
+{ [ ! -e "$T/x.png" ] && [ ! -e "$T/nodir" ] && [ -z "$(find "$T" -name '*.tmp.*')" ]; }; verdict "render: failures leave no file, nor a temporary one"
+
+# ---- repair: flawed files, --repair for info, solve and build --------------
+# a bow-tie: two triangles touching at vertex 1 (0-based), line 7 and line 8
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nv 2 -1 0\n# two fans at vertex 1\nf 1 2 3\nf 2 4 5\n' >"$T/bowtie.obj"
+expect_fail 1 "non-manifold vertex 1" "info refuses a pinched vertex" info "$T/bowtie.obj"
+run info "$T/bowtie.obj" --repair
+{ [ "$rc" -eq 0 ] && grep -qE "^components +2" "$T/out" && grep -qE "^vertices +6 " "$T/out" &&
+  grep -q "1 vertices split into one vertex per fan.*line 8 (vertex 1, copy 5)" "$T/err"; }
+verdict "info --repair: the pinched vertex split, the summary on stderr"
+run repair "$T/bowtie.obj" -o "$T/fixed.obj" --report "$T/rep.txt" --map "$T/map.txt"
+{ [ "$rc" -eq 0 ] && cmp -s "$T/out" "$T/rep.txt" && grep -q "^repair .*bowtie.obj: 5 vertices, 2 faces -> 6 vertices (1 new), 2 faces" "$T/out" &&
+  [ "$(sed -n 4p "$T/map.txt")" = "1 1 5" ] && [ "$(grep -c '^[0-9]' "$T/map.txt")" -eq 5 ] &&
+  [ "$(grep '^v ' "$T/fixed.obj" | head -5)" = "$(grep '^v ' "$T/bowtie.obj")" ] &&
+  [ "$(grep '^v ' "$T/fixed.obj" | sed -n 6p)" = "v 1 0 0" ]; }
+verdict "repair: OUT keeps the input vertices, the copy appended; --report = stdout; --map"
+run info "$T/fixed.obj"
+{ [ "$rc" -eq 0 ]; }; verdict "repair: OUT passes geosep info"
+run solve "$T/bowtie.obj" --repair --source 1 -o "$T/bt.dist"
+{ [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/bt.dist")" -eq 5 ] && euclid_ok "$T/bt.dist" "$T/bowtie.obj" 1 0 0; }
+verdict "solve --repair: a split source is all its copies; one line per input vertex"
+# from vertex 3 (the second triangle, which the split cut off): vertex 1
+# answers through its copy 5, the first triangle's other vertices are inf
+run solve "$T/bowtie.obj" --repair --source 3 -o "$T/bt3.dist"
+{ [ "$rc" -eq 0 ] && [ "$(tr '\n' ' ' <"$T/bt3.dist")" = "inf 1 inf 0 1 " ]; }
+verdict "solve --repair: a split vertex answers the least over its copies"
+run solve "$T/bowtie.obj" --repair --source-point 1:0.5,0.5,0 -o "$T/btp.dist"
+{ [ "$rc" -eq 0 ] && [ "$(tr '\n' ' ' <"$T/btp.dist")" = "inf 0.5 inf 0.5 1.1180339887498949 " ]; }
+verdict "solve --repair --source-point: input face ids"
+expect_fail 2 "vertex out of range" "solve --repair: ids checked against the input" solve "$T/bowtie.obj" --repair --source 5
+expect_fail 2 "format gt is not supported" "solve --repair --format gt: refused" solve "$T/bowtie.obj" --repair --format gt --random 2 -o "$T/x.gt"
+expect_fail 1 "non-manifold vertex" "build refuses the flawed file" build "$T/bowtie.obj" -o "$T/bt.gsdb"
+{ [ ! -e "$T/bt.gsdb" ]; }; verdict "build: refused, no database"
+run build "$T/bowtie.obj" --repair -o "$T/bt.gsdb" --quiet
+{ [ "$rc" -eq 0 ] && [ -s "$T/bt.gsdb" ] && cmp -s "$T/bt.gsdb.vmap" "$T/map.txt" && grep -q "split" "$T/err"; }
+verdict "build --repair: the database and DB.vmap (the same map as repair --map)"
+run query "$T/bt.gsdb" 5 3
+{ [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = 1 ]; }; verdict "build --repair: the database answers by repaired id"
+# an unwelded seam: grid:5,3 cut along x = 0.5, the right part using appended
+# duplicates of the seam vertices (accepted as two components, but wrong)
+run generate grid:5,3 -o "$T/g53.obj"
+awk '$1 == "v" { nv++; x[nv] = $2; line[nv] = $0; print; next }
+     $1 == "f" { nf++; a[nf] = $2; b[nf] = $3; c[nf] = $4 }
+     END { for (i = 1; i <= nv; i++) if (x[i] == 0.5) { k++; dup[i] = nv + k; print line[i] }
+           for (j = 1; j <= nf; j++) { p = a[j]; q = b[j]; r = c[j]
+               if (x[p] > 0.5 || x[q] > 0.5 || x[r] > 0.5) { if (p in dup) p = dup[p]; if (q in dup) q = dup[q]; if (r in dup) r = dup[r] }
+               print "f", p, q, r } }' "$T/g53.obj" >"$T/seam.obj"
+run info "$T/seam.obj"
+{ [ "$rc" -eq 0 ] && grep -qE "^components +2" "$T/out"; }; verdict "seam: accepted as two components"
+run info "$T/seam.obj" --repair
+{ [ "$rc" -eq 0 ] && grep -qE "^components +1" "$T/out" && grep -qE "^vertices +18 \(3 unreferenced\)" "$T/out" &&
+  grep -q "2 seam edges glued" "$T/err" && grep -q "3 vertices welded" "$T/err"; }; verdict "info --repair: the seam welded"
+run solve "$T/seam.obj" --repair --source 0 -o "$T/seam.dist"
+run solve "$T/g53.obj" --source 0 -o "$T/g53.dist"
+{ [ "$rc" -eq 0 ] && [ "$(head -15 "$T/seam.dist")" = "$(cat "$T/g53.dist")" ] && euclid_ok "$T/seam.dist" "$T/seam.obj" 0 0 0; }
+verdict "solve --repair across the welded seam: the intact grid's distances; welded vertices answer as their representative"
+run repair "$T/grid.obj" -o "$T/same.obj"
+{ [ "$rc" -eq 0 ] && grep -q "nothing to repair" "$T/out" && [ "$(grep -v '^#' "$T/same.obj")" = "$(grep -v '^#' "$T/grid.obj")" ]; }
+verdict "repair of a valid mesh: nothing to do, the same file"
+expect_fail 2 "missing -o" "repair: no -o" repair "$T/bowtie.obj"
+expect_fail 2 "unknown or incomplete option" "repair: unknown option" repair "$T/bowtie.obj" -o "$T/bad.obj" --weld
+expect_fail 1 "broken.obj" "repair: a malformed file is still an error naming it" repair "$T/broken.obj" -o "$T/bad.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n' >"$T/flat.obj"
+expect_fail 1 "nothing is left" "repair: only zero-area faces" repair "$T/flat.obj" -o "$T/bad.obj"
+{ [ ! -e "$T/bad.obj" ] && [ -z "$(find "$T" -name '*.tmp.*')" ]; }; verdict "repair: failures leave no file"
 
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

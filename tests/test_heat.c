@@ -512,7 +512,7 @@ static double shared_me(const char *name, const gs_mesh *m, const gs_gt *gt, uin
 }
 
 /* The heat method against the exact ground truth on every shared mesh: the
- * mesh as it is below the README's figure with a margin of about 15%
+ * mesh as it is below its figure in doc/approximate-fields.md with a margin of about 15%
  * (2.5% for a mesh not listed), and the resolution gs_db_build chooses
  * (refined on meshes under 32,000 vertices) closer still. */
 static void test_shared(void)

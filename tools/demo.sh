@@ -3,7 +3,7 @@
 # generates itself: build a geodesic query database (SEP, Gotsman & Hormann
 # 2022) from exact distance fields, answer point-to-point queries, and print
 # the accuracy against exact fields (section 5's ME and RMSE), the LAND
-# baseline at equal storage, and the speed.
+# baseline at equal storage, and the speed; then draw the distances.
 set -euo pipefail
 top=$(cd "$(dirname "$0")/.." && pwd)
 "$top/tools/install-deps.sh"
@@ -40,4 +40,7 @@ echo "== 5. accuracy against the exact fields, and speed (paper section 5)"
 echo "== 6. the LAND baseline with as many landmarks as SEP stores numbers per vertex"
 cost=$("$g" eval "$out/peaks.gsdb" --groundtruth "$out/peaks.gt" | sed -n 's/^cost \([0-9.]*\) .*/\1/p')
 "$g" land "$out/peaks.obj" --landmarks "$(printf '%.0f' "$cost")" --groundtruth "$out/peaks.gt"
+echo "== 7. a picture: the database's distances from vertex 0, with isolines"
+"$g" render "$out/peaks.obj" --db "$out/peaks.gsdb" --source 0 --isolines 20 -o "$out/peaks.png"
+echo "wrote $out/peaks.png"
 echo "files in $out/"

@@ -3,8 +3,11 @@
 # fresh Debian 12 machine; uses sudo when not root). Installs only what is
 # missing, so it is fast when everything is there.
 set -euo pipefail
+# libopenblas-dev: an optimised BLAS for CHOLMOD at run time (without it apt
+# installs the reference BLAS, slower for the heat method's factorisations).
 pkgs=(build-essential cmake pkg-config libmetis-dev libsuitesparse-dev
-      liblapacke-dev libopenblas-dev)
+      libopenblas-dev libpng-dev
+      python3-dev python3-numpy python3-pytest python3-venv python3-setuptools python3-wheel)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

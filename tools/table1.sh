@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# table1.sh - regenerate the accuracy table of the README (the paper's
+# table1.sh - regenerate the accuracy tables of doc/accuracy.md (the paper's
 # Table 1 for our meshes): for each mesh, build a SEP database, evaluate it
 # against exact distances (section 5's ME and RMSE, averaged over the
 # sources), and evaluate LAND with as many landmarks as SEP stores numbers
 # per vertex. Generated meshes get exact fields from `geosep solve` (100
 # sources, seed 1); shared meshes use ../shared/groundtruth. Peaks is the
-# paper's mesh, the grid surf(peaks(50)) draws (x, y = 1..50: the README
+# paper's mesh, the grid surf(peaks(50)) draws (x, y = 1..50: doc/accuracy.md
 # gives the evidence); Peaks-3x3 the same heights on [-3,3]^2, a harder
 # variant.
 # Usage: tools/table1.sh [--quick] [--threads N] [extra build options...]

@@ -1,14 +1,18 @@
 #!/usr/bin/env bash
 # test.sh - install what is missing, build, and run every test: the Release
-# build (all tests, ground truth in full when ../shared exists) and then an
-# AddressSanitizer + UndefinedBehaviorSanitizer build (GEOSEP_QUICK=1: fewer
-# sources per mesh, same checks).
+# build (all tests, ground truth in full when ../shared exists), the Python
+# package (installed into a virtual environment under build/, its pytest
+# tests, which also run examples/python), and then an AddressSanitizer +
+# UndefinedBehaviorSanitizer build (GEOSEP_QUICK=1: fewer sources per mesh,
+# same checks).
 set -euo pipefail
 top=$(cd "$(dirname "$0")/.." && pwd)
 "$top/tools/install-deps.sh"
 echo "== Release build and tests"
 "$top/tools/build.sh" "$top/build"
 (cd "$top/build" && ctest --output-on-failure -j2)
+echo "== Python package and tests"
+"$top/tools/test-python.sh" "$top/build/python-venv"
 echo "== Sanitizer build (address, undefined) and tests"
 "$top/tools/build.sh" "$top/build-asan" -DGEOSEP_SANITIZE=ON -DGEOSEP_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
 (cd "$top/build-asan" && GEOSEP_QUICK=1 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \

@@ -7,13 +7,9 @@
 #include <stdlib.h>
 #include <time.h>
 
-#define GS_STR2(x) #x
-#define GS_STR(x) GS_STR2(x)
-
 const char *gs_version_string(void)
 {
-    return GS_STR(GEOSEP_VERSION_MAJOR) "." GS_STR(GEOSEP_VERSION_MINOR) "." GS_STR(
-        GEOSEP_VERSION_PATCH);
+    return GEOSEP_VERSION_STRING;
 }
 
 const char *gs_status_string(int status)

@@ -1,6 +1,6 @@
 /* sparse.h - a sparse symmetric positive definite factorisation (Cholesky,
  * backed by SuiteSparse CHOLMOD in cholmod_solver.c, the only file that
- * includes cholmod.h). Used by the heat method (src/geodesic/heat.c).
+ * includes cholmod.h). Used by the heat method (src/geodesic/heat_setup.c, heat.c).
  * A factor owns its workspace: one thread at a time per factor. */
 #ifndef GS_SPARSE_H
 #define GS_SPARSE_H

@@ -76,6 +76,13 @@ int gs__read_off(const char *file, char *data, size_t size, gs_soup *s, gs_error
 int gs__read_ply(const char *file, char *data, size_t size, gs_soup *s, gs_error *err);
 int gs__read_stl(const char *file, char *data, size_t size, gs_soup *s, gs_error *err);
 
+/* Read a mesh file into a triangle soup without any topological check
+ * (gs_mesh_load's reading: format by argument, extension, then content;
+ * the readers' parse-level checks hold: indices in range, finite
+ * coordinates). A file without faces is an error as for gs_mesh_load. On
+ * failure *s is left empty; on success the caller frees it. */
+int gs__load_soup(const char *path, gs_mesh_format format, gs_soup *s, gs_error *err);
+
 /* 1 if (size, data) has the exact size of a binary STL (84 + 50 n bytes). */
 int gs__stl_is_binary(const char *data, size_t size);
 

@@ -97,11 +97,6 @@ static int run_reader(gs_mesh_format f, const char *path, char *data, size_t siz
 
 static int build(gs_soup *s, gs_mesh **out, gs_error *err)
 {
-    if (s->nf == 0 && s->nv == 0)
-        return gs__fail(err, GS_EPARSE, "%s: no vertices and no faces in the file", s->file);
-    if (s->nf == 0)
-        return gs__fail(err, GS_EMESH, "%s: no faces (the file has %u vertices)", s->file,
-                        s->nv);
     uint32_t *lines = s->face_line;
     s->face_line = NULL;
     gs_origin origin = {s->file, lines, s->unit};
@@ -112,13 +107,11 @@ static int build(gs_soup *s, gs_mesh **out, gs_error *err)
     return rc;
 }
 
-int gs_mesh_load(const char *path, gs_mesh_format format, gs_mesh **out, gs_error *err)
+int gs__load_soup(const char *path, gs_mesh_format format, gs_soup *s, gs_error *err)
 {
-    if (!out) return gs__fail(err, GS_EARG, "gs_mesh_load: out is NULL");
-    *out = NULL;
-    if (!path) return gs__fail(err, GS_EARG, "gs_mesh_load: path is NULL");
+    gs__soup_init(s, path, NULL);
     if ((int)format < GS_FORMAT_AUTO || format > GS_FORMAT_STL)
-        return gs__fail(err, GS_EARG, "gs_mesh_load: unknown format %d", (int)format);
+        return gs__fail(err, GS_EARG, "unknown mesh format %d", (int)format);
     char *data;
     size_t size;
     int rc = gs__read_file(path, &data, &size, err);
@@ -129,10 +122,25 @@ int gs_mesh_load(const char *path, gs_mesh_format format, gs_mesh **out, gs_erro
     }
     if (format == GS_FORMAT_AUTO) format = by_extension(path);
     if (format == GS_FORMAT_AUTO) format = sniff(data, size);
-    gs_soup s;
-    gs__soup_init(&s, path, NULL);
-    rc = run_reader(format, path, data, size, &s, err);
+    rc = run_reader(format, path, data, size, s, err);
     free(data);
+    if (rc == GS_OK && s->nf == 0 && s->nv == 0)
+        rc = gs__fail(err, GS_EPARSE, "%s: no vertices and no faces in the file", path);
+    else if (rc == GS_OK && s->nf == 0)
+        rc = gs__fail(err, GS_EMESH, "%s: no faces (the file has %u vertices)", path, s->nv);
+    if (rc) gs__soup_free(s);
+    return rc;
+}
+
+int gs_mesh_load(const char *path, gs_mesh_format format, gs_mesh **out, gs_error *err)
+{
+    if (!out) return gs__fail(err, GS_EARG, "gs_mesh_load: out is NULL");
+    *out = NULL;
+    if (!path) return gs__fail(err, GS_EARG, "gs_mesh_load: path is NULL");
+    if ((int)format < GS_FORMAT_AUTO || format > GS_FORMAT_STL)
+        return gs__fail(err, GS_EARG, "gs_mesh_load: unknown format %d", (int)format);
+    gs_soup s;
+    int rc = gs__load_soup(path, format, &s, err);
     if (rc == GS_OK) rc = build(&s, out, err);
     gs__soup_free(&s);
     return rc;

@@ -50,6 +50,11 @@ int gs_topo_build(gs_topo *t, uint32_t nv, const double *xyz, uint32_t nf,
                   gs_error *err);
 void gs_topo_free(gs_topo *t);
 
+/* The validation's zero-area test of triangle (p, q, r): 0 if it has area,
+ * 2 if its corners are at one point, 1 if they are collinear (its height is
+ * below ~1e-12 of its longest edge). */
+int gs__tri_zero_area(const double *p, const double *q, const double *r);
+
 /* 1-to-4 midpoint subdivision of t (subdivide.c): the vertices of t keep
  * their ids, then one midpoint per edge; face f becomes faces 4f .. 4f+3:
  * (c0, m0, m2), (m0, c1, m1), (m2, m1, c2), (m0, m1, m2), c the corners of

@@ -60,6 +60,21 @@ static double corner_angle(const double *p, const double *q, const double *r)
     return atan2(s, d);
 }
 
+int gs__tri_zero_area(const double *p, const double *q, const double *r)
+{
+    double u[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+    double v[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+    double x[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                   u[0] * v[1] - u[1] * v[0]};
+    double a2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+    double l2 = fmax(u[0] * u[0] + u[1] * u[1] + u[2] * u[2],
+                     v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    /* |u x v| = |u||v| sin(angle): degenerate to rounding when the
+     * triangle's height is ~1e-12 of its longest edge. */
+    if (a2 > 1e-24 * l2 * l2) return 0;
+    return l2 == 0 ? 2 : 1;
+}
+
 static int check_faces(const gs_topo *t, const gs_origin *o, gs_error *err)
 {
     char w[600];
@@ -98,18 +113,11 @@ static int check_faces(const gs_topo *t, const gs_origin *o, gs_error *err)
                                 GS_MESH_MIN_EDGE, GS_MESH_MAX_EDGE);
             }
         }
-        double x[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
-                       u[0] * v[1] - u[1] * v[0]};
-        double a2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
-        double l2 = fmax(u[0] * u[0] + u[1] * u[1] + u[2] * u[2],
-                         v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        /* |u x v| = |u||v| sin(angle): reject when the triangle is degenerate
-         * to rounding, i.e. its height is ~1e-12 of its longest edge. */
-        if (!(a2 > 1e-24 * l2 * l2)) {
+        int z = gs__tri_zero_area(p, q, r);
+        if (z) {
             where(w, sizeof w, o, f);
             return gs__fail(err, GS_EMESH, "%s: zero-area face (vertices %u %u %u are %s)",
-                            w, c[0], c[1], c[2],
-                            l2 == 0 ? "at one point" : "collinear");
+                            w, c[0], c[1], c[2], z == 2 ? "at one point" : "collinear");
         }
     }
     return GS_OK;

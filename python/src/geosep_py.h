@@ -1,0 +1,138 @@
+/* geosep_py.h - what the files of the Python extension geosep._geosep share:
+ * the object types (Mesh, Solver, Database), the exception classes, and the
+ * helpers that turn Python arguments into the library's arrays and the
+ * library's status codes into Python exceptions. */
+#ifndef GEOSEP_PY_H
+#define GEOSEP_PY_H
+
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+
+#define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
+#define PY_ARRAY_UNIQUE_SYMBOL gspy_ARRAY_API
+#ifndef GSPY_IMPORT_ARRAY /* defined by module.c only, which imports numpy */
+#define NO_IMPORT_ARRAY
+#endif
+#include <numpy/arrayobject.h>
+
+#include "geosep.h"
+
+/* ---- exceptions (errors.c) ---------------------------------------------- */
+
+extern PyObject *gspy_Error, *gspy_MeshError, *gspy_DatabaseError;
+
+/* What a failing call was working on: picks the exception class of
+ * GS_EPARSE, GS_EFORMAT and GS_ELIMIT (a mesh file or a database file). */
+typedef enum { GSPY_CTX_OTHER, GSPY_CTX_MESH, GSPY_CTX_DB } gspy_ctx;
+
+/* Set the Python exception for a failed call (status < 0, the message in
+ * err) and return NULL. path (may be NULL) and saved_errno (0: unknown) go
+ * into the OSError of GS_EIO. */
+PyObject *gspy_raise(int status, const gs_error *err, gspy_ctx ctx, const char *path, int saved_errno);
+int gspy_errors_init(PyObject *module);
+
+/* ---- argument conversion (convert.c) ------------------------------------ */
+
+/* A vertex or face id as a Python int (or numpy integer), checked against
+ * [0, limit): 0, or -1 with TypeError / IndexError set. `what` names it. */
+int gspy_index(PyObject *obj, uint32_t limit, const char *what, uint32_t *out);
+
+/* True for a Python int or a numpy integer scalar (not an array). */
+int gspy_is_int_scalar(PyObject *obj);
+
+/* Any array-like of integers (any shape; an empty one of any dtype) as a new
+ * C-contiguous int64 array; NULL with ValueError naming `what` otherwise. */
+PyArrayObject *gspy_int_array(PyObject *obj, const char *what);
+
+/* Check n int64 ids against [0, limit) and copy them to out as uint32 (out
+ * may be NULL: check only). -1 with IndexError naming the first bad id. */
+int gspy_check_ids(const int64_t *ids, npy_intp n, uint32_t limit, const char *what, uint32_t *out);
+
+/* A path (str, bytes or os.PathLike) as a new bytes object; NULL on error. */
+PyObject *gspy_path(PyObject *obj);
+
+/* An optional float argument: None gives dflt. -1 with TypeError. */
+int gspy_opt_double(PyObject *obj, double dflt, const char *what, double *out);
+
+/* An optional count (a non-negative int below 2^32): None gives dflt. */
+int gspy_opt_u32(PyObject *obj, uint32_t dflt, const char *what, uint32_t *out);
+
+/* Method from its name ("exact", "graph", "fmm", "heat"); ValueError. */
+int gspy_method(PyObject *obj, gs_method *out);
+
+/* Solver options from their Python values (each may be NULL or None:
+ * default): heat_time, heat_refine (int or "auto"), fmm_start. */
+int gspy_solver_options(PyObject *heat_time, PyObject *heat_refine, PyObject *fmm_start, gs_solver_options *opt);
+
+/* Sources (an int or a sequence of ints, not empty) as a new array of
+ * vertex sources, checked against [0, n_vertices). NULL with an exception
+ * set otherwise; free with PyMem_Free. */
+gs_source *gspy_sources(PyObject *obj, uint32_t n_vertices, uint32_t *n_out);
+
+/* max_distance: None -> 0 (no bound), else a number > 0 (inf allowed). */
+int gspy_max_distance(PyObject *obj, double *out);
+
+/* ---- types -------------------------------------------------------------- */
+
+typedef struct {
+    PyObject_HEAD
+    gs_mesh *mesh; /* owned, immutable */
+} gspy_Mesh;
+
+typedef struct {
+    PyObject_HEAD
+    PyObject *mesh;          /* the gspy_Mesh it solves on (a reference)   */
+    gs_patch *patch;         /* the whole mesh, owned                      */
+    gs_solver *solver;       /* owned; scratch space: used under lock only */
+    PyThread_type_lock lock; /* one solve at a time                        */
+    gs_method method;
+    gs_solver_options options;
+} gspy_Solver;
+
+typedef struct {
+    PyObject_HEAD
+    gs_db *db;          /* owned, immutable: queried without the GIL         */
+    uint32_t n_vertices;
+    PyObject *mesh;     /* the Mesh it was built from, or NULL (opened)      */
+    PyObject *checked;  /* the last Mesh found to match it (point_distance)  */
+    PyObject *stats;    /* dict of the build's statistics, or NULL           */
+} gspy_Database;
+
+extern PyTypeObject gspy_MeshType, gspy_SolverType, gspy_DatabaseType;
+
+/* mesh.c */
+int gspy_mesh_init_type(PyObject *module);
+PyObject *gspy_mesh_wrap(PyTypeObject *type, gs_mesh *mesh); /* steals mesh */
+/* A read-only array viewing data owned by `base` (which it keeps alive). */
+PyObject *gspy_readonly_view(PyObject *base, int nd, npy_intp *dims, int typenum, const void *data);
+
+/* solver.c */
+int gspy_solver_init_type(PyObject *module);
+PyObject *gspy_distance_field(PyObject *module, PyObject *args, PyObject *kwargs);
+extern const char gspy_distance_field_doc[];
+
+/* render.c */
+PyObject *gspy_render(PyObject *module, PyObject *args, PyObject *kwargs);
+extern const char gspy_render_doc[];
+
+/* database.c */
+int gspy_database_init_type(PyObject *module);
+
+/* dbquery.c: the queries, methods of Database */
+PyObject *gspy_db_distance(PyObject *self, PyObject *args);
+PyObject *gspy_db_pairwise(PyObject *self, PyObject *args, PyObject *kwargs);
+PyObject *gspy_db_field(PyObject *self, PyObject *arg);
+PyObject *gspy_db_point_distance(PyObject *self, PyObject *args, PyObject *kwargs);
+extern const char gspy_db_distance_doc[], gspy_db_pairwise_doc[], gspy_db_field_doc[],
+    gspy_db_point_distance_doc[];
+#define GSPY_DB_QUERY_METHODS                                                                                 \
+    {"distance", (PyCFunction)gspy_db_distance, METH_VARARGS, gspy_db_distance_doc},                          \
+        {"pairwise", (PyCFunction)(void (*)(void))gspy_db_pairwise, METH_VARARGS | METH_KEYWORDS,             \
+         gspy_db_pairwise_doc},                                                                               \
+        {"field", (PyCFunction)gspy_db_field, METH_O, gspy_db_field_doc},                                     \
+    {                                                                                                         \
+        "point_distance", (PyCFunction)(void (*)(void))gspy_db_point_distance, METH_VARARGS | METH_KEYWORDS,  \
+            gspy_db_point_distance_doc                                                                        \
+    }
+
+#endif /* GEOSEP_PY_H */

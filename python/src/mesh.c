@@ -1,0 +1,343 @@
+/* mesh.c - geosep.Mesh: an immutable, validated triangle mesh (gs_mesh),
+ * made from numpy arrays, a mesh file or a generator spec. */
+#include "geosep_py.h"
+
+#include <errno.h>
+#include <string.h>
+
+PyObject *gspy_readonly_view(PyObject *base, int nd, npy_intp *dims, int typenum, const void *data)
+{
+    PyObject *a = PyArray_SimpleNewFromData(nd, dims, typenum, (void *)data);
+    if (!a) return NULL;
+    Py_INCREF(base);
+    if (PyArray_SetBaseObject((PyArrayObject *)a, base) < 0) { /* steals base */
+        Py_DECREF(a);
+        return NULL;
+    }
+    PyArray_CLEARFLAGS((PyArrayObject *)a, NPY_ARRAY_WRITEABLE);
+    return a;
+}
+
+PyObject *gspy_mesh_wrap(PyTypeObject *type, gs_mesh *mesh)
+{
+    gspy_Mesh *self = (gspy_Mesh *)type->tp_alloc(type, 0);
+    if (!self) {
+        gs_mesh_free(mesh);
+        return NULL;
+    }
+    self->mesh = mesh;
+    return (PyObject *)self;
+}
+
+/* Shape (k, 3) and a dtype of the right kind, else ValueError saying what
+ * was expected: `expect` describes the argument. */
+static PyArrayObject *table(PyObject *obj, const char *name, const char *expect, int integers)
+{
+    PyArrayObject *a = (PyArrayObject *)PyArray_FROM_O(obj);
+    if (!a) return NULL;
+    int kind_ok = integers ? PyArray_ISINTEGER(a) : (PyArray_ISINTEGER(a) || PyArray_ISFLOAT(a));
+    if (PyArray_NDIM(a) != 2 || PyArray_DIM(a, 1) != 3 || !kind_ok) {
+        PyObject *shape = PyObject_GetAttrString((PyObject *)a, "shape");
+        if (shape)
+            PyErr_Format(PyExc_ValueError, "%s must be %s, got an array of shape %R and dtype %S", name, expect,
+                         shape, (PyObject *)PyArray_DESCR(a));
+        Py_XDECREF(shape);
+        Py_DECREF(a);
+        return NULL;
+    }
+    PyArrayObject *r = (PyArrayObject *)PyArray_FromArray(
+        a, PyArray_DescrFromType(integers ? NPY_INT64 : NPY_DOUBLE), NPY_ARRAY_CARRAY_RO | NPY_ARRAY_FORCECAST);
+    Py_DECREF(a);
+    return r;
+}
+
+static PyObject *mesh_new(PyTypeObject *type, PyObject *args, PyObject *kwargs)
+{
+    static char *kw[] = {"V", "F", NULL};
+    PyObject *V_obj, *F_obj;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "OO:Mesh", kw, &V_obj, &F_obj)) return NULL;
+    PyArrayObject *V = table(V_obj, "V", "an (n, 3) array of floats (vertex positions)", 0);
+    if (!V) return NULL;
+    PyArrayObject *F = table(F_obj, "F", "an (m, 3) array of int32 or int64 (the vertex ids of each face)", 1);
+    if (!F) {
+        Py_DECREF(V);
+        return NULL;
+    }
+    PyObject *result = NULL;
+    uint32_t *tri = NULL;
+    npy_intp nv = PyArray_DIM(V, 0), nf = PyArray_DIM(F, 0);
+    if (nv >= (npy_intp)UINT32_MAX || nf >= (npy_intp)UINT32_MAX) {
+        PyErr_SetString(gspy_MeshError, "the mesh has more vertices or faces than geosep supports (2^32 - 1)");
+        goto done;
+    }
+    tri = PyMem_New(uint32_t, (size_t)(3 * nf) + 1);
+    if (!tri) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    const int64_t *f = PyArray_DATA(F);
+    for (npy_intp i = 0; i < 3 * nf; i++) {
+        /* what uint32 cannot hold; the library checks the rest (>= n) */
+        if (f[i] < 0 || f[i] >= (int64_t)UINT32_MAX) {
+            PyErr_Format(gspy_MeshError, "face %zd: vertex id %lld out of range [0, %zd)", (Py_ssize_t)(i / 3),
+                         (long long)f[i], (Py_ssize_t)nv);
+            goto done;
+        }
+        tri[i] = (uint32_t)f[i];
+    }
+    gs_mesh *mesh = NULL;
+    gs_error err = {0};
+    int rc;
+    Py_BEGIN_ALLOW_THREADS
+    rc = gs_mesh_create(PyArray_DATA(V), (uint32_t)nv, tri, (uint32_t)nf, &mesh, &err);
+    Py_END_ALLOW_THREADS
+    result = rc ? gspy_raise(rc, &err, GSPY_CTX_MESH, NULL, 0) : gspy_mesh_wrap(type, mesh);
+done:
+    PyMem_Free(tri);
+    Py_DECREF(V);
+    Py_DECREF(F);
+    return result;
+}
+
+static void mesh_dealloc(gspy_Mesh *self)
+{
+    gs_mesh_free(self->mesh);
+    Py_TYPE(self)->tp_free((PyObject *)self);
+}
+
+static PyObject *mesh_load(PyObject *cls, PyObject *args, PyObject *kwargs)
+{
+    static char *kw[] = {"path", "format", NULL};
+    PyObject *path_obj, *fmt_obj = Py_None;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|O:load", kw, &path_obj, &fmt_obj)) return NULL;
+    gs_mesh_format fmt = GS_FORMAT_AUTO;
+    if (fmt_obj != Py_None) {
+        static const char *names[] = {"obj", "off", "ply", "stl"};
+        const char *s = PyUnicode_Check(fmt_obj) ? PyUnicode_AsUTF8(fmt_obj) : NULL;
+        for (int i = 0; s && i < 4; i++)
+            if (!strcmp(s, names[i])) fmt = (gs_mesh_format)(GS_FORMAT_OBJ + i);
+        if (fmt == GS_FORMAT_AUTO) {
+            if (!PyErr_Occurred())
+                PyErr_Format(PyExc_ValueError, "format must be None, \"obj\", \"off\", \"ply\" or \"stl\", got %R",
+                             fmt_obj);
+            return NULL;
+        }
+    }
+    PyObject *path = gspy_path(path_obj);
+    if (!path) return NULL;
+    const char *p = PyBytes_AS_STRING(path);
+    gs_mesh *mesh = NULL;
+    gs_error err = {0};
+    int rc, saved_errno;
+    Py_BEGIN_ALLOW_THREADS
+    errno = 0;
+    rc = gs_mesh_load(p, fmt, &mesh, &err);
+    saved_errno = errno;
+    Py_END_ALLOW_THREADS
+    PyObject *r = rc ? gspy_raise(rc, &err, GSPY_CTX_MESH, p, saved_errno) : gspy_mesh_wrap((PyTypeObject *)cls, mesh);
+    Py_DECREF(path);
+    return r;
+}
+
+static PyObject *mesh_generate(PyObject *cls, PyObject *args)
+{
+    const char *spec;
+    if (!PyArg_ParseTuple(args, "s:generate", &spec)) return NULL;
+    gs_mesh *mesh = NULL;
+    gs_error err = {0};
+    int rc;
+    Py_BEGIN_ALLOW_THREADS
+    rc = gs_mesh_generate(spec, &mesh, &err);
+    Py_END_ALLOW_THREADS
+    return rc ? gspy_raise(rc, &err, GSPY_CTX_OTHER, NULL, 0) : gspy_mesh_wrap((PyTypeObject *)cls, mesh);
+}
+
+static PyObject *mesh_subdivide(gspy_Mesh *self, PyObject *Py_UNUSED(ignored))
+{
+    gs_mesh *mesh = NULL;
+    gs_error err = {0};
+    int rc;
+    Py_BEGIN_ALLOW_THREADS
+    rc = gs_mesh_subdivide(self->mesh, &mesh, &err);
+    Py_END_ALLOW_THREADS
+    return rc ? gspy_raise(rc, &err, GSPY_CTX_MESH, NULL, 0) : gspy_mesh_wrap(Py_TYPE(self), mesh);
+}
+
+static PyObject *mesh_save(gspy_Mesh *self, PyObject *path_obj)
+{
+    PyObject *path = gspy_path(path_obj);
+    if (!path) return NULL;
+    const char *p = PyBytes_AS_STRING(path);
+    gs_error err = {0};
+    int rc, saved_errno;
+    Py_BEGIN_ALLOW_THREADS
+    errno = 0;
+    rc = gs_mesh_save_obj(self->mesh, p, &err);
+    saved_errno = errno;
+    Py_END_ALLOW_THREADS
+    PyObject *r = rc ? gspy_raise(rc, &err, GSPY_CTX_MESH, p, saved_errno) : Py_NewRef(Py_None);
+    Py_DECREF(path);
+    return r;
+}
+
+static PyObject *mesh_random_vertices(gspy_Mesh *self, PyObject *args, PyObject *kwargs)
+{
+    static char *kw[] = {"k", "seed", NULL};
+    unsigned int k;
+    unsigned long long seed = 1;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "I|K:random_vertices", kw, &k, &seed)) return NULL;
+    npy_intp dims[1] = {k};
+    PyObject *out = PyArray_SimpleNew(1, dims, NPY_UINT32);
+    if (!out) return NULL;
+    gs_error err = {0};
+    int rc = gs_mesh_random_vertices(self->mesh, k, seed, PyArray_DATA((PyArrayObject *)out), &err);
+    if (rc) {
+        Py_DECREF(out);
+        return gspy_raise(rc, &err, GSPY_CTX_OTHER, NULL, 0);
+    }
+    return out;
+}
+
+static int set_item(PyObject *d, const char *key, PyObject *value)
+{
+    if (!value) return -1;
+    int rc = PyDict_SetItemString(d, key, value);
+    Py_DECREF(value);
+    return rc;
+}
+
+static PyObject *mesh_report(gspy_Mesh *self, PyObject *Py_UNUSED(ignored))
+{
+    gs_mesh_report r;
+    gs_error err = {0};
+    int rc;
+    Py_BEGIN_ALLOW_THREADS
+    rc = gs_mesh_get_report(self->mesh, &r, &err);
+    Py_END_ALLOW_THREADS
+    if (rc) return gspy_raise(rc, &err, GSPY_CTX_MESH, NULL, 0);
+    PyObject *d = PyDict_New();
+    if (!d) return NULL;
+    if (set_item(d, "n_vertices", PyLong_FromUnsignedLong(r.n_vertices)) < 0 ||
+        set_item(d, "n_faces", PyLong_FromUnsignedLong(r.n_faces)) < 0 ||
+        set_item(d, "n_edges", PyLong_FromUnsignedLong(r.n_edges)) < 0 ||
+        set_item(d, "unreferenced", PyLong_FromUnsignedLong(r.n_unreferenced)) < 0 ||
+        set_item(d, "components", PyLong_FromUnsignedLong(r.n_components)) < 0 ||
+        set_item(d, "boundary_edges", PyLong_FromUnsignedLong(r.n_boundary_edges)) < 0 ||
+        set_item(d, "boundary_loops", PyLong_FromUnsignedLong(r.n_boundary_loops)) < 0 ||
+        set_item(d, "euler", PyLong_FromLong(r.euler)) < 0 || set_item(d, "genus", PyLong_FromLong(r.genus)) < 0 ||
+        set_item(d, "min_angle_deg", PyFloat_FromDouble(r.min_angle_deg)) < 0 ||
+        set_item(d, "max_angle_deg", PyFloat_FromDouble(r.max_angle_deg)) < 0 ||
+        set_item(d, "min_edge", PyFloat_FromDouble(r.min_edge)) < 0 ||
+        set_item(d, "max_edge", PyFloat_FromDouble(r.max_edge)) < 0 ||
+        set_item(d, "mean_edge", PyFloat_FromDouble(r.mean_edge)) < 0 ||
+        set_item(d, "bbox_min", Py_BuildValue("(ddd)", r.bbox_min[0], r.bbox_min[1], r.bbox_min[2])) < 0 ||
+        set_item(d, "bbox_max", Py_BuildValue("(ddd)", r.bbox_max[0], r.bbox_max[1], r.bbox_max[2])) < 0) {
+        Py_DECREF(d);
+        return NULL;
+    }
+    return d;
+}
+
+static PyObject *mesh_vertices(gspy_Mesh *self, void *Py_UNUSED(closure))
+{
+    npy_intp dims[2] = {gs_mesh_num_vertices(self->mesh), 3};
+    return gspy_readonly_view((PyObject *)self, 2, dims, NPY_DOUBLE, gs_mesh_positions(self->mesh));
+}
+
+static PyObject *mesh_faces(gspy_Mesh *self, void *Py_UNUSED(closure))
+{
+    npy_intp dims[2] = {gs_mesh_num_faces(self->mesh), 3};
+    return gspy_readonly_view((PyObject *)self, 2, dims, NPY_UINT32, gs_mesh_faces(self->mesh));
+}
+
+static PyObject *mesh_n_vertices(gspy_Mesh *self, void *Py_UNUSED(closure))
+{
+    return PyLong_FromUnsignedLong(gs_mesh_num_vertices(self->mesh));
+}
+
+static PyObject *mesh_n_faces(gspy_Mesh *self, void *Py_UNUSED(closure))
+{
+    return PyLong_FromUnsignedLong(gs_mesh_num_faces(self->mesh));
+}
+
+static PyObject *mesh_repr(gspy_Mesh *self)
+{
+    return PyUnicode_FromFormat("<geosep.Mesh with %u vertices and %u faces>", gs_mesh_num_vertices(self->mesh),
+                                gs_mesh_num_faces(self->mesh));
+}
+
+static PyGetSetDef mesh_getset[] = {
+    {"vertices", (getter)mesh_vertices, NULL,
+     "Vertex positions: a read-only (n_vertices, 3) float64 array (a view of the\n"
+     "mesh's own memory, in the order given).",
+     NULL},
+    {"faces", (getter)mesh_faces, NULL,
+     "Faces: a read-only (n_faces, 3) uint32 array of vertex ids, counter-clockwise\n"
+     "(a view of the mesh's own memory; uint32 is the library's index type).",
+     NULL},
+    {"n_vertices", (getter)mesh_n_vertices, NULL, "Number of vertices (used by faces or not).", NULL},
+    {"n_faces", (getter)mesh_n_faces, NULL, "Number of triangles.", NULL},
+    {NULL, NULL, NULL, NULL, NULL}};
+
+static PyMethodDef mesh_methods[] = {
+    {"load", (PyCFunction)(void (*)(void))mesh_load, METH_VARARGS | METH_KEYWORDS | METH_CLASS,
+     "load($type, /, path, format=None)\n--\n\n"
+     "Read and validate a mesh file (.obj, .off, .ply, .stl; format=None: by the\n"
+     "extension, then by the content). Polygons are fan-triangulated; vertex ids\n"
+     "are the file's order. Raises OSError if the file cannot be read and\n"
+     "MeshError naming the line or element if it is malformed or the mesh is\n"
+     "invalid (non-manifold, inconsistently oriented, degenerate, ...)."},
+    {"generate", (PyCFunction)mesh_generate, METH_VARARGS | METH_CLASS,
+     "generate($type, spec, /)\n--\n\n"
+     "A test or demo mesh from a spec string, e.g. \"grid:20,20\" (flat 20 x 20\n"
+     "vertex grid on the unit square), \"grid:NX,NY,W,H\", \"peaks:N\", \"plate:N\",\n"
+     "\"cylinder:NU,NV[,R,H]\", \"cone:NU,NV[,R,H]\", \"cube:N[,S]\",\n"
+     "\"torus:NU,NV[,R,r]\", \"sphere:N\" (icosphere, N subdivisions), \"two:N\" (two\n"
+     "components). A bad spec raises ValueError naming the bad argument."},
+    {"subdivide", (PyCFunction)mesh_subdivide, METH_NOARGS,
+     "subdivide($self, /)\n--\n\n"
+     "A new mesh with every face split into four at its edge midpoints (the same\n"
+     "surface). Vertex ids 0..n_vertices-1 are kept; midpoints follow."},
+    {"save", (PyCFunction)mesh_save, METH_O,
+     "save($self, path, /)\n--\n\nWrite the mesh as OBJ, exactly (written to a temporary file, then renamed)."},
+    {"random_vertices", (PyCFunction)(void (*)(void))mesh_random_vertices, METH_VARARGS | METH_KEYWORDS,
+     "random_vertices($self, /, k, seed=1)\n--\n\n"
+     "Returns a (k,) uint32 array:\n"
+     "k distinct vertices used by faces, drawn deterministically from seed (the\n"
+     "procedure of the shared ground-truth files)."},
+    {"report", (PyCFunction)mesh_report, METH_NOARGS,
+     "report($self, /)\n--\n\n"
+     "A dict of\n"
+     "what the validation accepted but is worth knowing: n_vertices, n_faces,\n"
+     "n_edges, unreferenced (vertices used by no face), components (face-connected),\n"
+     "boundary_edges, boundary_loops, euler (V - E + F over referenced vertices),\n"
+     "genus (summed over components), min_angle_deg, max_angle_deg, min_edge,\n"
+     "max_edge, mean_edge, bbox_min and bbox_max (tuples of 3 floats)."},
+    {NULL, NULL, 0, NULL}};
+
+PyTypeObject gspy_MeshType = {
+    PyVarObject_HEAD_INIT(NULL, 0).tp_name = "geosep.Mesh",
+    .tp_basicsize = sizeof(gspy_Mesh),
+    .tp_flags = Py_TPFLAGS_DEFAULT,
+    .tp_doc = "Mesh(V, F)\n--\n\n"
+              "An immutable, validated triangle mesh. V: (n, 3) array of floats (vertex\n"
+              "positions); F: (m, 3) array of int32 or int64 vertex ids (zero-based,\n"
+              "counter-clockwise). Both are copied. The mesh is validated as a mesh file\n"
+              "is: out-of-range ids, repeated ids in a face, non-finite coordinates,\n"
+              "zero-area faces, non-manifold edges or vertices and inconsistently\n"
+              "oriented neighbours raise MeshError with the library's message; a wrong\n"
+              "shape or dtype raises ValueError. Several components, boundaries and\n"
+              "unreferenced vertices are accepted (see report()).\n\n"
+              "A Mesh is immutable and may be shared between threads.",
+    .tp_new = mesh_new,
+    .tp_dealloc = (destructor)mesh_dealloc,
+    .tp_repr = (reprfunc)mesh_repr,
+    .tp_methods = mesh_methods,
+    .tp_getset = mesh_getset,
+};
+
+int gspy_mesh_init_type(PyObject *module)
+{
+    if (PyType_Ready(&gspy_MeshType) < 0) return -1;
+    return PyModule_AddObjectRef(module, "Mesh", (PyObject *)&gspy_MeshType);
+}

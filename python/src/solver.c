@@ -1,0 +1,198 @@
+/* solver.c - distance fields on a mesh: geosep.Solver (a reusable
+ * gs_solver over the whole mesh, guarded by a lock since it has scratch
+ * space) and the one-shot geosep.distance_field. */
+#include "geosep_py.h"
+
+/* Create the whole-mesh patch and a solver on it, without the GIL. */
+static int make_solver(const gs_mesh *mesh, gs_method method, const gs_solver_options *opt, gs_patch **patch,
+                       gs_solver **solver)
+{
+    gs_error err = {0};
+    int rc;
+    Py_BEGIN_ALLOW_THREADS
+    rc = gs_patch_create(mesh, NULL, 0, patch, &err);
+    if (rc == GS_OK) rc = gs_solver_create_ex(*patch, method, opt, solver, &err);
+    Py_END_ALLOW_THREADS
+    if (rc) {
+        gs_patch_free(*patch);
+        *patch = NULL;
+        gspy_raise(rc, &err, GSPY_CTX_OTHER, NULL, 0);
+        return -1;
+    }
+    return 0;
+}
+
+/* Solve into a new (n,) float64 array; the caller holds the solver's lock
+ * (or owns the solver) and the GIL. */
+static PyObject *solve(gs_solver *solver, uint32_t n, const gs_source *src, uint32_t n_src, double max_distance,
+                       PyThread_type_lock lock)
+{
+    npy_intp dims[1] = {n};
+    PyObject *out = PyArray_SimpleNew(1, dims, NPY_DOUBLE);
+    if (!out) return NULL;
+    double *dist = PyArray_DATA((PyArrayObject *)out);
+    gs_error err = {0};
+    int rc;
+    Py_BEGIN_ALLOW_THREADS
+    if (lock) PyThread_acquire_lock(lock, WAIT_LOCK);
+    rc = gs_solver_solve(solver, src, n_src, max_distance, dist, &err);
+    if (lock) PyThread_release_lock(lock);
+    Py_END_ALLOW_THREADS
+    if (rc) {
+        Py_DECREF(out);
+        return gspy_raise(rc, &err, GSPY_CTX_OTHER, NULL, 0);
+    }
+    return out;
+}
+
+/* ---- geosep.Solver ------------------------------------------------------ */
+
+static PyObject *solver_new(PyTypeObject *type, PyObject *args, PyObject *kwargs)
+{
+    static char *kw[] = {"mesh", "method", "heat_time", "heat_refine", "fmm_start", NULL};
+    PyObject *mesh, *method_obj = NULL, *heat_time = NULL, *heat_refine = NULL, *fmm_start = NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O!|O$OOO:Solver", kw, &gspy_MeshType, &mesh, &method_obj,
+                                     &heat_time, &heat_refine, &fmm_start))
+        return NULL;
+    gs_method method;
+    gs_solver_options opt;
+    if (gspy_method(method_obj, &method) < 0 || gspy_solver_options(heat_time, heat_refine, fmm_start, &opt) < 0)
+        return NULL;
+    gspy_Solver *self = (gspy_Solver *)type->tp_alloc(type, 0);
+    if (!self) return NULL;
+    self->mesh = Py_NewRef(mesh);
+    self->method = method;
+    self->options = opt;
+    self->lock = PyThread_allocate_lock();
+    if (!self->lock) {
+        Py_DECREF(self);
+        return PyErr_NoMemory();
+    }
+    if (make_solver(((gspy_Mesh *)mesh)->mesh, method, &opt, &self->patch, &self->solver) < 0) {
+        Py_DECREF(self);
+        return NULL;
+    }
+    return (PyObject *)self;
+}
+
+static void solver_dealloc(gspy_Solver *self)
+{
+    gs_solver_free(self->solver);
+    gs_patch_free(self->patch);
+    if (self->lock) PyThread_free_lock(self->lock);
+    Py_XDECREF(self->mesh);
+    Py_TYPE(self)->tp_free((PyObject *)self);
+}
+
+static PyObject *solver_field(gspy_Solver *self, PyObject *args, PyObject *kwargs)
+{
+    static char *kw[] = {"sources", "max_distance", NULL};
+    PyObject *sources, *maxd_obj = Py_None;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|O:field", kw, &sources, &maxd_obj)) return NULL;
+    double maxd;
+    if (gspy_max_distance(maxd_obj, &maxd) < 0) return NULL;
+    uint32_t n = gs_patch_num_vertices(self->patch), n_src = 0;
+    gs_source *src = gspy_sources(sources, n, &n_src);
+    if (!src) return NULL;
+    PyObject *out = solve(self->solver, n, src, n_src, maxd, self->lock);
+    PyMem_Free(src);
+    return out;
+}
+
+static PyObject *solver_get_mesh(gspy_Solver *self, void *Py_UNUSED(closure)) { return Py_NewRef(self->mesh); }
+
+static PyObject *solver_get_method(gspy_Solver *self, void *Py_UNUSED(closure))
+{
+    return PyUnicode_FromString(gs_method_name(self->method));
+}
+
+static PyObject *solver_repr(gspy_Solver *self)
+{
+    return PyUnicode_FromFormat("<geosep.Solver method=%s on %R>", gs_method_name(self->method), self->mesh);
+}
+
+static PyGetSetDef solver_getset[] = {
+    {"mesh", (getter)solver_get_mesh, NULL, "The Mesh this solver measures on.", NULL},
+    {"method", (getter)solver_get_method, NULL, "The method's name (\"exact\", \"graph\", \"fmm\" or \"heat\").",
+     NULL},
+    {NULL, NULL, NULL, NULL, NULL}};
+
+static PyMethodDef solver_methods[] = {
+    {"field", (PyCFunction)(void (*)(void))solver_field, METH_VARARGS | METH_KEYWORDS,
+     "field($self, /, sources, max_distance=None)\n--\n\n"
+     "Returns an (n_vertices,) float64 array:\n"
+     "the geodesic distance from the nearest of the sources (a vertex id or a\n"
+     "sequence of them) to every vertex; +inf where unreachable (another\n"
+     "component, an unreferenced vertex). max_distance > 0 stops early: every\n"
+     "vertex within it is exact, the others may be +inf or any larger value.\n"
+     "IndexError for an id out of range. The GIL is released while solving."},
+    {NULL, NULL, 0, NULL}};
+
+PyTypeObject gspy_SolverType = {
+    PyVarObject_HEAD_INIT(NULL, 0).tp_name = "geosep.Solver",
+    .tp_basicsize = sizeof(gspy_Solver),
+    .tp_flags = Py_TPFLAGS_DEFAULT,
+    .tp_doc = "Solver(mesh, method='exact', *, heat_time=None, heat_refine=None, fmm_start=None)\n--\n\n"
+              "A reusable distance-field solver on a Mesh: it allocates its memory (and,\n"
+              "for \"heat\", factors its matrices) once, then solves any number of\n"
+              "fields with field(). Methods: \"exact\" (exact polyhedral distances,\n"
+              "window propagation), \"fmm\" (fast marching), \"heat\" (the heat method),\n"
+              "\"graph\" (Dijkstra on the edges: an upper bound). Options (None: the\n"
+              "library's defaults): heat_time (t = heat_time * h^2, default 1),\n"
+              "heat_refine (solve on the mesh subdivided 0..3 times, or \"auto\"),\n"
+              "fmm_start (vertices within this many mean edge lengths of the sources\n"
+              "get exact distances, default 4).\n\n"
+              "A Solver has scratch space: calls from several threads are safe but run\n"
+              "one at a time (a lock guards it). For parallel fields, use one Solver\n"
+              "per thread.",
+    .tp_new = solver_new,
+    .tp_dealloc = (destructor)solver_dealloc,
+    .tp_repr = (reprfunc)solver_repr,
+    .tp_methods = solver_methods,
+    .tp_getset = solver_getset,
+};
+
+int gspy_solver_init_type(PyObject *module)
+{
+    if (PyType_Ready(&gspy_SolverType) < 0) return -1;
+    return PyModule_AddObjectRef(module, "Solver", (PyObject *)&gspy_SolverType);
+}
+
+/* ---- geosep.distance_field ---------------------------------------------- */
+
+const char gspy_distance_field_doc[] =
+    "distance_field(mesh, sources, method='exact', max_distance=None, *, heat_time=None, heat_refine=None, "
+    "fmm_start=None)\n--\n\n"
+    "Returns an (n_vertices,) float64 array:\n"
+    "the geodesic distance from the nearest of the sources (a vertex id or a\n"
+    "sequence of them) to every vertex of mesh; +inf where unreachable. The\n"
+    "one-shot form of Solver(mesh, method, ...).field(sources, max_distance);\n"
+    "use a Solver for many fields on one mesh.";
+
+PyObject *gspy_distance_field(PyObject *Py_UNUSED(module), PyObject *args, PyObject *kwargs)
+{
+    static char *kw[] = {"mesh", "sources", "method", "max_distance", "heat_time", "heat_refine", "fmm_start", NULL};
+    PyObject *mesh, *sources, *method_obj = NULL, *maxd_obj = Py_None, *heat_time = NULL, *heat_refine = NULL,
+                                *fmm_start = NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O!O|OO$OOO:distance_field", kw, &gspy_MeshType, &mesh, &sources,
+                                     &method_obj, &maxd_obj, &heat_time, &heat_refine, &fmm_start))
+        return NULL;
+    gs_method method;
+    gs_solver_options opt;
+    double maxd;
+    if (gspy_method(method_obj, &method) < 0 || gspy_solver_options(heat_time, heat_refine, fmm_start, &opt) < 0 ||
+        gspy_max_distance(maxd_obj, &maxd) < 0)
+        return NULL;
+    const gs_mesh *m = ((gspy_Mesh *)mesh)->mesh;
+    uint32_t n = gs_mesh_num_vertices(m), n_src = 0;
+    gs_source *src = gspy_sources(sources, n, &n_src);
+    if (!src) return NULL;
+    gs_patch *patch = NULL;
+    gs_solver *solver = NULL;
+    PyObject *out = NULL;
+    if (make_solver(m, method, &opt, &patch, &solver) == 0) out = solve(solver, n, src, n_src, maxd, NULL);
+    gs_solver_free(solver);
+    gs_patch_free(patch);
+    PyMem_Free(src);
+    return out;
+}
