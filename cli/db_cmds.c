@@ -562,8 +562,10 @@ static int evaluate(const gs_gt *gt, field_fn fn, const void *obj, gs_error_stat
 
 static void print_errors(const gs_error_stats *e)
 {
-    printf("ME %.3f%%  RMSE %.3f%%  p99 %.3f%%  p99.9 %.3f%%  max %.3f%%  near-pair ME %.3f%%\n", 100 * e->me,
-           100 * e->rmse, 100 * e->p99, 100 * e->p999, 100 * e->max, 100 * e->near_me);
+    char near[32] = "- (no near pair)";
+    if (e->n_near) snprintf(near, sizeof near, "%.3f%%", 100 * e->near_me);
+    printf("ME %.3f%%  RMSE %.3f%%  p99 %.3f%%  p99.9 %.3f%%  max %.3f%%  near-pair ME %s\n", 100 * e->me,
+           100 * e->rmse, 100 * e->p99, 100 * e->p999, 100 * e->max, near);
     printf("  (%u sources, %llu pairs, %llu skipped, %llu invalid; ME, RMSE: per source, averaged; p99, p99.9,\n"
            "  max: over all pairs; near pairs: exact d < %g%% of the median exact d %.6g, %llu pairs)\n",
            e->n_fields, (unsigned long long)e->n_used, (unsigned long long)e->n_skipped,
