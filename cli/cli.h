@@ -71,6 +71,27 @@ const char *shown(const char *s, char *buf, size_t n);
  * their number, max if there are max or more. */
 int split_fields(char *s, char **t, int max);
 
+/* Parsers of untrusted text (query_input.c; fuzzed by fuzz/fuzz_cli_input.c). */
+/* One distance per line ("%.17g", "inf"). */
+void print_distance(FILE *f, double d);
+/* query --pairs: "X Y" per line (blank lines skipped) from r, each answer
+ * printed to out; stops at the first bad line. 0, or an exit code (message
+ * printed). r stays open. */
+int query_pairs(const gs_db *db, uint32_t n, line_reader *r, FILE *out);
+/* query --points: two points per line (mesh: "f b0 b1 b2" each, else
+ * "v0 v1 v2 l0 l1 l2"), as query_pairs. */
+int query_points(const gs_db *db, const gs_mesh *mesh, line_reader *r, FILE *out);
+/* A point from text fields: with a mesh, a face id and three weights
+ * (t[0..3]); without, three vertex ids and three weights (t[0..5]). 0, or
+ * -1 with the reason in why (n bytes). */
+int make_point(const gs_db *db, const gs_mesh *mesh, char **t, gs_surface_point *p, char *why, size_t n);
+/* "V0,V1,V2:L0,L1,L2" (no mesh) or "F:b0,b1,b2" (with the mesh) split in
+ * place into the fields make_point reads (t: 6 or 4): exactly one ':', the
+ * counts of fields, none empty. 0 or -1. */
+int split_point(char *s, int mesh, char **t);
+/* solve --source-point "F:b0,b1,b2" into *s; 0 or -1. */
+int parse_source_point(const char *a, gs_source *s);
+
 /* Database commands (db_cmds.c). */
 int cmd_build(int argc, char **argv);
 int cmd_query(int argc, char **argv);
@@ -80,6 +101,10 @@ int cmd_land(int argc, char **argv);
 int cmd_repair(int argc, char **argv);
 extern const char usage_repair[];
 extern const char usage_build[], usage_query[], usage_field[], usage_eval[], usage_land[];
+
+/* Exact paths (path_cmd.c). */
+int cmd_path(int argc, char **argv);
+extern const char usage_path[];
 
 /* Pictures (render_cmd.c). */
 int cmd_render(int argc, char **argv);

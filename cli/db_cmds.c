@@ -252,38 +252,11 @@ static int open_db(const char *path, gs_db **db)
     return rc ? lib_fail(path, rc, &err) : 0;
 }
 
-static void print_distance(FILE *f, double d)
-{
-    if (isinf(d))
-        fputs("inf\n", f);
-    else
-        fprintf(f, "%.17g\n", d);
-}
-
 static int query_id(const char *s, uint32_t n, uint32_t *v)
 {
     if (parse_u32(s, v)) return fail(EXIT_USAGE, "query: '%s' is not a vertex id", s);
     if (*v >= n) return fail(EXIT_USAGE, "query: vertex %u out of range (the database has %u)", *v, n);
     return 0;
-}
-
-static int query_pairs(const gs_db *db, uint32_t n, const char *path)
-{
-    line_reader r;
-    int rc = lines_open(&r, path), got = 0;
-    while (!rc && (got = lines_next(&r)) > 0) {
-        char *t[3];
-        int k = split_fields(r.line, t, 3);
-        if (k == 0) continue;
-        uint32_t x, y;
-        if (k != 2 || parse_u32(t[0], &x) || parse_u32(t[1], &y) || x >= n || y >= n)
-            rc = fail(EXIT_RUNTIME, "%s:%lu: expected two vertex ids below %u", path, r.ln, n);
-        else
-            print_distance(stdout, gs_db_distance(db, x, y));
-    }
-    if (got < 0) rc = EXIT_RUNTIME;
-    lines_close(&r);
-    return rc;
 }
 
 /* ---- surface points -------------------------------------------------------- */
@@ -305,60 +278,11 @@ static int load_db_mesh(const char *path, const gs_db *db, uint32_t n, gs_mesh *
     return rc;
 }
 
-/* A validation message without the library's "surface point: " prefix. */
-static const char *point_message(const gs_error *e)
+static int query_file(const gs_db *db, const gs_mesh *mesh, uint32_t n, const char *path, int points)
 {
-    static const char prefix[] = "surface point: ";
-    return strncmp(e->message, prefix, sizeof prefix - 1) ? e->message : e->message + sizeof prefix - 1;
-}
-
-/* A point from text: with a mesh, a face id and three weights (t[0..3]);
- * without, three vertex ids and three weights (t[0..5]). 0, or -1 with
- * the reason in why. */
-static int make_point(const gs_db *db, const gs_mesh *mesh, char **t, gs_surface_point *p, char *why, size_t n)
-{
-    int nid = mesh ? 1 : 3;
-    uint32_t id[3];
-    double w[3];
-    char tok[80]; /* the field as the message shows it */
-    for (int k = 0; k < nid; ++k)
-        if (parse_u32(t[k], &id[k]))
-            return snprintf(why, n, "'%s' is not a %s id", shown(t[k], tok, sizeof tok), mesh ? "face" : "vertex"), -1;
-    for (int k = 0; k < 3; ++k)
-        if (parse_double(t[nid + k], &w[k]))
-            return snprintf(why, n, "weight '%s' is not a number", shown(t[nid + k], tok, sizeof tok)), -1;
-    gs_error e = {0};
-    if (mesh && gs_surface_point_from_face(mesh, id[0], w[0], w[1], w[2], p, &e))
-        return snprintf(why, n, "%s", e.message), -1;
-    if (!mesh) *p = gs_surface_point_make(id[0], id[1], id[2], w[0], w[1], w[2]);
-    if (gs_db_point_check(db, p, &e)) return snprintf(why, n, "%s", point_message(&e)), -1;
-    return 0;
-}
-
-static int query_points(const gs_db *db, const gs_mesh *mesh, const char *path)
-{
-    const int per = mesh ? 4 : 6;
-    const char *form = mesh ? "'f b0 b1 b2  g c0 c1 c2' (face id and three weights, twice)"
-                            : "'v0 v1 v2 l0 l1 l2  w0 w1 w2 m0 m1 m2' (three vertex ids and three weights, twice)";
     line_reader r;
-    int rc = lines_open(&r, path), got = 0;
-    while (!rc && (got = lines_next(&r)) > 0) {
-        char *t[13];
-        int k = split_fields(r.line, t, 2 * per + 1);
-        if (k == 0) continue;
-        if (k != 2 * per) {
-            rc = fail(EXIT_RUNTIME, "%s:%lu: expected %d fields %s, got %s%d", path, r.ln, 2 * per, form,
-                      k > 2 * per ? "more than " : "", k > 2 * per ? 2 * per : k);
-            break;
-        }
-        gs_surface_point p[2];
-        char why[600];
-        for (int j = 0; j < 2 && !rc; ++j)
-            if (make_point(db, mesh, t + j * per, &p[j], why, sizeof why))
-                rc = fail(EXIT_RUNTIME, "%s:%lu: %s point: %s", path, r.ln, j ? "second" : "first", why);
-        if (!rc) print_distance(stdout, gs_db_point_distance(db, &p[0], &p[1]));
-    }
-    if (got < 0) rc = EXIT_RUNTIME;
+    int rc = lines_open(&r, path);
+    if (!rc) rc = points ? query_points(db, mesh, &r, stdout) : query_pairs(db, n, &r, stdout);
     lines_close(&r);
     return rc;
 }
@@ -386,10 +310,10 @@ int cmd_query(int argc, char **argv)
     gs_db_info info;
     gs_db_get_info(db, &info, NULL);
     if (pairs)
-        rc = query_pairs(db, info.n_vertices, pairs);
+        rc = query_file(db, NULL, info.n_vertices, pairs, 0);
     else if (points) {
         gs_mesh *m = NULL;
-        if (!meshp || !(rc = load_db_mesh(meshp, db, info.n_vertices, &m))) rc = query_points(db, m, points);
+        if (!meshp || !(rc = load_db_mesh(meshp, db, info.n_vertices, &m))) rc = query_file(db, m, info.n_vertices, points, 1);
         gs_mesh_free(m);
     } else {
         uint32_t x, y;
@@ -417,27 +341,6 @@ static int field_gt(const gs_db *db, uint32_t n, const char *from, const char *o
     free(d);
     gs_gt_free(gt);
     return rc;
-}
-
-/* "V0,V1,V2:L0,L1,L2" (no mesh) or "F:b0,b1,b2" (with the mesh) into the
- * tokens make_point reads: exactly one ':', the counts of fields, none
- * empty. */
-static int split_point(char *s, int mesh, char **t)
-{
-    char *c = strchr(s, ':');
-    if (!c || strchr(c + 1, ':')) return -1;
-    *c = ',';
-    int k = 0, want = mesh ? 4 : 6, nid = mesh ? 1 : 3;
-    for (char *f = s;; ++k) {
-        if (k == want) return -1;
-        t[k] = f;
-        if (!(f = strchr(f, ','))) break;
-        *f++ = 0;
-    }
-    if (++k != want || t[nid] != c + 1) return -1;
-    for (int i = 0; i < want; ++i)
-        if (!*t[i]) return -1;
-    return 0;
 }
 
 static int field_point(const gs_db *db, uint32_t n, const char *opt, const char *spec, const char *meshp,

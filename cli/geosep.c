@@ -84,6 +84,7 @@ static void print_usage(FILE *f)
             "  generate SPEC -o OUT.obj        write a generated test mesh\n"
             "  subdivide MESH -o OUT.obj       1-to-4 midpoint subdivision (same surface)\n"
             "  solve MESH --source V ...       distance field from sources\n"
+            "  path --exact MESH X Y           exact shortest path (a polyline)\n"
             "  build MESH -o DB                build a query database\n"
             "  query DB X Y                    approximate geodesic distance\n"
             "  query DB --points FILE          ... between surface points (face, weights)\n"
@@ -244,24 +245,6 @@ static int add_source(solve_opts *o, gs_source s, const char *arg)
 }
 
 /* "F:b0,b1,b2" */
-static int parse_point(const char *a, gs_source *s)
-{
-    char buf[256], *colon, *c1, *c2;
-    if (strlen(a) >= sizeof buf) return -1;
-    strcpy(buf, a);
-    if (!(colon = strchr(buf, ':'))) return -1;
-    *colon = 0;
-    if (!(c1 = strchr(colon + 1, ',')) || !(c2 = strchr(c1 + 1, ','))) return -1;
-    *c1 = *c2 = 0;
-    uint32_t f;
-    double b[3];
-    if (parse_u32(buf, &f) || parse_double(colon + 1, &b[0]) || parse_double(c1 + 1, &b[1]) ||
-        parse_double(c2 + 1, &b[2]))
-        return -1;
-    *s = gs_source_point(f, b[0], b[1], b[2]);
-    return 0;
-}
-
 static int solve_option(solve_opts *o, int argc, char **argv, int *i)
 {
     const char *a = argv[*i], *v;
@@ -281,7 +264,7 @@ static int solve_option(solve_opts *o, int argc, char **argv, int *i)
         }
         case 1: {
             gs_source s;
-            if (parse_point(v, &s))
+            if (parse_source_point(v, &s))
                 return fail(EXIT_USAGE, "solve: --source-point '%s': expected F:b0,b1,b2 (face id, three barycentric coordinates)", v);
             return add_source(o, s, v);
         }
@@ -604,6 +587,7 @@ static const command commands[] = {
     {"generate", cmd_generate, usage_generate},
     {"subdivide", cmd_subdivide, usage_subdivide},
     {"solve", cmd_solve, usage_solve},
+    {"path", cmd_path, usage_path},
     {"build", cmd_build, usage_build},
     {"query", cmd_query, usage_query},
     {"field", cmd_field, usage_field},

@@ -458,6 +458,52 @@ GS_API int gs_distance_field(const gs_patch *patch, gs_method method,
                       const gs_source *sources, uint32_t n_sources,
                       double max_distance, double *dist, gs_error *err);
 
+/* ---- exact geodesic paths (doc/paths.md) ---------------------------------
+ * A path is a polyline of surface points from a source to a target whose
+ * length is the exact polyhedral distance (to rounding, ~1e-12 relative):
+ * it is straight inside every face and bends only at saddle, boundary or
+ * non-manifold vertices. Point i is given as xyz and as local face
+ * face[i] with barycentric weights bary[3i..3i+2] (>= 0, summing to 1);
+ * face[i] holds the segment from point i to point i+1 (the last point: the
+ * segment arriving at it), so consecutive points share a face. Points are
+ * the source, the crossings with the edges, the vertices passed through and
+ * the target, without repeats; source == target gives one point. A target
+ * the source cannot reach (another component) gives an empty path (0
+ * points, length +INFINITY) and GS_OK. */
+typedef struct gs_path gs_path;
+
+/* Exact shortest path on the solver's patch from `source` to `target`
+ * (each a vertex or a surface point, local ids, as gs_solver_solve's
+ * sources): solves the exact field from source (one gs_solver_solve:
+ * the solver's last field is then source's), then backtracks. GS_EARG if
+ * the solver's method is not GS_METHOD_EXACT or a point is invalid
+ * (message names which). *out receives a new path (gs_path_free); on error
+ * *out is NULL. Same thread rules as the solver. */
+GS_API int gs_solver_path(gs_solver *solver, const gs_source *source, const gs_source *target,
+                          gs_path **out, gs_error *err);
+
+/* Path to the vertex target->vertex (a surface point that is a vertex is
+ * accepted) from the sources of the solver's last gs_solver_solve, which
+ * must have used the exact method: solve once, trace to many targets
+ * (each trace costs about the path's number of faces, not a solve). With
+ * several sources it leads to the nearest. GS_EARG if the method is not
+ * exact, no exact solve succeeded yet, the target is a surface point
+ * inside a face (use gs_solver_path) or lies beyond the last solve's
+ * max_distance. *out: new path (gs_path_free), NULL on error. Same thread
+ * rules as the solver. */
+GS_API int gs_solver_trace(gs_solver *solver, const gs_source *target, gs_path **out, gs_error *err);
+
+/* Accessors (NULL/0-safe; arrays belong to the path, valid until
+ * gs_path_free; a path is immutable: any number of threads may read it).
+ * xyz: 3n doubles, faces: n local face ids, bary: 3n doubles (NULL when
+ * n == 0). length: the sum of the segments' lengths (+INFINITY when empty). */
+GS_API uint32_t gs_path_num_points(const gs_path *path);
+GS_API double gs_path_length(const gs_path *path);
+GS_API const double *gs_path_xyz(const gs_path *path);
+GS_API const uint32_t *gs_path_faces(const gs_path *path);
+GS_API const double *gs_path_bary(const gs_path *path);
+GS_API void gs_path_free(gs_path *path);
+
 /* ======================================================================== */
 /* Query databases (the paper's SEP method)                                 */
 /* ======================================================================== */

@@ -502,5 +502,25 @@ printf 'v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n' >"$T/flat.obj"
 expect_fail 1 "nothing is left" "repair: only zero-area faces" repair "$T/flat.obj" -o "$T/bad.obj"
 { [ ! -e "$T/bad.obj" ] && [ -z "$(find "$T" -name '*.tmp.*')" ]; }; verdict "repair: failures leave no file"
 
+# ---- path (exact paths) ------------------------------------------------------
+run generate grid:5,5 -o "$T/g55.obj"
+run path --exact "$T/g55.obj" 0 24
+{ [ "$rc" -eq 0 ] && [ "$(head -1 "$T/out")" = "# length 1.4142135623730951" ] && [ "$(grep -vc '^#' "$T/out")" -eq 5 ] &&
+  awk '!/^#/ { if ($1 != $2 || $3 != 0) bad = 1; n++ } END { exit bad }' "$T/out"; }
+verdict "path: the diagonal of a flat grid, straight through the vertices, with its length"
+run path --exact "$T/g55.obj" 3:0.2,0.3,0.5 24 --format faces -o "$T/p.txt"
+{ [ "$rc" -eq 0 ] && [ ! -s "$T/out" ] && head -2 "$T/p.txt" | tail -1 | grep -q '^3 0.2' &&
+  awk '!/^#/ { s = $2 + $3 + $4; if (s < 1 - 1e-12 || s > 1 + 1e-12 || $2 < 0 || $3 < 0 || $4 < 0) bad = 1 } END { exit bad }' "$T/p.txt"; }
+verdict "path --format faces -o: from a surface point, face and weights per line"
+run generate two:3 -o "$T/two.obj"
+run path --exact "$T/two.obj" 0 17
+{ [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = "# length inf" ]; }; verdict "path: another component: length inf, no points"
+expect_fail 2 "give --exact" "path: without --exact" path "$T/g55.obj" 0 1
+expect_fail 2 "expected --exact MESH X Y" "path: missing Y" path --exact "$T/g55.obj" 0
+expect_fail 2 "expected a vertex id or F:b0,b1,b2" "path: bad X" path --exact "$T/g55.obj" x 1
+expect_fail 2 "expected xyz or faces" "path: bad format" path --exact "$T/g55.obj" 0 1 --format obj
+expect_fail 1 "target: vertex 99 out of range" "path: Y out of range" path --exact "$T/g55.obj" 0 99
+expect_fail 1 "must be 1" "path: weights not summing to 1" path --exact "$T/g55.obj" 0 1:0.5,0.6,0
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -550,6 +550,10 @@ static void test_bad_args(void)
     expect_earg(m, &b, buf, "point 1");
     b.n_points = 1;
     CHECK(gs_render(m, &b, buf, &err) == GS_OK);
+    double far[6] = {-1e300, 1e300, 1e300, 1e300, -1e300, -1e300}; /* far off: not drawn, no crash */
+    b.points = far;
+    b.n_points = 2;
+    CHECK(gs_render(m, &b, buf, &err) == GS_OK);
     /* the largest size works (1x1 supersampling) and angles far out too */
     b = opts(GS_RENDER_MAX_SIZE, GS_RENDER_MIN_SIZE, 1e6, -1e6);
     uint8_t *wide = malloc((size_t)b.width * b.height * 3);

@@ -768,6 +768,21 @@ static void test_file_and_errors(void)
         gs_mesh_free(m);
         gs_repair_free(r);
     }
+    /* OFF: the same, its lines named */
+    snprintf(path, sizeof path, "%s/bowtie.off", dir);
+    f = fopen(path, "w");
+    fputs("OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n2 0 0\n2 -1 0\n3 0 1 2\n# comment\n3 1 3 4\n", f);
+    fclose(f);
+    rc = gs_mesh_repair_file(path, GS_FORMAT_AUTO, &m, &r, &err);
+    CHECK_MSG(rc == GS_OK, "%s", err.message);
+    if (rc == GS_OK) {
+        CHECK(r->count[GS_REPAIR_SPLIT_VERTEX] == 1 && r->example[GS_REPAIR_SPLIT_VERTEX][0].line == 10 &&
+              r->example[GS_REPAIR_SPLIT_VERTEX][0].face == 1);
+        gs_mesh_free(m);
+        gs_repair_free(r);
+    }
+    unlink(path);
+    snprintf(path, sizeof path, "%s/bowtie.obj", dir);
     /* parse-level safety stays: an index out of range is an error */
     f = fopen(path, "w");
     fputs("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 4\n", f);
@@ -815,8 +830,9 @@ static void test_random_soups(void)
     for (int it = 0; it < 400; ++it) {
         soup s = {0};
         uint32_t nv = 4 + rnd(24), nf = 1 + rnd(40), side = 2 + rnd(3);
+        int needles = it % 4 == 3; /* some points 1e-14 off the lattice: needles */
         for (uint32_t v = 0; v < nv; ++v) /* lattice points: coincident and collinear ones */
-            add_v(&s, rnd(side), rnd(side), rnd(2) ? 0 : rnd(side));
+            add_v(&s, rnd(side) + (needles && rnd(3) == 0 ? 1e-14 : 0), rnd(side), rnd(2) ? 0 : rnd(side));
         for (uint32_t f = 0; f < nf; ++f) {
             uint32_t a = rnd(nv), b = rnd(nv), c = rnd(nv);
             if (f > 0 && rnd(3) == 0) { /* reuse an edge of an earlier face */
@@ -848,6 +864,41 @@ static void test_random_soups(void)
     }
     CHECK(n_ok > 200);
     if (getenv("GEOSEP_TEST_VERBOSE")) fprintf(stderr, "random soups: %d repaired, %d empty\n", n_ok, n_empty);
+}
+
+/* Many fans at one vertex, many faces on one edge: handled in time linear
+ * in their number (a quadratic step would make this test crawl). */
+static void test_many(void)
+{
+    const uint32_t n = 20000;
+    soup s = {0};
+    uint32_t c = add_v(&s, 0, 0, 0);
+    for (uint32_t i = 0; i < n; ++i) {
+        double a = 2 * M_PI * i / n;
+        uint32_t p = add_v(&s, cos(a), sin(a), 1), q = add_v(&s, cos(a), sin(a), 2);
+        add_f(&s, c, p, q);
+    }
+    result x = repair(&s, "star of triangles at one vertex");
+    int want[] = {GS_REPAIR_SPLIT_VERTEX, 1, -1};
+    check_counts(&x, "star of triangles at one vertex", want);
+    if (x.m) CHECK(gs_mesh_num_vertices(x.m) == s.nv + n - 1 && x.r->alias_start[1] - x.r->alias_start[0] == n);
+    done(&x);
+    soup_free(&s);
+    soup b = {0};
+    add_v(&b, 0, 0, 0), add_v(&b, 1, 0, 0);
+    for (uint32_t i = 0; i < n; ++i) {
+        double a = 2 * M_PI * i / n;
+        add_f(&b, 0, 1, add_v(&b, 0.5, cos(a), sin(a)));
+    }
+    x = repair(&b, "book of pages on one edge");
+    if (x.m) {
+        CHECK(x.r->count[GS_REPAIR_NONMANIFOLD_EDGE] == 1 && gs_mesh_num_faces(x.m) == n);
+        gs_mesh_report rep;
+        gs_mesh_get_report(x.m, &rep, NULL);
+        CHECK(rep.n_components == n - 1); /* one glued pair, the other pages apart */
+    }
+    done(&x);
+    soup_free(&b);
 }
 
 /* A closed curved mesh (an icosphere) with every reversible flaw at once:
@@ -1053,6 +1104,7 @@ int main(void)
     test_components();
     test_file_and_errors();
     test_random_soups();
+    test_many();
     test_sphere_all_flaws();
     test_uv_patches();
     test_shared_unchanged();

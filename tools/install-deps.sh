@@ -5,8 +5,11 @@
 set -euo pipefail
 # libopenblas-dev: an optimised BLAS for CHOLMOD at run time (without it apt
 # installs the reference BLAS, slower for the heat method's factorisations).
+# clang, libclang-rt-14-dev (libFuzzer and the sanitizer runtimes: only a
+# Recommends of Debian 12's clang-14) and libomp-dev (clang's OpenMP): the
+# fuzz targets (tools/fuzz.sh).
 pkgs=(build-essential cmake pkg-config libmetis-dev libsuitesparse-dev
-      libopenblas-dev libpng-dev
+      libopenblas-dev libpng-dev clang libclang-rt-14-dev libomp-dev
       python3-dev python3-numpy python3-pytest python3-venv python3-setuptools python3-wheel)
 missing=()
 for p in "${pkgs[@]}"; do

@@ -13,6 +13,7 @@ microsecond each::
     d = db.distance(0, 100)                       # float
     D = db.pairwise([0, 1, 2])                    # (3, 3) array
     exact = geosep.distance_field(mesh, 0)        # (n,) exact distances
+    path = geosep.geodesic_path(mesh, 0, 100)     # (k, 3) exact shortest path
     geosep.render(mesh, exact, separators=db, path="bunny.png")
 
 Errors: MeshError (an invalid mesh), DatabaseError (a corrupt or
@@ -30,6 +31,7 @@ from ._geosep import (
     Solver,
     Database,
     distance_field,
+    geodesic_path,
     render,
 )
 
@@ -42,5 +44,6 @@ __all__ = [
     "Solver",
     "Database",
     "distance_field",
+    "geodesic_path",
     "render",
 ]

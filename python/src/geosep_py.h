@@ -110,6 +110,8 @@ PyObject *gspy_readonly_view(PyObject *base, int nd, npy_intp *dims, int typenum
 int gspy_solver_init_type(PyObject *module);
 PyObject *gspy_distance_field(PyObject *module, PyObject *args, PyObject *kwargs);
 extern const char gspy_distance_field_doc[];
+PyObject *gspy_geodesic_path(PyObject *module, PyObject *args, PyObject *kwargs);
+extern const char gspy_geodesic_path_doc[];
 
 /* render.c */
 PyObject *gspy_render(PyObject *module, PyObject *args, PyObject *kwargs);

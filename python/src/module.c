@@ -6,6 +6,8 @@
 static PyMethodDef module_methods[] = {
     {"distance_field", (PyCFunction)(void (*)(void))gspy_distance_field, METH_VARARGS | METH_KEYWORDS,
      gspy_distance_field_doc},
+    {"geodesic_path", (PyCFunction)(void (*)(void))gspy_geodesic_path, METH_VARARGS | METH_KEYWORDS,
+     gspy_geodesic_path_doc},
     {"render", (PyCFunction)(void (*)(void))gspy_render, METH_VARARGS | METH_KEYWORDS, gspy_render_doc},
     {NULL, NULL, 0, NULL}};
 

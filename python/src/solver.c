@@ -99,6 +99,113 @@ static PyObject *solver_field(gspy_Solver *self, PyObject *args, PyObject *kwarg
     return out;
 }
 
+
+/* ---- paths ---------------------------------------------------------------- */
+
+/* One end of a path: a vertex id, or (face, (b0, b1, b2)). 0, or -1 with
+ * TypeError / IndexError / ValueError set. */
+static int path_end(PyObject *obj, const gs_mesh *m, const char *name, gs_source *out)
+{
+    uint32_t v;
+    if (gspy_is_int_scalar(obj)) {
+        if (gspy_index(obj, gs_mesh_num_vertices(m), "vertex id", &v) < 0) return -1;
+        *out = gs_source_vertex(v);
+        return 0;
+    }
+    PyObject *seq = PySequence_Check(obj) ? PySequence_Fast(obj, "") : NULL;
+    if (!seq || PySequence_Fast_GET_SIZE(seq) != 2) {
+        Py_XDECREF(seq);
+        PyErr_Clear();
+        PyErr_Format(PyExc_TypeError, "%s must be a vertex id or a surface point (face, (b0, b1, b2))", name);
+        return -1;
+    }
+    uint32_t f;
+    int rc = gspy_index(PySequence_Fast_GET_ITEM(seq, 0), gs_mesh_num_faces(m), "face id", &f);
+    PyArrayObject *b = NULL;
+    if (rc == 0) {
+        b = (PyArrayObject *)PyArray_FROMANY(PySequence_Fast_GET_ITEM(seq, 1), NPY_DOUBLE, 1, 1, NPY_ARRAY_CARRAY);
+        if (!b || PyArray_SIZE(b) != 3) {
+            if (b) PyErr_Format(PyExc_ValueError, "%s: the weights must be 3 numbers", name);
+            rc = -1;
+        } else {
+            const double *w = PyArray_DATA(b);
+            *out = gs_source_point(f, w[0], w[1], w[2]);
+        }
+    }
+    Py_XDECREF(b);
+    Py_DECREF(seq);
+    return rc;
+}
+
+/* The path as numpy arrays: (k, 3) xyz, or (xyz, faces (k,), bary (k, 3)). */
+static PyObject *path_arrays(const gs_path *p, int with_faces)
+{
+    npy_intp k = gs_path_num_points(p), d2[2] = {k, 3}, d1[1] = {k};
+    PyObject *xyz = PyArray_SimpleNew(2, d2, NPY_DOUBLE);
+    if (!xyz) return NULL;
+    if (k) memcpy(PyArray_DATA((PyArrayObject *)xyz), gs_path_xyz(p), (size_t)k * 3 * sizeof(double));
+    if (!with_faces) return xyz;
+    PyObject *faces = PyArray_SimpleNew(1, d1, NPY_INT64), *bary = PyArray_SimpleNew(2, d2, NPY_DOUBLE);
+    if (!faces || !bary) {
+        Py_DECREF(xyz);
+        Py_XDECREF(faces);
+        Py_XDECREF(bary);
+        return NULL;
+    }
+    int64_t *fo = PyArray_DATA((PyArrayObject *)faces);
+    for (npy_intp i = 0; i < k; ++i) fo[i] = gs_path_faces(p)[i];
+    if (k) memcpy(PyArray_DATA((PyArrayObject *)bary), gs_path_bary(p), (size_t)k * 3 * sizeof(double));
+    return Py_BuildValue("(NNN)", xyz, faces, bary);
+}
+
+/* Solve and trace without the GIL (lock: the solver's, or NULL). */
+static PyObject *find_path(gs_solver *solver, const gs_source *x, const gs_source *y, int with_faces,
+                           PyThread_type_lock lock)
+{
+    gs_error err = {0};
+    gs_path *p = NULL;
+    int rc;
+    Py_BEGIN_ALLOW_THREADS
+    if (lock) PyThread_acquire_lock(lock, WAIT_LOCK);
+    rc = gs_solver_path(solver, x, y, &p, &err);
+    if (lock) PyThread_release_lock(lock);
+    Py_END_ALLOW_THREADS
+    if (rc) return gspy_raise(rc, &err, GSPY_CTX_OTHER, NULL, 0);
+    PyObject *out = path_arrays(p, with_faces);
+    gs_path_free(p);
+    return out;
+}
+
+#define PATH_DOC_BODY                                                                  \
+    "The exact shortest path on the mesh from x to y, each a vertex id or a\n"          \
+    "surface point (face, (b0, b1, b2)) with weights >= 0 summing to 1: a\n"            \
+    "(k, 3) float64 array of points from x to y (x, every crossing with an\n"           \
+    "edge, every vertex passed through, y), straight inside every face; its\n"          \
+    "length (np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) is the exact\n"          \
+    "geodesic distance. x == y gives one point; a y that x cannot reach\n"              \
+    "(another component) a (0, 3) array. return_faces=True: a tuple (points,\n"         \
+    "faces, bary) with faces (k,) int64, a face holding the segment to the next\n"      \
+    "point (the last point: from the previous one), and bary (k, 3) the\n"              \
+    "point's weights in it. Costs one exact field from x. IndexError for an id\n"       \
+    "out of range, ValueError for weights that are negative or do not sum to 1.\n"
+
+static PyObject *solver_path(gspy_Solver *self, PyObject *args, PyObject *kwargs)
+{
+    static char *kw[] = {"x", "y", "return_faces", NULL};
+    PyObject *xo, *yo;
+    int with_faces = 0;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "OO|$p:path", kw, &xo, &yo, &with_faces)) return NULL;
+    if (self->method != GS_METHOD_EXACT) {
+        PyErr_Format(PyExc_ValueError, "path needs the exact method (this Solver is %s)",
+                     gs_method_name(self->method));
+        return NULL;
+    }
+    const gs_mesh *m = ((gspy_Mesh *)self->mesh)->mesh;
+    gs_source x, y;
+    if (path_end(xo, m, "x", &x) < 0 || path_end(yo, m, "y", &y) < 0) return NULL;
+    return find_path(self->solver, &x, &y, with_faces, self->lock);
+}
+
 static PyObject *solver_get_mesh(gspy_Solver *self, void *Py_UNUSED(closure)) { return Py_NewRef(self->mesh); }
 
 static PyObject *solver_get_method(gspy_Solver *self, void *Py_UNUSED(closure))
@@ -126,6 +233,10 @@ static PyMethodDef solver_methods[] = {
      "component, an unreferenced vertex). max_distance > 0 stops early: every\n"
      "vertex within it is exact, the others may be +inf or any larger value.\n"
      "IndexError for an id out of range. The GIL is released while solving."},
+    {"path", (PyCFunction)(void (*)(void))solver_path, METH_VARARGS | METH_KEYWORDS,
+     "path($self, /, x, y, *, return_faces=False)\n--\n\n" PATH_DOC_BODY
+     "Only for method \"exact\" (ValueError otherwise). The GIL is released\n"
+     "while solving."},
     {NULL, NULL, 0, NULL}};
 
 PyTypeObject gspy_SolverType = {
@@ -194,5 +305,34 @@ PyObject *gspy_distance_field(PyObject *Py_UNUSED(module), PyObject *args, PyObj
     gs_solver_free(solver);
     gs_patch_free(patch);
     PyMem_Free(src);
+    return out;
+}
+
+/* ---- geosep.geodesic_path ------------------------------------------------ */
+
+const char gspy_geodesic_path_doc[] =
+    "geodesic_path(mesh, x, y, *, return_faces=False)\n--\n\n" PATH_DOC_BODY
+    "The one-shot form of Solver(mesh, \"exact\").path(x, y); use a Solver for\n"
+    "many paths on one mesh (it keeps its memory).";
+
+PyObject *gspy_geodesic_path(PyObject *Py_UNUSED(module), PyObject *args, PyObject *kwargs)
+{
+    static char *kw[] = {"mesh", "x", "y", "return_faces", NULL};
+    PyObject *mesh, *xo, *yo;
+    int with_faces = 0;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O!OO|$p:geodesic_path", kw, &gspy_MeshType, &mesh, &xo, &yo,
+                                     &with_faces))
+        return NULL;
+    const gs_mesh *m = ((gspy_Mesh *)mesh)->mesh;
+    gs_source x, y;
+    if (path_end(xo, m, "x", &x) < 0 || path_end(yo, m, "y", &y) < 0) return NULL;
+    gs_solver_options opt;
+    gs_solver_options_default(&opt);
+    gs_patch *patch = NULL;
+    gs_solver *solver = NULL;
+    PyObject *out = NULL;
+    if (make_solver(m, GS_METHOD_EXACT, &opt, &patch, &solver) == 0) out = find_path(solver, &x, &y, with_faces, NULL);
+    gs_solver_free(solver);
+    gs_patch_free(patch);
     return out;
 }

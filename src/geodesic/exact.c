@@ -59,7 +59,8 @@ typedef struct ex_win {
     double sx, sy; /* pseudo-source in the half-edge frame, sy <= 0       */
     double sigma;  /* distance of the pseudo-source                       */
     uint32_t next; /* next window pending on the same half-edge / free list */
-    uint32_t pad;
+    uint32_t tag;  /* index of the surface-point source its rays come from, */
+                   /* GS_NONE when they come from a vertex (for paths)     */
 } ex_win;
 
 typedef struct ex_state {
@@ -78,6 +79,11 @@ typedef struct ex_state {
     ex_win *win;          /* window pool                                     */
     uint32_t n_win, cap_win, free_win;
     gs_iheap fheap, vheap;
+    /* what the last solve's vertex distances came from (path.c backtracks
+     * through it; gs_exact_trace in geodesic_internal.h) */
+    gs_exact_trace tr;
+    uint32_t src_cap;
+    uint32_t tface; /* face of the target point of the next solves, or GS_NONE */
     /* per solve */
     double *d;
     double max_d;
@@ -102,6 +108,12 @@ static void ex_destroy(void *state)
     free(s->head);
     free(s->fired);
     free(s->win);
+    free(s->tr.kind);
+    free(s->tr.ref);
+    free(s->tr.tag);
+    free(s->tr.sxy);
+    free(s->tr.dist);
+    free(s->tr.src);
     gs_iheap_free(&s->fheap);
     gs_iheap_free(&s->vheap);
     free(s);
@@ -128,12 +140,20 @@ static int ex_create(const gs_topo *t, const gs_solver_options *opt, void **stat
     s->fclosed = gs__malloc(nh, 1);
     s->in_c = gs__malloc(t->nv, sizeof *s->in_c);
     s->in_a = gs__malloc(t->nv, sizeof *s->in_a);
+    s->tr.kind = gs__malloc(t->nv, 1);
+    s->tr.ref = gs__malloc(t->nv, sizeof *s->tr.ref);
+    s->tr.tag = gs__malloc(t->nv, sizeof *s->tr.tag);
+    s->tr.sxy = gs__malloc(2 * (size_t)t->nv, sizeof *s->tr.sxy);
+    s->tr.dist = gs__malloc(t->nv, sizeof *s->tr.dist);
+    s->tr.target.face = GS_NONE;
+    s->tface = GS_NONE;
     s->cap_win = 1024;
     s->win = gs__malloc(s->cap_win, sizeof *s->win);
     int hf = gs_iheap_init(&s->fheap, t->nf);
     int hv = gs_iheap_init(&s->vheap, t->nv);
     if (!s->hl || !s->hc || !s->hs || !s->pseudo || !s->head || !s->fired || !s->win || hf ||
-        hv || !s->off || !s->fan || !s->ftot || !s->fclosed || !s->in_c || !s->in_a) {
+        hv || !s->off || !s->fan || !s->ftot || !s->fclosed || !s->in_c || !s->in_a || !s->tr.kind ||
+        !s->tr.ref || !s->tr.tag || !s->tr.sxy || !s->tr.dist) {
         ex_destroy(s);
         return gs__fail(err, GS_ENOMEM, "out of memory creating an exact solver");
     }
@@ -184,11 +204,19 @@ static int ex_create(const gs_topo *t, const gs_solver_options *opt, void **stat
 
 /* Lower d(v) to val, reached by a path arriving in corner c at angle a from
  * the corner's first edge (for pseudo-sources, which only need to emit
- * windows into the directions that path cannot reach straight). */
-static inline void ex_update_vertex(ex_state *s, uint32_t v, double val, uint32_t c, double a)
+ * windows into the directions that path cannot reach straight). The path's
+ * last straight piece is recorded for backtracking: kind and ref as in
+ * gs_exact_trace, (sx, sy) the window's source, tag its point source. */
+static inline void ex_update_vertex(ex_state *s, uint32_t v, double val, uint32_t c, double a,
+                                    uint8_t kind, uint32_t ref, double sx, double sy, uint32_t tag)
 {
     if (val < s->d[v]) {
         s->d[v] = val;
+        s->tr.kind[v] = kind;
+        s->tr.ref[v] = ref;
+        s->tr.tag[v] = tag;
+        s->tr.sxy[2 * (size_t)v] = sx;
+        s->tr.sxy[2 * (size_t)v + 1] = sy;
         if (s->pseudo[v]) {
             s->in_c[v] = c;
             s->in_a[v] = a;
@@ -289,7 +317,7 @@ static uint32_t ex_alloc(ex_state *s)
 /* Queue a window on half-edge h (after trimming against the end vertices of
  * h). Windows on boundary half-edges are never created: callers pass twins. */
 static void ex_push(ex_state *s, uint32_t h, double b0, double b1, double sx, double sy,
-                    double sigma)
+                    double sigma, uint32_t tag)
 {
     const gs_topo *t = s->t;
     double len = s->hl[h];
@@ -310,6 +338,7 @@ static void ex_push(ex_state *s, uint32_t h, double b0, double b1, double sx, do
     p->sx = sx;
     p->sy = sy;
     p->sigma = sigma;
+    p->tag = tag;
     p->next = s->head[h];
     s->head[h] = w;
     s->created++;
@@ -330,8 +359,8 @@ static void ex_fire_vertex(ex_state *s, uint32_t v)
     s->fired[v] = dv;
     for (uint32_t k = t->vc_start[v]; k < t->vc_start[v + 1]; ++k) {
         uint32_t c = t->vc[k], cn = gs_next(c), cp = gs_prev(c);
-        ex_update_vertex(s, t->tri[cn], dv + s->hl[c], cn, t->angle[cn]);
-        ex_update_vertex(s, t->tri[cp], dv + s->hl[cp], cp, 0.0);
+        ex_update_vertex(s, t->tri[cn], dv + s->hl[c], cn, t->angle[cn], GS_EXTR_EDGE, c, 0, 0, GS_NONE);
+        ex_update_vertex(s, t->tri[cp], dv + s->hl[cp], cp, 0.0, GS_EXTR_EDGE, c, 0, 0, GS_NONE);
     }
     uint32_t cin = s->in_c[v], fin = GS_NONE;
     double b = 0, tot = 0;
@@ -394,13 +423,13 @@ static void ex_fire_vertex(ex_state *s, uint32_t v)
             if (lo > 0) x1 = L - lv * sin(lo) / sin(lo + beta);
         }
         s->propagated++;
-        ex_push(s, tw, x0, x1, L - x, -y, dv);
+        ex_push(s, tw, x0, x1, L - x, -y, dv, GS_NONE);
     }
 }
 
 /* A point of face f: the corners get their straight distances, and each edge
  * emits a window into the face across it (rays from the point). */
-static void ex_fire_point(ex_state *s, const gs_source *src)
+static void ex_fire_point(ex_state *s, const gs_source *src, uint32_t isrc)
 {
     const gs_topo *t = s->t;
     uint32_t f = src->face;
@@ -411,15 +440,44 @@ static void ex_fire_point(ex_state *s, const gs_source *src)
         double w1 = src->bary[(i + 1) % 3], w2 = src->bary[(i + 2) % 3];
         double px = w1 * len + w2 * cx, py = w2 * cy;
         /* distance to the corner at the start of h */
-        ex_update_vertex(s, t->tri[h], sqrt(px * px + py * py), h, atan2(py, px));
+        ex_update_vertex(s, t->tri[h], sqrt(px * px + py * py), h, atan2(py, px), GS_EXTR_POINT, isrc, 0, 0,
+                         isrc);
         uint32_t tw = t->opp[h];
         if (tw == GS_NONE) continue;
         s->propagated++;
-        ex_push(s, tw, 0, len, len - px, -py, 0.0);
+        ex_push(s, tw, 0, len, len - px, -py, 0.0, isrc);
     }
 }
 
 /* ---- propagation --------------------------------------------------------- */
+
+/* The path target point (gs__exact_set_target) lies in the face of half-edge
+ * h: let the windows from wi on entering that face offer it their distance. */
+static void ex_target_windows(ex_state *s, uint32_t h, uint32_t wi)
+{
+    gs_exact_target *q = &s->tr.target;
+    uint32_t i = h % 3;
+    double len = s->hl[h], lac = s->hl[gs_prev(h)];
+    double cx = lac * s->hc[h], cy = lac * s->hs[h];
+    double w1 = q->bary[(i + 1) % 3], w2 = q->bary[(i + 2) % 3];
+    double qx = w1 * len + w2 * cx, qy = w2 * cy;
+    double slack = COVER_REL * len;
+    for (; wi != GS_NONE; wi = s->win[wi].next) {
+        const ex_win *w = &s->win[wi];
+        if (!(qy - w->sy > 0)) continue; /* along the edge: a corner's path is as short */
+        double xq = w->sx + (qx - w->sx) * (-w->sy) / (qy - w->sy);
+        if (xq < w->b0 - slack || xq > w->b1 + slack) continue;
+        double ex = qx - w->sx, ey = qy - w->sy;
+        double val = w->sigma + sqrt(ex * ex + ey * ey);
+        if (val < q->dist) {
+            q->dist = val;
+            q->h = h;
+            q->sx = w->sx;
+            q->sy = w->sy;
+            q->tag = w->tag;
+        }
+    }
+}
 
 static void ex_process_face(ex_state *s, uint32_t f)
 {
@@ -437,6 +495,7 @@ static void ex_process_face(ex_state *s, uint32_t f)
         double len = s->hl[h], lac = s->hl[hp];
         double cx = lac * s->hc[h], cy = lac * s->hs[h];
         double slack = COVER_REL * len;
+        if (f == s->tface) ex_target_windows(s, h, wi);
         for (; wi != GS_NONE; wi = s->win[wi].next) {
             const ex_win *w = &s->win[wi];
             double xc = w->sx + (cx - w->sx) * (-w->sy) / (cy - w->sy);
@@ -446,7 +505,7 @@ static void ex_process_face(ex_state *s, uint32_t f)
                 if (val < d[C]) {
                     /* direction back to the source, from the edge C -> A */
                     double a = s->pseudo[C] ? atan2(cy * ex - cx * ey, -cx * ex - cy * ey) : 0;
-                    ex_update_vertex(s, C, val, hp, a);
+                    ex_update_vertex(s, C, val, hp, a, GS_EXTR_WINDOW, h, w->sx, w->sy, w->tag);
                 }
             }
         }
@@ -484,7 +543,7 @@ static void ex_process_face(ex_state *s, uint32_t f)
                 if (t1 < 0) t1 = 0;
                 /* frame of tl: origin A, x towards C */
                 double nsx = sx * ca + sy * sa, nsy = sy * ca - sx * sa;
-                ex_push(s, tl, t0 * lac, t1 * lac, nsx, nsy, w.sigma);
+                ex_push(s, tl, t0 * lac, t1 * lac, nsx, nsy, w.sigma, w.tag);
             }
             if (tr != GS_NONE && w.b1 > xc) {
                 /* rays through (b,0) meet C->B at C + u (B - C) */
@@ -504,7 +563,7 @@ static void ex_process_face(ex_state *s, uint32_t f)
                 if (u1 < 0) u1 = 0;
                 /* frame of tr: origin C, x towards B */
                 double nsx = ex * cb - ey * sb, nsy = ey * cb + ex * sb;
-                ex_push(s, tr, u0 * lbc, u1 * lbc, nsx, nsy, w.sigma);
+                ex_push(s, tr, u0 * lbc, u1 * lbc, nsx, nsy, w.sigma, w.tag);
             }
             wi = nx;
         }
@@ -527,7 +586,20 @@ static int ex_solve(void *state, const gs_source *src, uint32_t n_src, double ma
         dist[v] = INFINITY;
         s->fired[v] = INFINITY;
         s->in_c[v] = GS_NONE;
+        s->tr.kind[v] = GS_EXTR_NONE;
     }
+    s->tr.valid = 0;
+    s->tr.target.dist = INFINITY;
+    s->tr.target.h = GS_NONE;
+    if (s->tface == GS_NONE) s->tr.target.face = GS_NONE;
+    if (n_src > s->src_cap) {
+        gs_source *ns = gs__realloc(s->tr.src, n_src, sizeof *ns);
+        if (!ns) return gs__fail(err, GS_ENOMEM, "out of memory in the exact solver");
+        s->tr.src = ns;
+        s->src_cap = n_src;
+    }
+    memcpy(s->tr.src, src, n_src * sizeof *src);
+    s->tr.n_src = n_src;
     for (size_t h = 0; h < nh; ++h) s->head[h] = GS_NONE;
     gs_iheap_clear(&s->fheap);
     gs_iheap_clear(&s->vheap);
@@ -538,7 +610,7 @@ static int ex_solve(void *state, const gs_source *src, uint32_t n_src, double ma
         if (src[i].face == GS_NONE) {
             if (s->fired[src[i].vertex] != 0) ex_fire_vertex(s, src[i].vertex);
         } else {
-            ex_fire_point(s, &src[i]);
+            ex_fire_point(s, &src[i], i);
         }
 
     /* Needle triangles (aspect ratio up to 1e12 passes mesh validation) make
@@ -565,6 +637,11 @@ static int ex_solve(void *state, const gs_source *src, uint32_t n_src, double ma
     stats->windows_created = s->created;
     stats->windows_propagated = s->propagated;
     s->d = NULL;
+    if (!s->oom && s->propagated <= cap) {
+        memcpy(s->tr.dist, dist, t->nv * sizeof *dist);
+        s->tr.valid = 1;
+        s->tr.max_d = max_d;
+    }
     if (s->oom) return gs__fail(err, GS_ENOMEM, "out of memory in the exact solver");
     if (s->propagated > cap)
         return gs__fail(err, GS_EINTERNAL, "exact solver: gave up after %llu window propagations on %u faces "
@@ -573,3 +650,21 @@ static int ex_solve(void *state, const gs_source *src, uint32_t n_src, double ma
 }
 
 const gs_method_ops gs_exact_ops = {"exact", ex_create, ex_destroy, ex_solve, NULL, NULL};
+
+void gs__exact_set_target(void *state, const gs_source *target)
+{
+    ex_state *s = state;
+    if (target && target->face != GS_NONE) {
+        s->tface = target->face;
+        s->tr.target.face = target->face;
+        memcpy(s->tr.target.bary, target->bary, sizeof s->tr.target.bary);
+    } else {
+        s->tface = GS_NONE; /* the last result stays readable */
+    }
+}
+
+const gs_exact_trace *gs__exact_get_trace(const void *state)
+{
+    const ex_state *s = state;
+    return s->tr.valid ? &s->tr : NULL;
+}

@@ -62,4 +62,48 @@ void gs_source_position(const gs_topo *t, const gs_source *s, double p[3]);
  * straight-line distance to it. Returns the count (1 or 3). */
 uint32_t gs_source_seeds(const gs_topo *t, const gs_source *s, uint32_t v[3], double d[3]);
 
+/* ---- exact paths (exact.c records, path.c backtracks) -------------------- */
+
+/* What gave a vertex its distance in the last exact solve (kind[v]):
+ *   NONE   a source vertex (distance 0), or not reached;
+ *   EDGE   straight along an edge from the vertex tri[ref] (ref a corner of
+ *          a face holding both);
+ *   WINDOW straight from the window source (sxy[2v], sxy[2v+1]) in the frame
+ *          of half-edge ref (tri[ref] at the origin, tri[next(ref)] on +x,
+ *          the face ref/3 on y > 0; v is tri[prev(ref)]): the unfolded
+ *          position of a vertex (tag GS_NONE) or of the point source src[tag];
+ *   POINT  straight inside the face of point source src[ref]. */
+enum { GS_EXTR_NONE = 0, GS_EXTR_EDGE = 1, GS_EXTR_WINDOW = 2, GS_EXTR_POINT = 3 };
+
+/* The best window found for one surface point (gs__exact_set_target). */
+typedef struct gs_exact_target {
+    uint32_t face;   /* GS_NONE: none set */
+    double bary[3];
+    double dist;     /* +INFINITY when no window entering the face covers it */
+    uint32_t h, tag; /* as ref and tag of a WINDOW record */
+    double sx, sy;
+} gs_exact_target;
+
+typedef struct gs_exact_trace {
+    uint8_t *kind;
+    uint32_t *ref, *tag;
+    double *sxy;
+    double *dist;    /* the last field */
+    double max_d;    /* its bound (+INFINITY: complete) */
+    gs_source *src;  /* the last solve's (normalised) sources */
+    uint32_t n_src;
+    int valid;       /* a solve completed */
+    gs_exact_target target;
+} gs_exact_trace;
+
+/* Exact solver state: make the next solves also find the distance of a
+ * surface point (its best window), or stop (target NULL or a vertex). */
+void gs__exact_set_target(void *state, const gs_source *target);
+/* The records of the last successful solve, NULL if there was none. */
+const gs_exact_trace *gs__exact_get_trace(const void *state);
+/* path.c: the path from the last solve's sources to target (normalised;
+ * a surface point only if it was the solve's gs__exact_set_target). */
+int gs__exact_trace_path(const gs_topo *t, const gs_exact_trace *tr, const gs_source *target, gs_path **out,
+                         gs_error *err);
+
 #endif

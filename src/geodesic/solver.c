@@ -284,3 +284,53 @@ int gs_distance_field(const gs_patch *patch, gs_method method, const gs_source *
     gs_solver_free(s);
     return rc;
 }
+
+/* ---- exact paths (path.c) ------------------------------------------------- */
+
+int gs_solver_trace(gs_solver *s, const gs_source *target, gs_path **out, gs_error *err)
+{
+    if (!out) return gs__fail(err, GS_EARG, "gs_solver_trace: out is NULL");
+    *out = NULL;
+    if (!s || !target) return gs__fail(err, GS_EARG, "gs_solver_trace: NULL argument");
+    if (s->ops != &gs_exact_ops)
+        return gs__fail(err, GS_EARG, "gs_solver_trace: paths need the exact method (this solver is %s)",
+                        s->ops->name);
+    const gs_topo *t = s->patch->topo;
+    const gs_exact_trace *tr = gs__exact_get_trace(s->state);
+    if (!tr) return gs__fail(err, GS_EARG, "gs_solver_trace: no exact field solved yet");
+    gs_source q;
+    gs_error e2 = {0};
+    int rc = normalise_source(t, target, 0, &q, &e2);
+    if (rc) return gs__fail(err, rc, "gs_solver_trace: target: %s", e2.message + strlen("source 0: "));
+    if (q.face != GS_NONE)
+        return gs__fail(err, GS_EARG, "gs_solver_trace: the target is a surface point (face %u); "
+                        "gs_solver_path traces to surface points", q.face);
+    if (tr->dist[q.vertex] > tr->max_d && tr->dist[q.vertex] < INFINITY)
+        return gs__fail(err, GS_EARG, "gs_solver_trace: vertex %u lies beyond the last solve's max_distance %g",
+                        q.vertex, tr->max_d);
+    return gs__exact_trace_path(t, tr, &q, out, err);
+}
+
+int gs_solver_path(gs_solver *s, const gs_source *source, const gs_source *target, gs_path **out,
+                   gs_error *err)
+{
+    if (!out) return gs__fail(err, GS_EARG, "gs_solver_path: out is NULL");
+    *out = NULL;
+    if (!s || !source || !target) return gs__fail(err, GS_EARG, "gs_solver_path: NULL argument");
+    if (s->ops != &gs_exact_ops)
+        return gs__fail(err, GS_EARG, "gs_solver_path: paths need the exact method (this solver is %s)",
+                        s->ops->name);
+    const gs_topo *t = s->patch->topo;
+    gs_source q;
+    gs_error e2 = {0};
+    int rc = normalise_source(t, target, 0, &q, &e2);
+    if (rc) return gs__fail(err, rc, "gs_solver_path: target: %s", e2.message + strlen("source 0: "));
+    double *dist = gs__malloc(t->nv ? t->nv : 1, sizeof *dist);
+    if (!dist) return gs__fail(err, GS_ENOMEM, "out of memory");
+    gs__exact_set_target(s->state, &q);
+    rc = gs_solver_solve(s, source, 1, 0, dist, err);
+    gs__exact_set_target(s->state, NULL);
+    free(dist);
+    if (rc) return rc;
+    return gs__exact_trace_path(t, gs__exact_get_trace(s->state), &q, out, err);
+}

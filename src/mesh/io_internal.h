@@ -83,6 +83,19 @@ int gs__read_stl(const char *file, char *data, size_t size, gs_soup *s, gs_error
  * failure *s is left empty; on success the caller frees it. */
 int gs__load_soup(const char *path, gs_mesh_format format, gs_soup *s, gs_error *err);
 
+/* The same from size bytes in memory (copied; `name` stands for the file
+ * in messages and picks the format by its extension under GS_FORMAT_AUTO). */
+int gs__load_soup_memory(const char *name, const void *data, size_t size, gs_mesh_format format,
+                         gs_soup *s, gs_error *err);
+
+/* gs_mesh_load from size bytes in memory (the fuzz targets' entry). */
+int gs__mesh_load_memory(const char *name, const void *data, size_t size, gs_mesh_format format,
+                         gs_mesh **out, gs_error *err);
+
+/* gs_mesh_repair_file from size bytes in memory (the fuzz targets' entry). */
+int gs__mesh_repair_memory(const char *name, const void *data, size_t size, gs_mesh_format format,
+                           gs_mesh **out, gs_repair **info, gs_error *err);
+
 /* 1 if (size, data) has the exact size of a binary STL (84 + 50 n bytes). */
 int gs__stl_is_binary(const char *data, size_t size);
 

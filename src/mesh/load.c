@@ -107,6 +107,27 @@ static int build(gs_soup *s, gs_mesh **out, gs_error *err)
     return rc;
 }
 
+/* The reading after the bytes are in memory: data holds size bytes and a
+ * '\0' after them (the readers may modify it); frees data. */
+static int load_soup_data(const char *path, gs_mesh_format format, char *data, size_t size,
+                          gs_soup *s, gs_error *err)
+{
+    if (size == 0) {
+        free(data);
+        return gs__fail(err, GS_EPARSE, "%s: empty file", path);
+    }
+    if (format == GS_FORMAT_AUTO) format = by_extension(path);
+    if (format == GS_FORMAT_AUTO) format = sniff(data, size);
+    int rc = run_reader(format, path, data, size, s, err);
+    free(data);
+    if (rc == GS_OK && s->nf == 0 && s->nv == 0)
+        rc = gs__fail(err, GS_EPARSE, "%s: no vertices and no faces in the file", path);
+    else if (rc == GS_OK && s->nf == 0)
+        rc = gs__fail(err, GS_EMESH, "%s: no faces (the file has %u vertices)", path, s->nv);
+    if (rc) gs__soup_free(s);
+    return rc;
+}
+
 int gs__load_soup(const char *path, gs_mesh_format format, gs_soup *s, gs_error *err)
 {
     gs__soup_init(s, path, NULL);
@@ -116,19 +137,32 @@ int gs__load_soup(const char *path, gs_mesh_format format, gs_soup *s, gs_error 
     size_t size;
     int rc = gs__read_file(path, &data, &size, err);
     if (rc) return rc;
-    if (size == 0) {
-        free(data);
-        return gs__fail(err, GS_EPARSE, "%s: empty file", path);
-    }
-    if (format == GS_FORMAT_AUTO) format = by_extension(path);
-    if (format == GS_FORMAT_AUTO) format = sniff(data, size);
-    rc = run_reader(format, path, data, size, s, err);
-    free(data);
-    if (rc == GS_OK && s->nf == 0 && s->nv == 0)
-        rc = gs__fail(err, GS_EPARSE, "%s: no vertices and no faces in the file", path);
-    else if (rc == GS_OK && s->nf == 0)
-        rc = gs__fail(err, GS_EMESH, "%s: no faces (the file has %u vertices)", path, s->nv);
-    if (rc) gs__soup_free(s);
+    return load_soup_data(path, format, data, size, s, err);
+}
+
+int gs__load_soup_memory(const char *name, const void *bytes, size_t size, gs_mesh_format format,
+                         gs_soup *s, gs_error *err)
+{
+    gs__soup_init(s, name, NULL);
+    if ((int)format < GS_FORMAT_AUTO || format > GS_FORMAT_STL)
+        return gs__fail(err, GS_EARG, "unknown mesh format %d", (int)format);
+    if (size > GS_IO_MAX_FILE || size > SIZE_MAX - 1)
+        return gs__fail(err, GS_ELIMIT, "%s: too large (%zu bytes)", name, size);
+    char *data = gs__malloc(size + 1, 1);
+    if (!data) return gs__fail(err, GS_ENOMEM, "%s: out of memory reading %zu bytes", name, size);
+    if (size) memcpy(data, bytes, size);
+    data[size] = '\0';
+    return load_soup_data(name, format, data, size, s, err);
+}
+
+int gs__mesh_load_memory(const char *name, const void *data, size_t size, gs_mesh_format format,
+                         gs_mesh **out, gs_error *err)
+{
+    *out = NULL;
+    gs_soup s;
+    int rc = gs__load_soup_memory(name, data, size, format, &s, err);
+    if (rc == GS_OK) rc = build(&s, out, err);
+    gs__soup_free(&s);
     return rc;
 }
 

@@ -1015,6 +1015,19 @@ int gs_mesh_repair_file(const char *path, gs_mesh_format format, gs_mesh **out, 
     return rc;
 }
 
+int gs__mesh_repair_memory(const char *name, const void *data, size_t size, gs_mesh_format format,
+                           gs_mesh **out, gs_repair **info, gs_error *err)
+{
+    *out = NULL;
+    if (info) *info = NULL;
+    gs_soup s;
+    int rc = gs__load_soup_memory(name, data, size, format, &s, err);
+    if (rc) return rc;
+    rc = run(s.xyz, s.nv, s.tri, s.nf, name, 1, s.face_line, s.unit ? s.unit : "line", out, info, err);
+    gs__soup_free(&s);
+    return rc;
+}
+
 /* ---- the text report ---------------------------------------------------------- */
 
 typedef struct sbuf {

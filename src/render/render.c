@@ -171,7 +171,7 @@ static int check_options(const gs_mesh *mesh, const gs_render_options *o, gs_err
 
 /* ---- the scene: projected vertices, normals, per-face data --------------------- */
 
-typedef struct overlay { /* a line (r1 > 0: capsule of radius r) or dot, screen space */
+typedef struct overlay { /* a line (a capsule of radius r) or a dot, in pixels */
     double x0, y0, z0, x1, y1, z1;
     double r;
     float rgb[3];
@@ -187,7 +187,7 @@ typedef struct scene {
     const double *field;
     double *sx, *sy, *sz;   /* nv: pixel coordinates and depth             */
     double *vn;             /* 3 nv: vertex normals (zero: none)           */
-    float *grad;            /* nf: |grad field| in field units per pixel   */
+    double *grad;           /* nf: |grad field| in field units per pixel   */
     double fmin, fmax, light[3], dir[3];
     double tol;             /* depth tolerance of overlays (depth units)   */
     overlay *ov;
@@ -235,7 +235,7 @@ static void face_gradients(scene *s)
         double det = ax * by - ay * bx;
         if (!(fabs(det) > 1e-12)) continue; /* edge-on: not drawn */
         double gx = (fa * by - fb * ay) / det, gy = (ax * fb - bx * fa) / det;
-        s->grad[f] = (float)sqrt(gx * gx + gy * gy);
+        s->grad[f] = sqrt(gx * gx + gy * gy);
     }
 }
 
@@ -353,6 +353,16 @@ typedef struct band {
     float *rgb;         /* 3 w h                                           */
 } band;
 
+/* The samples (centres at i + 0.5) in [lo, hi], clipped to 0..n-1 (in
+ * doubles first: lo and hi may be far outside). */
+static void sample_range(double lo, double hi, uint32_t n, long *i0, long *i1)
+{
+    lo = ceil(fmax(lo, -1.0) - 0.5);
+    hi = floor(fmin(hi, (double)n + 1) - 0.5);
+    *i0 = lo < 0 ? 0 : (long)lo;
+    *i1 = hi > (double)n - 1 ? (long)n - 1 : (long)hi;
+}
+
 static void raster_face(const scene *s, band *b, uint32_t f)
 {
     const uint32_t *c = s->tri + 3 * (size_t)f;
@@ -369,12 +379,9 @@ static void raster_face(const scene *s, band *b, uint32_t f)
     double area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
     if (!(fabs(area) > 1e-12)) return;
     /* samples at (i + 0.5, j + 0.5) inside the triangle */
-    long i0 = (long)ceil(xmin - 0.5), i1 = (long)floor(xmax - 0.5);
-    long j0 = (long)ceil(ymin - 0.5), j1 = (long)floor(ymax - 0.5);
-    if (i0 < 0) i0 = 0;
-    if (j0 < 0) j0 = 0;
-    if (i1 > (long)b->w - 1) i1 = (long)b->w - 1;
-    if (j1 > (long)b->h - 1) j1 = (long)b->h - 1;
+    long i0, i1, j0, j1;
+    sample_range(xmin, xmax, b->w, &i0, &i1);
+    sample_range(ymin, ymax, b->h, &j0, &j1);
     double inv = 1.0 / area;
     for (long j = j0; j <= j1; ++j) {
         double py = j + 0.5;
@@ -443,12 +450,9 @@ static void draw_overlay(const scene *s, band *b, const overlay *v)
     double r = v->r * S, rin = DOT_INNER * S;
     double xmin = fmin(x0, x1) - r, xmax = fmax(x0, x1) + r, ymin = fmin(y0, y1) - r, ymax = fmax(y0, y1) + r;
     if (ymax < 0 || ymin > b->h || xmax < 0 || xmin > b->w) return;
-    long i0 = (long)ceil(xmin - 0.5), i1 = (long)floor(xmax - 0.5);
-    long j0 = (long)ceil(ymin - 0.5), j1 = (long)floor(ymax - 0.5);
-    if (i0 < 0) i0 = 0;
-    if (j0 < 0) j0 = 0;
-    if (i1 > (long)b->w - 1) i1 = (long)b->w - 1;
-    if (j1 > (long)b->h - 1) j1 = (long)b->h - 1;
+    long i0, i1, j0, j1;
+    sample_range(xmin, xmax, b->w, &i0, &i1);
+    sample_range(ymin, ymax, b->h, &j0, &j1);
     double dx = x1 - x0, dy = y1 - y0, len2 = dx * dx + dy * dy;
     for (long j = j0; j <= j1; ++j)
         for (long i = i0; i <= i1; ++i) {
