@@ -9,8 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/*  * For every leaf L and every pair x, y of its vertices, the exact distance
- * d_M(x, y) on the whole mesh (with the builder's method). Solving a field
+/* For every leaf L and every pair x, y of its vertices, the exact distance
+ * d_M(x, y) on the whole mesh (exact fields, whatever the builder's method). Solving a field
  * on the whole mesh from every vertex would cost O(nv) per solve just to
  * initialise it, so each leaf is solved on a region that provably holds all
  * the shortest paths needed:
@@ -145,7 +145,10 @@ static int leaf_table(gs__builder *b, uint32_t node, const uint32_t *lv, double 
 {
     const gs_tree_node *nd = &b->tree->nodes[node];
     uint32_t n = nd->n_verts;
-    gs_method method = b->opt->method;
+    /* exact fields whatever the build's method: the region below is bounded
+     * by the leaf's own distances, which only exact fields make safe (fmm's
+     * overestimates left pairs of a leaf unreached: +inf answers) */
+    gs_method method = GS_METHOD_EXACT;
     if (grow((void **)&w->radius, &w->rcap, n, sizeof *w->radius))
         return gs__fail(err, GS_ENOMEM, "out of memory for leaf %u", node);
     gs_patch *p = NULL;
