@@ -160,6 +160,9 @@ GS_API int gs_mesh_get_report(const gs_mesh *mesh, gs_mesh_report *report,
  *                             R/4 (the apex, cut off, would be at 4H/3) [1,1]
  *   "cube:N[,S]"              closed cube surface of side S, N x N quads per face [1]
  *   "torus:NU,NV[,R,r]"       closed torus, radii R > r [1,0.4]; NU,NV >= 3
+ *   "knot:NU,NV[,r]"          closed tube of radius r <= 0.5 [0.4] around the
+ *                             trefoil ((2 + cos 3t) cos 2t, (2 + cos 3t) sin 2t,
+ *                             sin 3t): NU >= 8 rings of NV >= 3 vertices
  *   "sphere:N"                closed unit icosphere, N <= 9 subdivisions
  *   "two:N"                   two disjoint flat N x N grids (two components)
  * Integers are plain digits; sizes plain decimals ("2", "0.5", "1e-3") from
@@ -518,7 +521,7 @@ typedef struct gs_build_options {
     uint32_t vmax;           /* leaf patch size [30]                           */
     uint32_t mmax;           /* maximum polynomial degree [20]                 */
     double tol;              /* fit mean relative error target at the root     */
-                             /*   [0.002], 1.5x looser per tree level, at most */
+                             /*   [0.003], 1.5x looser per tree level, at most */
                              /*   max(tol, 2%)                                 */
     uint32_t threads;        /* 0: all cores [0]                               */
     int vertex_sources;      /* 1: fields from the corners of the triangles    */
@@ -527,7 +530,10 @@ typedef struct gs_build_options {
                              /*   method: samples for exact fields, vertices   */
                              /*   for approximate ones (measured best) [-1]    */
     int sampled;             /* 1: SEPsam (sampled values, piecewise linear)   */
-    int leaf_exact;          /* 1: store exact distances inside leaves [0]     */
+    int leaf_exact;          /* 1: store exact distances inside leaves; 0:    */
+                             /*   answer same-leaf pairs with the Euclidean    */
+                             /*   distance, which underestimates on curved     */
+                             /*   leaves (bunny-5k: 56%) [1]                   */
     uint32_t seed;           /* partitioning seed [1]                          */
     double sample_spacing;   /* separator sample spacing / mean edge length    */
                              /*   [0.5]                                        */
@@ -537,7 +543,8 @@ typedef struct gs_build_options {
     uint32_t max_samples;    /* samples per curve at most: longer curves are   */
                              /*   thinned to this many, evenly by arc length;  */
                              /*   bounds the fields per separator; 0: no cap   */
-                             /*   [96]                                         */
+                             /*   [192]; then split into pieces of at most 48  */
+                             /*   sample intervals, each a function per vertex */
     uint32_t field_memory_mib; /* memory for one block of distance fields, in  */
                              /*   MiB: a node's fields are computed block by   */
                              /*   block and folded into its samples (float),   */
@@ -558,6 +565,11 @@ typedef struct gs_build_stats {
     uint64_t n_functions;    /* separator distance functions fitted            */
     double mean_degree;
     uint64_t n_over_tol;     /* fits that missed tol even at degree mmax       */
+    uint64_t n_uncertified;  /* fits whose largest error at the samples, or    */
+                             /*   outside the band the samples allow between   */
+                             /*   them, is above 2% at every degree (the one   */
+                             /*   with the smallest is kept; doc/accuracy.md)  */
+    double max_fit_error;    /* the largest such error over all fits           */
     double mean_fit_error;   /* mean relative error of the fits on the samples */
 } gs_build_stats;
 
@@ -816,6 +828,37 @@ typedef struct gs_field_errors {
 
 GS_API int gs_field_errors_compute(const double *exact, const double *approx, uint32_t n,
                             uint32_t source, gs_field_errors *out, gs_error *err);
+
+/* The tail of the errors over many fields (what a user's single answers
+ * see). me, rmse: the paper's measures, each field's ME / RMSE averaged over
+ * the fields (section 5); all the others pool every (source, y) pair used:
+ * p99, p999: nearest-rank quantiles of e (the value at rank ceil(q N));
+ * max; near_me: the mean e over the "near pairs", those whose exact d is
+ * below near_frac times the median exact d of all pairs used (the CLI and
+ * the benchmarks use near_frac = 0.1); max_under / max_over: the largest e
+ * where d^ < d / d^ > d; n_under_5pct / n_over_5pct: pairs with e > 5%.
+ * Pairs are used as gs_field_errors_compute uses them. With no pair used,
+ * every measure is NaN. */
+typedef struct gs_error_stats {
+    double me, rmse, p99, p999, max;
+    double near_me, near_frac, median_d;
+    double max_under, max_over;
+    uint64_t n_used, n_near, n_under_5pct, n_over_5pct, n_skipped, n_invalid;
+    uint32_t n_fields;       /* fields with at least one pair used          */
+} gs_error_stats;
+
+/* An accumulator of pairs' errors: 9 bytes per pair used. Create, add fields,
+ * read the result (as often as wanted), free. Not thread-safe per object. */
+typedef struct gs_error_acc gs_error_acc;
+GS_API int gs_error_acc_create(gs_error_acc **out, gs_error *err);
+/* Add one field's pairs (same arguments and rules as gs_field_errors_compute).
+ * GS_ENOMEM leaves the accumulator as it was before the call's pairs. */
+GS_API int gs_error_acc_add(gs_error_acc *acc, const double *exact, const double *approx, uint32_t n,
+                            uint32_t source, gs_error *err);
+/* The statistics of every pair added so far (near_frac >= 0: see above);
+ * needs 4 bytes per pair of scratch (GS_ENOMEM otherwise). */
+GS_API int gs_error_acc_result(const gs_error_acc *acc, double near_frac, gs_error_stats *out, gs_error *err);
+GS_API void gs_error_acc_free(gs_error_acc *acc);
 
 /* LAND (Burghard & Klein 2015), the baseline of the paper's Table 1: m
  * landmarks chosen by farthest-point sampling with geodesic distances (the

@@ -212,7 +212,9 @@ expect_fail 1 "trunc.gt" "gt: truncated sources file" solve "$G" --format gt --s
 { [ ! -e "$T/w.gt" ]; }; verdict "gt: truncated input leaves no OUT"
 expect_fail 1 "cannot open|No such" "gt: missing sources file" solve "$G" --format gt --sources-from "$T/nope.gt" -o "$T/w.gt"
 expect_fail 2 "needs -o" "gt: no -o" solve "$G" --format gt --sources-from "$T/src.gt"
-expect_fail 2 "needs either --sources-from FILE.gt or --random K" "gt: no --sources-from" solve "$G" --format gt -o "$T/w.gt"
+expect_fail 2 "needs one of --sources-from FILE.gt, --random K, --all" "gt: no --sources-from" solve "$G" --format gt -o "$T/w.gt"
+expect_fail 2 "needs one of" "gt: --all and --random" solve "$G" --format gt --all --random 3 -o "$T/w.gt"
+expect_fail 2 "--all needs --format gt" "--all without gt" solve "$G" --all --source 0
 expect_fail 2 "not --source" "gt: with --source" solve "$G" --format gt --sources-from "$T/src.gt" --source 0 -o "$T/w.gt"
 expect_fail 2 "needs --format gt" "--sources-from without gt" solve "$G" --sources-from "$T/src.gt" --source 0
 { [ -z "$(find "$T" -name '*.tmp.*')" ]; }; verdict "gt: no temporary files left behind"
@@ -226,8 +228,8 @@ run build "$D" -o "$T/grid.gsdb" --quiet
 { [ "$rc" -eq 0 ] && [ -s "$T/grid.gsdb" ] && [ ! -s "$T/out" ]; }; verdict "build --quiet writes a database"
 run build "$D" -o "$T/grid2.gsdb" --threads 1 --vmax 20 --mmax 12 --tol 0.005 --spacing 0.4
 { [ "$rc" -eq 0 ] && grep -q "nodes" "$T/out" && grep -q "time: tree" "$T/out" && grep -q "cost" "$T/out"; }; verdict "build prints tree, times and size"
-run build "$D" -o "$T/grid3.gsdb" --leaf-exact --quiet
-{ [ "$rc" -eq 0 ] && [ "$(stat -c %s "$T/grid3.gsdb")" -gt "$(stat -c %s "$T/grid.gsdb")" ]; }; verdict "build --leaf-exact stores the leaf tables"
+run build "$D" -o "$T/grid3.gsdb" --no-leaf-exact --quiet
+{ [ "$rc" -eq 0 ] && [ "$(stat -c %s "$T/grid3.gsdb")" -lt "$(stat -c %s "$T/grid.gsdb")" ]; }; verdict "build stores the leaf tables unless --no-leaf-exact"
 # a flat grid: the database distance is close to the Euclidean one
 run query "$T/grid.gsdb" 0 399
 { [ "$rc" -eq 0 ] && awk -v d="$(cat "$T/out")" 'BEGIN { e = sqrt(2); r = (d - e) / e; if (r < 0) r = -r; exit !(r < 0.01) }'; }; verdict "query 0 399 on the unit grid is sqrt(2) within 1%"
@@ -344,6 +346,11 @@ done
 expect_fail 2 "expected F:b0,b1,b2" "field --source-point with an empty field: refused" field "$T/grid.gsdb" --mesh "$D" --source-point 0:0.2,0.3,0.5,
 run eval "$T/grid.gsdb" --groundtruth "$T/grid.gt"
 { [ "$rc" -eq 0 ] && awk '/^ME / { me = $2 + 0; ok = (me < 0.5) } END { exit !ok }' "$T/out" && grep -q "^cost" "$T/out"; }; verdict "eval: ME below 0.5% on the grid, cost printed"
+{ grep -q "p99 .* p99.9 .* max .* near-pair ME" "$T/out" && grep -q "near pairs: exact d < 10% of the median" "$T/out"; }; verdict "eval: prints the tail and defines near pairs"
+run solve "$D" --format gt --all -o "$T/all.gt"
+{ [ "$rc" -eq 0 ] && [ "$(stat -c %s "$T/all.gt")" -eq $((16 + 400 * (4 + 8 * 400))) ]; }; verdict "solve --all writes a field from every vertex"
+run eval "$T/grid.gsdb" --groundtruth "$T/all.gt"
+{ [ "$rc" -eq 0 ] && grep -q "(400 sources, 159600 pairs" "$T/out"; }; verdict "eval over all vertex pairs"
 run land "$D" --landmarks 8 --groundtruth "$T/grid.gt"
 { [ "$rc" -eq 0 ] && grep -q "^LAND m=8" "$T/out" && grep -q "^ME " "$T/out"; }; verdict "land evaluates the baseline"
 expect_fail 2 "incomplete option '--groundtruth'" "eval: --groundtruth without a value" eval "$T/grid.gsdb" --groundtruth

@@ -129,7 +129,7 @@ static void test_poly_reproduction(void)
         uniform_u(u, 100, 0);
         for (int k = 0; k < 100; k++)
             d[k] = gs_cheb_eval(c, m, u[k]);
-        CHECK(gs_fit_distance(w, u, d, 100, 0, &r, NULL) == GS_OK);
+        CHECK(gs_fit_distance(w, u, d, 100, 0, 0, &r, NULL) == GS_OK);
         CHECK_MSG(r.fun.degree == m && !r.fun.squared, "m %u: got %u sq %u", m, r.fun.degree,
                   r.fun.squared);
         for (uint32_t k = 0; k <= m && r.fun.degree == m; k++)
@@ -150,7 +150,7 @@ static void test_segment(void)
         uniform_u(u, 60, 0);
         for (int k = 0; k < 60; k++)
             d[k] = hypot(u[k] - a, b);
-        CHECK(gs_fit_distance(w, u, d, 60, 0, &r, NULL) == GS_OK);
+        CHECK(gs_fit_distance(w, u, d, 60, 0, 0, &r, NULL) == GS_OK);
         CHECK_MSG(r.fun.degree == 2 && r.fun.squared == 1, "deg %u sq %u", r.fun.degree,
                   r.fun.squared);
         CHECK(r.mean_rel_err < 1e-12);
@@ -182,7 +182,7 @@ static void test_loops(void)
         double rad = trial % 2 ? urand(0.0, 0.7) : urand(1.3, 3.0), ang = urand(0, 2 * M_PI);
         uint32_t n = 64 + (uint32_t)(rnd() * 200);
         circle_samples(rad * cos(ang), rad * sin(ang), 1.0, n, u, d);
-        CHECK(gs_fit_distance(w, u, d, n, 1, &r, NULL) == GS_OK);
+        CHECK(gs_fit_distance(w, u, d, n, 1, 0, &r, NULL) == GS_OK);
         uint32_t kmax = 0;
         for (uint32_t k = 1; k < n; k++)
             kmax = d[k] > d[kmax] ? k : kmax;
@@ -216,12 +216,12 @@ static void test_escalation(void)
         for (int k = 0; k < 200; k++)
             d[k] = hypot(px - u[k], py - 0.2 * sin(f * u[k]));
         gs_fit_work *w = make_work(2, 12, 0.002);
-        CHECK(gs_fit_distance(w, u, d, 200, 0, &r, NULL) == GS_OK);
+        CHECK(gs_fit_distance(w, u, d, 200, 0, 0, &r, NULL) == GS_OK);
         gs_fit_work_free(w);
         if (r.mean_rel_err >= 0.002 || r.fun.degree <= 2)
             continue;
         w = make_work(2, r.fun.degree - 1, 0.002);
-        CHECK(gs_fit_distance(w, u, d, 200, 0, &r2, NULL) == GS_OK);
+        CHECK(gs_fit_distance(w, u, d, 200, 0, 0, &r2, NULL) == GS_OK);
         CHECK_MSG(r2.mean_rel_err >= 0.002, "degree %u already below tol", r2.fun.degree);
         gs_fit_work_free(w);
         checked++;
@@ -244,7 +244,7 @@ static void test_near_zero(void)
                 d[k] = closed ? hypot(cos(M_PI * u[k]) - cos(M_PI * u[k0]) * (1 + off),
                                       sin(M_PI * u[k]) - sin(M_PI * u[k0]) * (1 + off))
                               : hypot(u[k] - u[k0], off);
-            CHECK(gs_fit_distance(w, u, d, n, closed, &r, NULL) == GS_OK);
+            CHECK(gs_fit_distance(w, u, d, n, closed, 0, &r, NULL) == GS_OK);
             for (uint32_t k = 0; k <= r.fun.degree; k++)
                 CHECK(isfinite(r.coef[k]));
             CHECK(r.fun.minval >= 0.0 && r.fun.minval < 0.02);
@@ -261,27 +261,27 @@ static void test_tiny_and_bad(void)
     gs_fit_result r;
     for (uint32_t n = 1; n <= 4; n++) {
         double uu[4] = {-1, 1};
-        CHECK(gs_fit_distance(w, n == 2 ? uu : u, d, n, 0, &r, NULL) == GS_OK);
+        CHECK(gs_fit_distance(w, n == 2 ? uu : u, d, n, 0, 0, &r, NULL) == GS_OK);
         CHECK(r.fun.degree <= n - 1 && isfinite(r.fun.minval));
         if (n <= 3) {
-            CHECK(gs_fit_distance(w, ul, d, n, 1, &r, NULL) == GS_OK);
+            CHECK(gs_fit_distance(w, ul, d, n, 1, 0, &r, NULL) == GS_OK);
             CHECK(r.fun.degree <= n - 1 && isfinite(r.fun.minval));
         }
     }
     double zero[4] = {0, 0, 0, 0};
-    CHECK(gs_fit_distance(w, u, zero, 4, 0, &r, NULL) == GS_OK);
+    CHECK(gs_fit_distance(w, u, zero, 4, 0, 0, &r, NULL) == GS_OK);
     CHECK(r.fun.minval == 0.0 && gs_fun_value(&r.fun, 0.3) == 0.0);
     gs_error err;
     double bad[4] = {1, NAN, 1, 1}, neg[4] = {1, -1, 1, 1}, uinf[4] = {-1, INFINITY, 0, 1};
     double unord[4] = {-1, 0.5, 0.2, 1};
-    CHECK(gs_fit_distance(w, u, bad, 4, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(w, u, neg, 4, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(w, uinf, d, 4, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(w, unord, d, 4, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(w, u, d, 0, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(w, u, d, 4, 1, &r, &err) == GS_EARG); /* loop: u = 1 */
-    CHECK(gs_fit_distance(w, u, d, MAXN + 5, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(NULL, u, d, 4, 0, &r, &err) == GS_EARG);
+    CHECK(gs_fit_distance(w, u, bad, 4, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs_fit_distance(w, u, neg, 4, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs_fit_distance(w, uinf, d, 4, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs_fit_distance(w, unord, d, 4, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs_fit_distance(w, u, d, 0, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs_fit_distance(w, u, d, 4, 1, 0, &r, &err) == GS_EARG); /* loop: u = 1 */
+    CHECK(gs_fit_distance(w, u, d, MAXN + 5, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs_fit_distance(NULL, u, d, 4, 0, 0, &r, &err) == GS_EARG);
     gs_fit_options o = {5, 3, 0.005};
     gs_fit_work *w2 = NULL;
     CHECK(gs_fit_work_create(100, &o, &w2, &err) == GS_EARG && w2 == NULL);
@@ -376,7 +376,7 @@ static void make_fset(const curve *c, uint32_t nf, uint32_t m_max, fset *s, doub
         }
         for (uint32_t k = 0; k < c->n; k++)
             d[k] = dist(c, px, py, k);
-        CHECK(gs_fit_distance(w, u, d, c->n, c->closed, &s->r[i], NULL) == GS_OK);
+        CHECK(gs_fit_distance(w, u, d, c->n, c->closed, 0, &s->r[i], NULL) == GS_OK);
         s->r[i].fun.coef = s->r[i].coef;
         *mean_err += s->r[i].mean_rel_err / nf;
         *n_sq += s->r[i].fun.squared;
@@ -720,6 +720,60 @@ static void test_depth_tol(void)
     CHECK_NEAR(gs_fit_tol_at_depth(0.015, 1), 0.02, 0);
 }
 
+/* The certificate between samples (fit.h): a vertex at height h over a
+ * straight path of length L (flat: d(s) = sqrt(h^2 + (s - s0)^2) exactly)
+ * with few samples, for dips at many places. Without the certificate
+ * (ulen 0) high-degree fits of samples that pass at the samples swing
+ * between them; with it, the kept fit stays within the samples' Lipschitz
+ * band wherever it reports so (cert_err), and its true error between the
+ * samples is far smaller. */
+/* The certificate between samples (fit.h): few samples (21) of a distance
+ * with a kink, d(s) = 0.05 + |s - s0| (1-Lipschitz in arc length, like
+ * every separator distance function; the kind a vertex beyond a curve's
+ * bend sees), kinks at many places. Without the certificate (ulen 0) the
+ * degree climbs until the samples are met and the series swings between
+ * them; with it, the kept fit stays within the samples' Lipschitz band
+ * wherever it reports so (cert_err), and its true error is smaller. */
+static void test_certificate(void)
+{
+    gs_fit_work *w = make_work(2, 20, 0.002);
+    enum { N = 21, FINE = 4000 };
+    double u[N], d[N], L = 2.0, worst_cert = 0, worst_plain = 0, band_plain = 0;
+    uniform_u(u, N, 0);
+    for (int q = 0; q < 40; ++q) {
+        double s0 = L * (0.013 + 0.024 * q);
+        for (int k = 0; k < N; ++k) d[k] = 0.05 + fabs((u[k] + 1) * L / 2 - s0);
+        gs_fit_result rc, rp;
+        CHECK(gs_fit_distance(w, u, d, N, 0, L / 2, &rc, NULL) == GS_OK);
+        CHECK(gs_fit_distance(w, u, d, N, 0, 0, &rp, NULL) == GS_OK);
+        CHECK(rp.cert_err == 0 && rc.cert_err >= 0);
+        double ec = 0, ep = 0, band = 0, bandp = 0;
+        for (int i = 0; i <= FINE; ++i) {
+            double t = -1 + 2.0 * i / FINE, s = (t + 1) * L / 2, dt = 0.05 + fabs(s - s0);
+            double vc = gs_fun_value(&rc.fun, t), vp = gs_fun_value(&rp.fun, t);
+            int k = (int)((t + 1) / 2 * (N - 1)); /* the samples k, k+1 around t */
+            if (k > N - 2) k = N - 2;
+            double da = (t - u[k]) * L / 2, db = (u[k + 1] - t) * L / 2;
+            double lo = fmax(d[k] - da, d[k + 1] - db), hi = fmin(d[k] + da, d[k + 1] + db);
+            band = fmax(band, vc < lo ? (lo - vc) / lo : vc > hi ? (vc - hi) / hi : 0);
+            bandp = fmax(bandp, vp < lo ? (lo - vp) / lo : vp > hi ? (vp - hi) / hi : 0);
+            ec = fmax(ec, fabs(vc - dt) / dt);
+            ep = fmax(ep, fabs(vp - dt) / dt);
+        }
+        /* checked at 3 points per interval: allow a little more at others */
+        CHECK_MSG(band <= fmax(rc.cert_err, GS_FIT_MAX_ERR) * 1.5 + 1e-9, "kink at %g: band %g, reported %g", s0,
+                  band, rc.cert_err);
+        worst_cert = fmax(worst_cert, ec);
+        worst_plain = fmax(worst_plain, ep);
+        band_plain = fmax(band_plain, bandp);
+    }
+    printf("  certificate: worst true error %.2f%% certified, %.2f%% without (outside the band by %.2f%%)\n",
+           100 * worst_cert, 100 * worst_plain, 100 * band_plain);
+    CHECK_MSG(band_plain > 2 * GS_FIT_MAX_ERR, "the uncertified fits stay in the band (%g): no test", band_plain);
+    CHECK_MSG(worst_cert < 0.5 * worst_plain, "certified %g vs plain %g", worst_cert, worst_plain);
+    gs_fit_work_free(w);
+}
+
 int main(void)
 {
     printf("chebyshev kernels\n");
@@ -733,6 +787,7 @@ int main(void)
     test_near_zero();
     test_tiny_and_bad();
     test_depth_tol();
+    test_certificate();
     printf("pair minimum vs dense scan\n");
     test_pairs_real();
     test_grid_loops();
