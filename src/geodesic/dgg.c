@@ -52,6 +52,7 @@ typedef struct dgg_state {
     void *ex;            /* exact solver for surface-point sources (lazy) */
     double *exd;         /* its nv scratch distances, all +INFINITY       */
     double build_seconds;
+    int shared;          /* start / e belong to the state this was cloned from */
 } dgg_state;
 
 double gs_dgg_radius(double eps)
@@ -67,8 +68,10 @@ static void dgg_destroy(void *state)
 {
     dgg_state *g = state;
     if (!g) return;
-    free(g->start);
-    free(g->e);
+    if (!g->shared) {
+        free(g->start);
+        free(g->e);
+    }
     gs_iheap_free(&g->heap);
     if (g->ex) gs_exact_ops.destroy(g->ex);
     free(g->exd);
@@ -276,4 +279,24 @@ void gs__dgg_info(const void *state, double *seconds, uint64_t *edges, uint64_t 
                  (uint64_t)g->t->nv * (2 * sizeof(uint32_t) + sizeof(double));
 }
 
-const gs_method_ops gs_dgg_ops = {"dgg", dgg_create, dgg_destroy, dgg_solve, NULL, NULL};
+/* Another thread's solver: the graph is shared read-only (src outlives it). */
+static int dgg_clone(const void *state, void **out, gs_error *err)
+{
+    const dgg_state *src = state;
+    dgg_state *g = gs__calloc(1, sizeof *g);
+    if (!g || gs_iheap_init(&g->heap, src->t->nv)) {
+        if (g) gs_iheap_free(&g->heap);
+        free(g);
+        return gs__fail(err, GS_ENOMEM, "out of memory creating a dgg solver");
+    }
+    g->t = src->t;
+    g->radius = src->radius;
+    g->start = src->start;
+    g->e = src->e;
+    g->build_seconds = src->build_seconds;
+    g->shared = 1;
+    *out = g;
+    return GS_OK;
+}
+
+const gs_method_ops gs_dgg_ops = {"dgg", dgg_create, dgg_destroy, dgg_solve, NULL, dgg_clone};
