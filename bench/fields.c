@@ -1,9 +1,9 @@
 /* bench/fields.c - accuracy and speed of an approximate distance method
- * (fmm or heat) against the exact ground truth of the shared meshes:
+ * (fmm, heat or dgg) against the exact ground truth of the shared meshes:
  * section 5's ME, RMSE and max relative error averaged over every source
  * of each mesh's GEOGT1 file, the solver's creation time and the time per
  * field.
- * Usage: bench_fields [--method fmm|heat] [--heat-time M] [--fmm-start R]
+ * Usage: bench_fields [--method fmm|heat|dgg] [--heat-time M] [--fmm-start R] [--dgg-eps E]
  *                     [--heat-refine N|auto] [MESH ...]   (default: heat, every shared mesh)
  * MESH is a name of ../shared/meshes (without .obj). */
 #include "geosep.h"
@@ -106,10 +106,12 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "--heat-refine") && i + 1 < argc) {
             const char *v = argv[++i];
             opt.heat_refine = !strcmp(v, "auto") ? GS_HEAT_REFINE_AUTO : (uint32_t)atoi(v);
+        } else if (!strcmp(argv[i], "--dgg-eps") && i + 1 < argc) {
+            opt.dgg_eps = atof(argv[++i]);
         } else if (!strcmp(argv[i], "--fmm-start") && i + 1 < argc) {
             opt.fmm_exact_start = atof(argv[++i]);
         } else if (argv[i][0] == '-') {
-            fprintf(stderr, "usage: bench_fields [--method fmm|heat] [--heat-time M] [--fmm-start R] [--heat-refine N|auto] [MESH ...]\n");
+            fprintf(stderr, "usage: bench_fields [--method fmm|heat|dgg] [--heat-time M] [--fmm-start R] [--dgg-eps E] [--heat-refine N|auto] [MESH ...]\n");
             return 2;
         } else {
             first = i;

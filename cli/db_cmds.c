@@ -8,10 +8,10 @@
 #include <unistd.h>
 
 const char usage_build[] =
-    "usage: geosep build MESH -o DB [--method exact|graph|fmm|heat] [--vmax N] [--mmax N] [--tol F]\n"
+    "usage: geosep build MESH -o DB [--method exact|graph|fmm|heat|dgg] [--vmax N] [--mmax N] [--tol F]\n"
     "                    [--threads N] [--vertex-sources|--sample-sources] [--sampled] [--seed N]\n"
     "                    [--spacing F] [--max-samples N] [--field-memory MIB] [--heat-time M] [--heat-refine N|auto]\n"
-    "                    [--fmm-start R] [--no-leaf-exact] [--quiet] [--repair]\n"
+    "                    [--fmm-start R] [--dgg-eps E] [--no-leaf-exact] [--quiet] [--repair]\n"
     "  Build a query database (-o or --output DB): nested bisection tree\n"
     "  (leaves of at most --vmax vertices, default 30), distance fields from\n"
     "  every separator sample inside its patch (--method, default exact), and\n"
@@ -33,7 +33,7 @@ const char usage_build[] =
     "  by up to 56% on curved leaves; --leaf-exact: the default). --threads:\n"
     "  build threads (0 = all cores, the default). --seed: the partitioning\n"
     "  seed (1). --heat-time,\n"
-    "  --heat-refine and --fmm-start: the field method's parameters (see geosep\n"
+    "  --heat-refine, --fmm-start and --dgg-eps: the field method's parameters (see geosep\n"
     "  solve --help; --heat-refine subdivides each patch while its fields are\n"
     "  solved; default auto: meshes under 32,000 vertices are subdivided to\n"
     "  reach that, at most twice).\n"
@@ -87,7 +87,7 @@ const char usage_eval[] =
     "  speed. For the maximum over all vertex pairs, give a FILE.gt with every\n"
     "  vertex as a source (geosep solve MESH --format gt --all -o FILE.gt).\n";
 const char usage_land[] =
-    "usage: geosep land MESH --landmarks M --groundtruth FILE.gt [--method exact|graph|fmm|heat]\n"
+    "usage: geosep land MESH --landmarks M --groundtruth FILE.gt [--method exact|graph|fmm|heat|dgg]\n"
     "  The LAND baseline (Burghard & Klein 2015) with M landmarks, evaluated\n"
     "  against FILE.gt like geosep eval.\n";
 
@@ -150,6 +150,8 @@ static int build_option(gs_build_options *o, const char **out, int *quiet, int a
         return parse_double(v, &o->sample_spacing) ? fail(EXIT_USAGE, "build: --spacing '%s' is not a number", v) : 0;
     if ((v = opt_value(argc, argv, i, "--heat-time")))
         return parse_double(v, &o->solver.heat_time) ? fail(EXIT_USAGE, "build: --heat-time '%s' is not a number", v) : 0;
+    if ((v = opt_value(argc, argv, i, "--dgg-eps")))
+        return parse_double(v, &o->solver.dgg_eps) ? fail(EXIT_USAGE, "build: --dgg-eps '%s' is not a number", v) : 0;
     if ((v = opt_value(argc, argv, i, "--fmm-start")))
         return parse_double(v, &o->solver.fmm_exact_start) ? fail(EXIT_USAGE, "build: --fmm-start '%s' is not a number", v) : 0;
     if ((v = opt_value(argc, argv, i, "--heat-refine")))
@@ -166,6 +168,7 @@ static void print_params(const gs_db_info *i)
 {
     printf("built with: method %s", gs_method_name(i->method));
     if (i->method == GS_METHOD_FMM) printf(" (exact start %g edge lengths)", i->solver.fmm_exact_start);
+    if (i->method == GS_METHOD_DGG && i->solver.dgg_eps > 0) printf(" (eps %g)", i->solver.dgg_eps);
     if (i->method == GS_METHOD_HEAT) {
         printf(" (t = %g h^2", i->solver.heat_time);
         if (i->solver.heat_refine) printf(", solved on the patches subdivided 1-to-4 %u time%s", i->solver.heat_refine,

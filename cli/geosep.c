@@ -43,10 +43,10 @@ static const char usage_subdivide[] =
 
 static const char usage_solve[] =
     "usage: geosep solve MESH --source V [--source V ...] [--source-point F:b0,b1,b2 ...]\n"
-    "                    [--method exact|graph|fmm|heat] [--max-distance D] [-o OUT] [--verbose] [--repair]\n"
+    "                    [--method exact|graph|fmm|heat|dgg] [--max-distance D] [-o OUT] [--verbose] [--repair]\n"
     "       geosep solve MESH --format gt (--sources-from FILE.gt | --random K [--seed S] | --all) -o OUT.gt\n"
-    "                    [--method exact|graph|fmm|heat] [--verbose]\n"
-    "       method parameters: [--heat-time M] [--heat-refine N|auto] [--fmm-start R]\n"
+    "                    [--method exact|graph|fmm|heat|dgg] [--verbose]\n"
+    "       method parameters: [--heat-time M] [--heat-refine N|auto] [--fmm-start R] [--dgg-eps E]\n"
     "  Geodesic distances from the sources to every vertex. Text output: one\n"
     "  distance per line in vertex order (\"%.17g\", \"inf\" if unreachable), the\n"
     "  minimum over all sources, to OUT or stdout. --source V is a vertex id\n"
@@ -66,6 +66,9 @@ static const char usage_solve[] =
     "  fields its databases reproduce. --fmm-start R: fast\n"
     "  marching starts from exact distances within R mean edge lengths of the\n"
     "  sources (default 4; 0: the plain march from the source vertices).\n"
+    "  --dgg-eps E: dgg (discrete geodesic graph) target relative error, which\n"
+    "  sets the radius of the exact local runs that build the graph (default\n"
+    "  0.001; 1e-5 to 0.5; smaller: slower to build, more accurate).\n"
     "  --repair (text output): repair the mesh in memory first (geosep repair\n"
     "  --help; what was done goes to stderr). Ids stay the input's: a source\n"
     "  vertex stands for every vertex it became (a split vertex: all its copies),\n"
@@ -252,7 +255,7 @@ static int solve_option(solve_opts *o, int argc, char **argv, int *i)
     if (!strcmp(a, "--all")) return o->all = 1, 0;
     static const char *const with_value[] = {"--source", "--source-point", "--method", "--max-distance",
                                              "--format", "--sources-from", "--random", "--seed", "-o",
-                                             "--heat-time", "--fmm-start", "--heat-refine"};
+                                             "--heat-time", "--fmm-start", "--heat-refine", "--dgg-eps"};
     for (size_t k = 0; k < sizeof with_value / sizeof *with_value; ++k) {
         if (!is_opt(a, with_value[k])) continue;
         if (!(v = opt_value(argc, argv, i, with_value[k])) || !*v)
@@ -272,7 +275,7 @@ static int solve_option(solve_opts *o, int argc, char **argv, int *i)
         case 2: {
             gs_error err = {0};
             if (gs_method_from_name(v, &o->method, &err))
-                return fail(EXIT_USAGE, "solve: --method '%s': expected exact, graph, fmm or heat", v);
+                return fail(EXIT_USAGE, "solve: --method '%s': expected exact, graph, fmm, heat or dgg", v);
             return 0;
         }
         case 3:
@@ -306,6 +309,12 @@ static int solve_option(solve_opts *o, int argc, char **argv, int *i)
         case 11:
             if (parse_heat_refine(v, &o->sopt.heat_refine))
                 return fail(EXIT_USAGE, "solve: --heat-refine '%s': expected 0 to %d or auto", v, GS_HEAT_REFINE_MAX);
+            return 0;
+        case 12:
+            if (parse_double(v, &o->sopt.dgg_eps) || !(o->sopt.dgg_eps >= GS_DGG_EPS_MIN) ||
+                !(o->sopt.dgg_eps <= GS_DGG_EPS_MAX))
+                return fail(EXIT_USAGE, "solve: --dgg-eps '%s': expected a number in [%g, %g]", v, GS_DGG_EPS_MIN,
+                            GS_DGG_EPS_MAX);
             return 0;
         default: o->out = v; return 0;
         }

@@ -358,10 +358,13 @@ typedef enum gs_method {
     GS_METHOD_EXACT = 0, /* exact polyhedral distances, window propagation   */
     GS_METHOD_GRAPH = 1, /* Dijkstra on the edge graph (upper bound, baseline) */
     GS_METHOD_FMM = 2,   /* fast marching (Kimmel & Sethian 1998)            */
-    GS_METHOD_HEAT = 3   /* the heat method (Crane et al. 2013), CHOLMOD      */
+    GS_METHOD_HEAT = 3,  /* the heat method (Crane et al. 2013), CHOLMOD      */
+    GS_METHOD_DGG = 4    /* discrete geodesic graph (Wang et al. 2017): exact */
+                         /*   local runs build a graph once per solver, each  */
+                         /*   field is a Dijkstra on it (doc/approximate-fields.md) */
 } gs_method;
 
-/* Text name ("exact", "graph", "fmm", "heat") of a method, or NULL. */
+/* Text name ("exact", "graph", "fmm", "heat", "dgg") of a method, or NULL. */
 GS_API const char *gs_method_name(gs_method method);
 /* Method from its name; GS_EARG if unknown. */
 GS_API int gs_method_from_name(const char *name, gs_method *method, gs_error *err);
@@ -405,7 +408,20 @@ typedef struct gs_solver_options {
                             /*   or GS_HEAT_REFINE_AUTO (gs_heat_refine_auto   */
                             /*   of the patch's vertex count; gs_db_build: of  */
                             /*   the whole mesh's, and its default)            */
+    double dgg_eps;         /* dgg: target relative error; sets the radius of  */
+                            /*   the local exact runs (gs_dgg_radius) [1e-3],  */
+                            /*   in [GS_DGG_EPS_MIN, GS_DGG_EPS_MAX]            */
 } gs_solver_options;
+
+/* Range of gs_solver_options.dgg_eps. */
+#define GS_DGG_EPS_MIN 1e-5
+#define GS_DGG_EPS_MAX 0.5
+
+/* The radius, in mean edge lengths of the patch, of the local exact runs
+ * that build a dgg graph for target error eps: every pair of vertices
+ * within this distance (inside the patch) is joined by a graph path of
+ * exactly its geodesic length. Pure function, thread-safe. */
+GS_API double gs_dgg_radius(double eps);
 
 /* Range of gs_solver_options.heat_time. Values below the default 1 only
  * add error (the heat barely leaves the source's neighbours); far above it
@@ -433,7 +449,10 @@ GS_API void gs_solver_options_default(gs_solver_options *opt);
 
 /* gs_solver_create with options (NULL: defaults). GS_EARG if an option is
  * out of range (heat_time in [GS_HEAT_TIME_MIN, GS_HEAT_TIME_MAX], fmm_exact_start finite and
- * >= 0, heat_refine at most GS_HEAT_REFINE_MAX or GS_HEAT_REFINE_AUTO). *out receives a new solver (caller frees); opt is copied. */
+ * >= 0, heat_refine at most GS_HEAT_REFINE_MAX or GS_HEAT_REFINE_AUTO, dgg_eps in
+ * [GS_DGG_EPS_MIN, GS_DGG_EPS_MAX]). GS_METHOD_DGG builds its graph here (the
+ * expensive part: OpenMP threads, the library's default count; the graph
+ * does not depend on the thread count). *out receives a new solver (caller frees); opt is copied. */
 GS_API int gs_solver_create_ex(const gs_patch *patch, gs_method method, const gs_solver_options *opt,
                         gs_solver **out, gs_error *err);
 GS_API void gs_solver_free(gs_solver *solver);

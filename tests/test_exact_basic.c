@@ -730,7 +730,8 @@ static void test_method_names(void)
     CHECK(gs_method_from_name("Exact", &m, &err) == GS_EARG && strstr(err.message, "unknown method 'Exact'"));
     CHECK(gs_method_from_name(NULL, &m, &err) == GS_EARG && m == GS_METHOD_HEAT);
     CHECK(gs_method_from_name("heat", NULL, &err) == GS_EARG && strstr(err.message, "method is NULL"));
-    CHECK(gs_method_name((gs_method)4) == NULL && gs_method_name((gs_method)-1) == NULL);
+    CHECK(gs_method_name((gs_method)5) == NULL && gs_method_name((gs_method)-1) == NULL);
+    CHECK(gs_method_from_name("dgg", &m, &err) == GS_OK && m == GS_METHOD_DGG && !strcmp(gs_method_name(m), "dgg"));
 }
 
 /* Needle triangles that pass mesh validation (an octahedron with one vertex

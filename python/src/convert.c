@@ -105,22 +105,29 @@ int gspy_method(PyObject *obj, gs_method *out)
     const char *name = PyUnicode_Check(obj) ? PyUnicode_AsUTF8(obj) : NULL;
     if (!name) {
         if (!PyErr_Occurred())
-            PyErr_Format(PyExc_TypeError, "method must be a str (\"exact\", \"graph\", \"fmm\" or \"heat\"), got %s",
+            PyErr_Format(PyExc_TypeError, "method must be a str (\"exact\", \"graph\", \"fmm\", \"heat\" or \"dgg\"), got %s",
                          Py_TYPE(obj)->tp_name);
         return -1;
     }
     gs_error err = {0};
     if (gs_method_from_name(name, out, &err) != GS_OK) {
-        PyErr_Format(PyExc_ValueError, "unknown method %R: expected \"exact\", \"graph\", \"fmm\" or \"heat\"", obj);
+        PyErr_Format(PyExc_ValueError, "unknown method %R: expected \"exact\", \"graph\", \"fmm\", \"heat\" or \"dgg\"", obj);
         return -1;
     }
     return 0;
 }
 
-int gspy_solver_options(PyObject *heat_time, PyObject *heat_refine, PyObject *fmm_start, gs_solver_options *opt)
+int gspy_solver_options(PyObject *heat_time, PyObject *heat_refine, PyObject *fmm_start, PyObject *dgg_eps,
+                        gs_solver_options *opt)
 {
     gs_solver_options d;
     gs_solver_options_default(&d);
+    if (gspy_opt_double(dgg_eps, d.dgg_eps, "dgg_eps", &opt->dgg_eps) < 0) return -1;
+    if (!(opt->dgg_eps >= GS_DGG_EPS_MIN && opt->dgg_eps <= GS_DGG_EPS_MAX)) {
+        PyErr_Format(PyExc_ValueError, "dgg_eps must be in [%g, %g], got %g", GS_DGG_EPS_MIN, GS_DGG_EPS_MAX,
+                     opt->dgg_eps);
+        return -1;
+    }
     if (gspy_opt_double(heat_time, d.heat_time, "heat_time", &opt->heat_time) < 0) return -1;
     if (gspy_opt_double(fmm_start, d.fmm_exact_start, "fmm_start", &opt->fmm_exact_start) < 0) return -1;
     if (heat_refine && PyUnicode_Check(heat_refine)) {

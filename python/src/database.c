@@ -134,15 +134,15 @@ static PyObject *db_build(PyObject *cls, PyObject *args, PyObject *kwargs)
 {
     static char *kw[] = {"mesh",         "method",     "threads", "progress",  "vmax",        "mmax",
                          "tol",          "spacing",    "vertex_sources", "sampled", "leaf_exact", "seed",
-                         "max_samples",  "field_memory", "heat_time", "heat_refine", "fmm_start", NULL};
+                         "max_samples",  "field_memory", "heat_time", "heat_refine", "fmm_start", "dgg_eps", NULL};
     PyObject *mesh, *method = NULL, *threads = NULL, *progress = Py_False, *vmax = NULL, *mmax = NULL, *tol = NULL,
                     *spacing = NULL, *vertex_sources = NULL, *sampled = NULL, *leaf_exact = NULL, *seed = NULL,
                     *max_samples = NULL, *field_memory = NULL, *heat_time = NULL, *heat_refine = NULL,
-                    *fmm_start = NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O!|OOO$OOOOOOOOOOOOO:build", kw, &gspy_MeshType, &mesh, &method,
+                    *fmm_start = NULL, *dgg_eps = NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O!|OOO$OOOOOOOOOOOOOO:build", kw, &gspy_MeshType, &mesh, &method,
                                      &threads, &progress, &vmax, &mmax, &tol, &spacing, &vertex_sources, &sampled,
                                      &leaf_exact, &seed, &max_samples, &field_memory, &heat_time, &heat_refine,
-                                     &fmm_start))
+                                     &fmm_start, &dgg_eps))
         return NULL;
     gs_build_options o;
     gs_build_options_default(&o);
@@ -155,7 +155,7 @@ static PyObject *db_build(PyObject *cls, PyObject *args, PyObject *kwargs)
         opt_bool(vertex_sources, &o.vertex_sources) < 0 || gspy_opt_u32(seed, o.seed, "seed", &o.seed) < 0 ||
         gspy_opt_u32(max_samples, o.max_samples, "max_samples", &o.max_samples) < 0 ||
         gspy_opt_u32(field_memory, o.field_memory_mib, "field_memory", &o.field_memory_mib) < 0 ||
-        gspy_solver_options(heat_time, heat_refine, fmm_start, &o.solver) < 0)
+        gspy_solver_options(heat_time, heat_refine, fmm_start, dgg_eps, &o.solver) < 0)
         return NULL;
     if (!heat_refine || heat_refine == Py_None) o.solver.heat_refine = refine_default;
 
@@ -324,7 +324,7 @@ static PyMethodDef db_methods[] = {
      "  values, False), leaf_exact (exact distances inside leaves, False),\n"
      "  seed (partitioning seed, 1), max_samples (per curve, 96; 0: no cap),\n"
      "  field_memory (MiB per block of fields, 384), heat_time, heat_refine\n"
-     "  (0..3 or \"auto\", the default), fmm_start.\n"
+     "  (0..3 or \"auto\", the default), fmm_start, dgg_eps (method \"dgg\").\n"
      "An unknown option raises TypeError, a value out of range ValueError. The\n"
      "GIL is released during the build."},
     {"open", (PyCFunction)db_open, METH_O | METH_CLASS,

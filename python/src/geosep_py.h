@@ -62,7 +62,8 @@ int gspy_method(PyObject *obj, gs_method *out);
 
 /* Solver options from their Python values (each may be NULL or None:
  * default): heat_time, heat_refine (int or "auto"), fmm_start. */
-int gspy_solver_options(PyObject *heat_time, PyObject *heat_refine, PyObject *fmm_start, gs_solver_options *opt);
+int gspy_solver_options(PyObject *heat_time, PyObject *heat_refine, PyObject *fmm_start, PyObject *dgg_eps,
+                        gs_solver_options *opt);
 
 /* Sources (an int or a sequence of ints, not empty) as a new array of
  * vertex sources, checked against [0, n_vertices). NULL with an exception

@@ -49,14 +49,14 @@ static PyObject *solve(gs_solver *solver, uint32_t n, const gs_source *src, uint
 
 static PyObject *solver_new(PyTypeObject *type, PyObject *args, PyObject *kwargs)
 {
-    static char *kw[] = {"mesh", "method", "heat_time", "heat_refine", "fmm_start", NULL};
-    PyObject *mesh, *method_obj = NULL, *heat_time = NULL, *heat_refine = NULL, *fmm_start = NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O!|O$OOO:Solver", kw, &gspy_MeshType, &mesh, &method_obj,
-                                     &heat_time, &heat_refine, &fmm_start))
+    static char *kw[] = {"mesh", "method", "heat_time", "heat_refine", "fmm_start", "dgg_eps", NULL};
+    PyObject *mesh, *method_obj = NULL, *heat_time = NULL, *heat_refine = NULL, *fmm_start = NULL, *dgg_eps = NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O!|O$OOOO:Solver", kw, &gspy_MeshType, &mesh, &method_obj,
+                                     &heat_time, &heat_refine, &fmm_start, &dgg_eps))
         return NULL;
     gs_method method;
     gs_solver_options opt;
-    if (gspy_method(method_obj, &method) < 0 || gspy_solver_options(heat_time, heat_refine, fmm_start, &opt) < 0)
+    if (gspy_method(method_obj, &method) < 0 || gspy_solver_options(heat_time, heat_refine, fmm_start, dgg_eps, &opt) < 0)
         return NULL;
     gspy_Solver *self = (gspy_Solver *)type->tp_alloc(type, 0);
     if (!self) return NULL;
@@ -220,7 +220,7 @@ static PyObject *solver_repr(gspy_Solver *self)
 
 static PyGetSetDef solver_getset[] = {
     {"mesh", (getter)solver_get_mesh, NULL, "The Mesh this solver measures on.", NULL},
-    {"method", (getter)solver_get_method, NULL, "The method's name (\"exact\", \"graph\", \"fmm\" or \"heat\").",
+    {"method", (getter)solver_get_method, NULL, "The method's name (\"exact\", \"graph\", \"fmm\", \"heat\" or \"dgg\").",
      NULL},
     {NULL, NULL, NULL, NULL, NULL}};
 
@@ -243,16 +243,19 @@ PyTypeObject gspy_SolverType = {
     PyVarObject_HEAD_INIT(NULL, 0).tp_name = "geosep.Solver",
     .tp_basicsize = sizeof(gspy_Solver),
     .tp_flags = Py_TPFLAGS_DEFAULT,
-    .tp_doc = "Solver(mesh, method='exact', *, heat_time=None, heat_refine=None, fmm_start=None)\n--\n\n"
+    .tp_doc = "Solver(mesh, method='exact', *, heat_time=None, heat_refine=None, fmm_start=None, dgg_eps=None)\n--\n\n"
               "A reusable distance-field solver on a Mesh: it allocates its memory (and,\n"
               "for \"heat\", factors its matrices) once, then solves any number of\n"
               "fields with field(). Methods: \"exact\" (exact polyhedral distances,\n"
               "window propagation), \"fmm\" (fast marching), \"heat\" (the heat method),\n"
-              "\"graph\" (Dijkstra on the edges: an upper bound). Options (None: the\n"
+              "\"graph\" (Dijkstra on the edges: an upper bound), \"dgg\" (discrete\n"
+              "geodesic graph: built once here from local exact runs, then each field\n"
+              "is a Dijkstra on it; an upper bound within ~0.01% mean). Options (None: the\n"
               "library's defaults): heat_time (t = heat_time * h^2, default 1),\n"
               "heat_refine (solve on the mesh subdivided 0..3 times, or \"auto\"),\n"
               "fmm_start (vertices within this many mean edge lengths of the sources\n"
-              "get exact distances, default 4).\n\n"
+              "get exact distances, default 4), dgg_eps (dgg's target relative error,\n"
+              "1e-5 to 0.5, default 0.001: it sets the radius of the local runs).\n\n"
               "A Solver has scratch space: calls from several threads are safe but run\n"
               "one at a time (a lock guards it). For parallel fields, use one Solver\n"
               "per thread.",
@@ -273,7 +276,7 @@ int gspy_solver_init_type(PyObject *module)
 
 const char gspy_distance_field_doc[] =
     "distance_field(mesh, sources, method='exact', max_distance=None, *, heat_time=None, heat_refine=None, "
-    "fmm_start=None)\n--\n\n"
+    "fmm_start=None, dgg_eps=None)\n--\n\n"
     "Returns an (n_vertices,) float64 array:\n"
     "the geodesic distance from the nearest of the sources (a vertex id or a\n"
     "sequence of them) to every vertex of mesh; +inf where unreachable. The\n"
@@ -282,16 +285,17 @@ const char gspy_distance_field_doc[] =
 
 PyObject *gspy_distance_field(PyObject *Py_UNUSED(module), PyObject *args, PyObject *kwargs)
 {
-    static char *kw[] = {"mesh", "sources", "method", "max_distance", "heat_time", "heat_refine", "fmm_start", NULL};
+    static char *kw[] = {"mesh", "sources", "method", "max_distance", "heat_time", "heat_refine", "fmm_start", "dgg_eps",
+                         NULL};
     PyObject *mesh, *sources, *method_obj = NULL, *maxd_obj = Py_None, *heat_time = NULL, *heat_refine = NULL,
-                                *fmm_start = NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O!O|OO$OOO:distance_field", kw, &gspy_MeshType, &mesh, &sources,
-                                     &method_obj, &maxd_obj, &heat_time, &heat_refine, &fmm_start))
+                                *fmm_start = NULL, *dgg_eps = NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O!O|OO$OOOO:distance_field", kw, &gspy_MeshType, &mesh, &sources,
+                                     &method_obj, &maxd_obj, &heat_time, &heat_refine, &fmm_start, &dgg_eps))
         return NULL;
     gs_method method;
     gs_solver_options opt;
     double maxd;
-    if (gspy_method(method_obj, &method) < 0 || gspy_solver_options(heat_time, heat_refine, fmm_start, &opt) < 0 ||
+    if (gspy_method(method_obj, &method) < 0 || gspy_solver_options(heat_time, heat_refine, fmm_start, dgg_eps, &opt) < 0 ||
         gspy_max_distance(maxd_obj, &maxd) < 0)
         return NULL;
     const gs_mesh *m = ((gspy_Mesh *)mesh)->mesh;

@@ -42,13 +42,13 @@ def test_solver_reuse(sphere):
     assert np.max(np.abs(a - great)) < 0.05
 
 
-@pytest.mark.parametrize("method, tol", [("fmm", 0.03), ("heat", 0.06), ("graph", 0.15)])
+@pytest.mark.parametrize("method, tol", [("fmm", 0.03), ("heat", 0.06), ("graph", 0.15), ("dgg", 0.001)])
 def test_methods_agree_with_exact(sphere, method, tol):
     exact = geosep.distance_field(sphere, 0)
     approx = geosep.Solver(sphere, method).field(0)
     ok = exact > 0
     assert np.mean(np.abs(approx[ok] - exact[ok]) / exact[ok]) < tol
-    if method == "graph":  # paths along edges are never shorter
+    if method in ("graph", "dgg"):  # paths along edges / graph edges are never shorter
         assert np.all(approx >= exact - 1e-12)
 
 
@@ -70,6 +70,21 @@ def test_solver_options(sphere):
         geosep.Solver(sphere, "fmm", fmm_start=-1)
     with pytest.raises(TypeError):
         geosep.Solver(sphere, "heat", heat_tim=1.0)
+    with pytest.raises(ValueError, match="dgg_eps"):
+        geosep.Solver(sphere, "dgg", dgg_eps=0.0)
+    d = geosep.distance_field(sphere, 0, "dgg", dgg_eps=0.01)
+    e = geosep.Solver(sphere, "dgg", dgg_eps=0.01).field(0)
+    np.testing.assert_array_equal(d, e)
+
+
+def test_dgg_plane_and_database(plane):
+    d = geosep.Solver(plane, "dgg").field(0)
+    e = euclid(plane, 0)
+    assert np.all(d >= e * (1 - 1e-12)) and np.max(d[e > 0] / e[e > 0] - 1) < 0.01
+    db = geosep.Database.build(plane, method="dgg", dgg_eps=0.003, threads=1)
+    assert db.info()["method"] == "dgg"
+    with pytest.raises(ValueError, match="dgg_eps"):
+        geosep.Database.build(plane, method="dgg", dgg_eps=1.0)
 
 
 def test_max_distance(plane):

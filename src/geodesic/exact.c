@@ -84,6 +84,11 @@ typedef struct ex_state {
     gs_exact_trace tr;
     uint32_t src_cap;
     uint32_t tface; /* face of the target point of the next solves, or GS_NONE */
+    /* local solves (gs__exact_solve_local): what the last one touched */
+    uint32_t *tv, ntv;    /* vertices given a distance                        */
+    uint32_t *th, nth;    /* half-edges given windows                         */
+    uint8_t *hmark;       /* per half-edge: listed in th                      */
+    int local_clean;      /* state arrays reset but for tv / th               */
     /* per solve */
     double *d;
     double max_d;
@@ -108,6 +113,9 @@ static void ex_destroy(void *state)
     free(s->head);
     free(s->fired);
     free(s->win);
+    free(s->tv);
+    free(s->th);
+    free(s->hmark);
     free(s->tr.kind);
     free(s->tr.ref);
     free(s->tr.tag);
@@ -211,6 +219,7 @@ static inline void ex_update_vertex(ex_state *s, uint32_t v, double val, uint32_
                                     uint8_t kind, uint32_t ref, double sx, double sy, uint32_t tag)
 {
     if (val < s->d[v]) {
+        if (s->tv && s->d[v] == INFINITY) s->tv[s->ntv++] = v;
         s->d[v] = val;
         s->tr.kind[v] = kind;
         s->tr.ref[v] = ref;
@@ -341,6 +350,10 @@ static void ex_push(ex_state *s, uint32_t h, double b0, double b1, double sx, do
     p->tag = tag;
     p->next = s->head[h];
     s->head[h] = w;
+    if (s->hmark && !s->hmark[h]) {
+        s->hmark[h] = 1;
+        s->th[s->nth++] = h;
+    }
     s->created++;
     gs_iheap_push_or_decrease(&s->fheap, h / 3, dmin);
 }
@@ -570,6 +583,125 @@ static void ex_process_face(ex_state *s, uint32_t f)
     }
 }
 
+/* Needle triangles (aspect ratio up to 1e12 passes mesh validation) make
+ * windows bounce along them some aspect-ratio times before their distances
+ * grow past the vertices' (an octahedron with one vertex moved to 4e9:
+ * hours). Real meshes need far fewer windows per face (homer-60k: 59,
+ * stanford-bunny: 47); past this many a solve fails instead. */
+static uint64_t ex_cap(const gs_topo *t)
+{
+    return EX_MAX_WINDOWS_BASE + EX_MAX_WINDOWS_PER_FACE * (uint64_t)t->nf;
+}
+
+/* Fire the sources and propagate up to s->max_d (state reset by the caller). */
+static void ex_run(ex_state *s, const gs_source *src, uint32_t n_src)
+{
+    double *dist = s->d;
+    double max_d = s->max_d;
+    for (uint32_t i = 0; i < n_src; ++i)
+        if (src[i].face == GS_NONE) {
+            if (s->tv && dist[src[i].vertex] == INFINITY) s->tv[s->ntv++] = src[i].vertex;
+            dist[src[i].vertex] = 0;
+        }
+    for (uint32_t i = 0; i < n_src; ++i)
+        if (src[i].face == GS_NONE) {
+            if (s->fired[src[i].vertex] != 0) ex_fire_vertex(s, src[i].vertex);
+        } else {
+            ex_fire_point(s, &src[i], i);
+        }
+    uint64_t cap = ex_cap(s->t);
+    while (!s->oom && s->propagated <= cap) {
+        int have_f = s->fheap.n > 0, have_v = s->vheap.n > 0;
+        if (!have_f && !have_v) break;
+        double kf = have_f ? s->fheap.key[s->fheap.ids[0]] : INFINITY;
+        double kv = have_v ? s->vheap.key[s->vheap.ids[0]] : INFINITY;
+        if (kv <= kf) {
+            if (kv > max_d) break;
+            uint32_t v = gs_iheap_pop(&s->vheap, NULL);
+            if (dist[v] < s->fired[v]) ex_fire_vertex(s, v);
+        } else {
+            if (kf > max_d) break;
+            uint32_t f = gs_iheap_pop(&s->fheap, NULL);
+            ex_process_face(s, f);
+        }
+    }
+}
+
+int gs__exact_solve_local(void *state, const gs_source *src, double max_d, double *dist,
+                          const uint32_t **touched, uint32_t *n_touched, gs_error *err)
+{
+    ex_state *s = state;
+    const gs_topo *t = s->t;
+    size_t nh = 3 * (size_t)t->nf;
+    if (!s->tv) {
+        s->tv = gs__malloc(t->nv ? t->nv : 1, sizeof *s->tv);
+        s->th = gs__malloc(nh ? nh : 1, sizeof *s->th);
+        s->hmark = gs__calloc(nh ? nh : 1, 1);
+        if (!s->tv || !s->th || !s->hmark) {
+            free(s->tv), free(s->th), free(s->hmark);
+            s->tv = s->th = NULL, s->hmark = NULL;
+            return gs__fail(err, GS_ENOMEM, "out of memory in the exact solver");
+        }
+        s->local_clean = 0;
+    }
+    if (!s->local_clean) {
+        for (uint32_t v = 0; v < t->nv; ++v) {
+            s->fired[v] = INFINITY;
+            s->in_c[v] = GS_NONE;
+            s->tr.kind[v] = GS_EXTR_NONE;
+        }
+        for (size_t h = 0; h < nh; ++h) s->head[h] = GS_NONE, s->hmark[h] = 0;
+        s->local_clean = 1;
+    } else {
+        for (uint32_t i = 0; i < s->ntv; ++i) {
+            uint32_t v = s->tv[i];
+            s->fired[v] = INFINITY;
+            s->in_c[v] = GS_NONE;
+            s->tr.kind[v] = GS_EXTR_NONE;
+        }
+        for (uint32_t i = 0; i < s->nth; ++i) s->head[s->th[i]] = GS_NONE, s->hmark[s->th[i]] = 0;
+    }
+    s->ntv = s->nth = 0;
+    s->tr.valid = 0;
+    s->tr.target.face = GS_NONE;
+    s->tface = GS_NONE;
+    s->d = dist;
+    s->max_d = max_d;
+    s->oom = 0;
+    s->created = s->propagated = 0;
+    s->n_win = 0;
+    s->free_win = GS_NONE;
+    gs_iheap_clear(&s->fheap);
+    gs_iheap_clear(&s->vheap);
+    ex_run(s, src, 1);
+    s->d = NULL;
+    *touched = s->tv;
+    *n_touched = s->ntv;
+    if (s->oom) return gs__fail(err, GS_ENOMEM, "out of memory in the exact solver");
+    if (s->propagated > ex_cap(t))
+        return gs__fail(err, GS_EINTERNAL, "exact solver: gave up after %llu window propagations on %u faces "
+                        "(needle triangles? see the mesh report's min angle)", (unsigned long long)s->propagated, t->nf);
+    return GS_OK;
+}
+
+int gs__exact_straight(const void *state, uint32_t source_vertex, uint32_t u, double du)
+{
+    const ex_state *s = state;
+    const gs_topo *t = s->t;
+    switch (s->tr.kind[u]) {
+    case GS_EXTR_NONE: return 1;
+    case GS_EXTR_POINT: return 1;
+    case GS_EXTR_EDGE: return t->tri[s->tr.ref[u]] == source_vertex;
+    default: break;
+    }
+    uint32_t h = s->tr.ref[u];
+    double lac = s->hl[gs_prev(h)];
+    double cx = lac * s->hc[h], cy = lac * s->hs[h];
+    double ex = cx - s->tr.sxy[2 * (size_t)u], ey = cy - s->tr.sxy[2 * (size_t)u + 1];
+    double sigma = du - sqrt(ex * ex + ey * ey);
+    return sigma <= 1e-9 * du;
+}
+
 static int ex_solve(void *state, const gs_source *src, uint32_t n_src, double max_d,
                     double *dist, gs_solve_stats *stats, gs_error *err)
 {
@@ -604,46 +736,22 @@ static int ex_solve(void *state, const gs_source *src, uint32_t n_src, double ma
     gs_iheap_clear(&s->fheap);
     gs_iheap_clear(&s->vheap);
 
-    for (uint32_t i = 0; i < n_src; ++i)
-        if (src[i].face == GS_NONE) dist[src[i].vertex] = 0;
-    for (uint32_t i = 0; i < n_src; ++i)
-        if (src[i].face == GS_NONE) {
-            if (s->fired[src[i].vertex] != 0) ex_fire_vertex(s, src[i].vertex);
-        } else {
-            ex_fire_point(s, &src[i], i);
-        }
-
-    /* Needle triangles (aspect ratio up to 1e12 passes mesh validation) make
-     * windows bounce along them some aspect-ratio times before their
-     * distances grow past the vertices' (an octahedron with one vertex moved
-     * to 4e9: hours). Real meshes need far fewer windows per face (homer-60k:
-     * 59, stanford-bunny: 47); past this many the solve fails instead. */
-    uint64_t cap = EX_MAX_WINDOWS_BASE + EX_MAX_WINDOWS_PER_FACE * (uint64_t)t->nf;
-    while (!s->oom && s->propagated <= cap) {
-        int have_f = s->fheap.n > 0, have_v = s->vheap.n > 0;
-        if (!have_f && !have_v) break;
-        double kf = have_f ? s->fheap.key[s->fheap.ids[0]] : INFINITY;
-        double kv = have_v ? s->vheap.key[s->vheap.ids[0]] : INFINITY;
-        if (kv <= kf) {
-            if (kv > max_d) break;
-            uint32_t v = gs_iheap_pop(&s->vheap, NULL);
-            if (dist[v] < s->fired[v]) ex_fire_vertex(s, v);
-        } else {
-            if (kf > max_d) break;
-            uint32_t f = gs_iheap_pop(&s->fheap, NULL);
-            ex_process_face(s, f);
-        }
-    }
+    uint32_t *tv = s->tv;
+    uint8_t *hmark = s->hmark;
+    s->tv = NULL, s->hmark = NULL; /* no touched lists in full solves */
+    ex_run(s, src, n_src);
+    s->tv = tv, s->hmark = hmark;
     stats->windows_created = s->created;
     stats->windows_propagated = s->propagated;
     s->d = NULL;
-    if (!s->oom && s->propagated <= cap) {
+    if (!s->oom && s->propagated <= ex_cap(t)) {
         memcpy(s->tr.dist, dist, t->nv * sizeof *dist);
         s->tr.valid = 1;
         s->tr.max_d = max_d;
     }
+    s->local_clean = 0;
     if (s->oom) return gs__fail(err, GS_ENOMEM, "out of memory in the exact solver");
-    if (s->propagated > cap)
+    if (s->propagated > ex_cap(t))
         return gs__fail(err, GS_EINTERNAL, "exact solver: gave up after %llu window propagations on %u faces "
                         "(needle triangles? see the mesh report's min angle)", (unsigned long long)s->propagated, t->nf);
     return GS_OK;

@@ -38,6 +38,27 @@ extern const gs_method_ops gs_exact_ops; /* exact.c  */
 extern const gs_method_ops gs_graph_ops; /* graph.c  */
 extern const gs_method_ops gs_fmm_ops;   /* fmm.c    */
 extern const gs_method_ops gs_heat_ops;  /* heat.c   */
+extern const gs_method_ops gs_dgg_ops;   /* dgg.c    */
+
+/* Exact solver state (gs_exact_ops): one bounded solve from one source
+ * (normalised) whose cost is proportional to the region it reaches, not to
+ * the patch (for dgg.c's many local runs). dist: nv doubles, all +INFINITY
+ * on entry; on return the vertices listed in *touched (n_touched of them,
+ * owned by the state, valid until its next solve) hold real path lengths,
+ * exact where <= max_d, and every other entry is still +INFINITY: the
+ * caller resets the touched entries before the next call. */
+int gs__exact_solve_local(void *state, const gs_source *src, double max_d, double *dist,
+                          const uint32_t **touched, uint32_t *n_touched, gs_error *err);
+/* After gs__exact_solve_local from vertex source_vertex (or from a surface
+ * point: pass GS_NONE): 1 if the shortest path found to u (distance du)
+ * is straight (no bend at a vertex on the way: it leaves the source
+ * directly), 0 if it bends at a pseudo-source vertex w, where then
+ * du = d(w) + d(w, u). */
+/* dgg.c: the graph of a dgg state: build time, edge count, bytes held. */
+void gs__dgg_info(const void *state, double *seconds, uint64_t *edges, uint64_t *bytes);
+/* The same for a solver; GS_EARG if its method is not GS_METHOD_DGG. */
+int gs__solver_dgg_info(const gs_solver *s, double *seconds, uint64_t *edges, uint64_t *bytes, gs_error *err);
+int gs__exact_straight(const void *state, uint32_t source_vertex, uint32_t u, double du);
 
 /* One field per source: dist receives n rows of gs_patch_num_vertices()
  * doubles, row i the field of sources[i] alone (unbounded). Same results

@@ -24,6 +24,7 @@ static const gs_method_ops *ops_of(gs_method m)
     case GS_METHOD_GRAPH: return &gs_graph_ops;
     case GS_METHOD_FMM: return &gs_fmm_ops;
     case GS_METHOD_HEAT: return &gs_heat_ops;
+    case GS_METHOD_DGG: return &gs_dgg_ops;
     default: return NULL;
     }
 }
@@ -36,14 +37,14 @@ const char *gs_method_name(gs_method m)
 
 int gs_method_from_name(const char *name, gs_method *m, gs_error *err)
 {
-    static const gs_method all[] = {GS_METHOD_EXACT, GS_METHOD_GRAPH, GS_METHOD_FMM, GS_METHOD_HEAT};
+    static const gs_method all[] = {GS_METHOD_EXACT, GS_METHOD_GRAPH, GS_METHOD_FMM, GS_METHOD_HEAT, GS_METHOD_DGG};
     if (!m) return gs__fail(err, GS_EARG, "gs_method_from_name: method is NULL");
     for (size_t i = 0; name && i < sizeof all / sizeof all[0]; ++i)
         if (strcmp(name, ops_of(all[i])->name) == 0) {
             *m = all[i];
             return GS_OK;
         }
-    return gs__fail(err, GS_EARG, "unknown method '%s' (expected exact, graph, fmm or heat)",
+    return gs__fail(err, GS_EARG, "unknown method '%s' (expected exact, graph, fmm, heat or dgg)",
                     name ? name : "(null)");
 }
 
@@ -94,6 +95,7 @@ void gs_solver_options_default(gs_solver_options *o)
     o->heat_time = 1.0;
     o->fmm_exact_start = 4.0;
     o->heat_refine = 0;
+    o->dgg_eps = 1e-3;
 }
 
 uint32_t gs_heat_refine_auto(uint32_t nv)
@@ -125,6 +127,9 @@ int gs_solver_create_ex(const gs_patch *patch, gs_method method, const gs_solver
     if (!(isfinite(o.fmm_exact_start) && o.fmm_exact_start >= 0))
         return gs__fail(err, GS_EARG, "gs_solver_create: fmm_exact_start %g must be finite and >= 0",
                         o.fmm_exact_start);
+    if (!(o.dgg_eps >= GS_DGG_EPS_MIN && o.dgg_eps <= GS_DGG_EPS_MAX))
+        return gs__fail(err, GS_EARG, "gs_solver_create: dgg_eps %g out of range [%g, %g]", o.dgg_eps,
+                        GS_DGG_EPS_MIN, GS_DGG_EPS_MAX);
     if (o.heat_refine == GS_HEAT_REFINE_AUTO) o.heat_refine = gs_heat_refine_auto(gs_patch_num_vertices(patch));
     if (o.heat_refine > GS_HEAT_REFINE_MAX)
         return gs__fail(err, GS_EARG, "gs_solver_create: heat_refine %u must be at most %d (or GS_HEAT_REFINE_AUTO)",
@@ -333,4 +338,11 @@ int gs_solver_path(gs_solver *s, const gs_source *source, const gs_source *targe
     free(dist);
     if (rc) return rc;
     return gs__exact_trace_path(t, gs__exact_get_trace(s->state), &q, out, err);
+}
+
+int gs__solver_dgg_info(const gs_solver *s, double *seconds, uint64_t *edges, uint64_t *bytes, gs_error *err)
+{
+    if (!s || s->ops != &gs_dgg_ops) return gs__fail(err, GS_EARG, "gs__solver_dgg_info: not a dgg solver");
+    gs__dgg_info(s->state, seconds, edges, bytes);
+    return GS_OK;
 }
