@@ -88,6 +88,7 @@ static void print_usage(FILE *f)
             "  query DB X Y                    approximate geodesic distance\n"
             "  query DB --points FILE          ... between surface points (face, weights)\n"
             "  field DB --source X             distances from X through the database\n"
+            "  sample DB K [--seed S]          farthest-point sampling: K vertex ids\n"
             "  eval DB --groundtruth F.gt      accuracy against exact distances\n"
             "  land MESH --landmarks M ...     the LAND baseline, evaluated\n"
             "  render MESH -o OUT.png ...      a picture: field, isolines, separators\n"
@@ -570,6 +571,7 @@ static const command commands[] = {
     {"build", cmd_build, usage_build},
     {"query", cmd_query, usage_query},
     {"field", cmd_field, usage_field},
+    {"sample", cmd_sample, usage_sample},
     {"eval", cmd_eval, usage_eval},
     {"land", cmd_land, usage_land},
     {"render", cmd_render, usage_render},
