@@ -107,6 +107,10 @@ extern const char usage_build[], usage_query[], usage_verify[], usage_field[], u
 int cmd_path(int argc, char **argv);
 extern const char usage_path[];
 
+/* Farthest-point sampling (sample_cmd.c). */
+int cmd_sample(int argc, char **argv);
+extern const char usage_sample[];
+
 /* Pictures (render_cmd.c). */
 int cmd_render(int argc, char **argv);
 extern const char usage_render[];

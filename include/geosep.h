@@ -773,6 +773,20 @@ GS_API int gs_db_point_distances(const gs_db *db, const gs_surface_point *pairs,
  * before returning) cannot be allocated. Thread-safe. */
 GS_API int gs_db_point_field(const gs_db *db, const gs_surface_point *p, double *out, gs_error *err);
 
+/* Farthest-point sampling by the database's distances (greedy): out[0] =
+ * seed_vertex, and each further out[i] is the vertex whose database
+ * distance to the nearest of out[0..i-1] is largest. A vertex unreachable
+ * from every sample so far (another component) counts as infinitely far,
+ * so each component gets a sample before any gets a second; vertices used
+ * by no face are never chosen; ties go to the lowest id. out receives k
+ * vertex ids (caller's array). GS_EARG if k exceeds the number of vertices
+ * used by faces, seed_vertex is out of range or used by no face, or an
+ * argument is NULL; GS_ENOMEM if the work arrays cannot be allocated.
+ * Cost: k calls of gs_db_field; memory: 2 x n_vertices doubles, freed
+ * before returning. Thread-safe (the database is only read). */
+GS_API int gs_db_farthest_point_sampling(const gs_db *db, uint32_t k, uint32_t seed_vertex, uint32_t *out,
+                                         gs_error *err);
+
 /* ======================================================================== */
 /* Pictures (src/render): a software rasterizer, PNG output                 */
 /* ======================================================================== */

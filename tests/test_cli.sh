@@ -55,7 +55,7 @@ run help
 { [ "$rc" -eq 0 ] && grep -q "usage: geosep" "$T/out"; }; verdict "help exits 0"
 run help solve
 { [ "$rc" -eq 0 ] && grep -q -- "--sources-from" "$T/out"; }; verdict "help solve"
-for c in info generate subdivide solve repair; do
+for c in info generate subdivide solve repair sample; do
     run "$c" --help
     { [ "$rc" -eq 0 ] && grep -q "usage: geosep $c" "$T/out"; }; verdict "$c --help"
 done
@@ -506,6 +506,30 @@ expect_fail 1 "broken.obj" "repair: a malformed file is still an error naming it
 printf 'v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n' >"$T/flat.obj"
 expect_fail 1 "nothing is left" "repair: only zero-area faces" repair "$T/flat.obj" -o "$T/bad.obj"
 { [ ! -e "$T/bad.obj" ] && [ -z "$(find "$T" -name '*.tmp.*')" ]; }; verdict "repair: failures leave no file"
+
+# ---- sample (farthest-point sampling) ----------------------------------------
+run sample "$T/grid.gsdb" 4
+{ [ "$rc" -eq 0 ] && [ "$(head -2 "$T/out" | tr '\n' ' ')" = "0 399 " ] && [ "$(wc -l <"$T/out")" -eq 4 ] &&
+  [ "$(sed -n 3,4p "$T/out" | sort -n | tr '\n' ' ')" = "19 380 " ]; }
+verdict "sample: from corner 0 of the grid, the opposite corner, then the other two"
+run sample "$T/grid.gsdb" 400 --seed 210 -o "$T/s.txt"
+{ [ "$rc" -eq 0 ] && [ ! -s "$T/out" ] && [ "$(head -1 "$T/s.txt")" = 210 ] && [ "$(sort -n "$T/s.txt" | uniq | wc -l)" -eq 400 ]; }
+verdict "sample --seed -o: every vertex once, the seed first"
+run sample "$T/grid.gsdb" 3 --seed 210
+{ [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = "$(head -3 "$T/s.txt")" ]; }; verdict "sample: K samples are the first K of more"
+run sample "$T/grid.gsdb" 0
+{ [ "$rc" -eq 0 ] && [ ! -s "$T/out" ]; }; verdict "sample: K = 0 prints nothing"
+run generate two:6 -o "$T/two_s.obj"  # two:3 fits one leaf, which answers Euclidean distances across its components
+run build "$T/two_s.obj" -o "$T/two_s.gsdb" --quiet
+run sample "$T/two_s.gsdb" 2
+{ [ "$rc" -eq 0 ] && [ "$("$BIN" query "$T/two_s.gsdb" $(tr '\n' ' ' <"$T/out"))" = inf ]; }
+verdict "sample: two components: the second sample is in the other one"
+expect_fail 2 "exceeds the 400 vertices" "sample: K above the vertex count" sample "$T/grid.gsdb" 401
+expect_fail 2 "seed vertex 400" "sample: seed out of range" sample "$T/grid.gsdb" 2 --seed 400
+expect_fail 2 "not a count" "sample: bad K" sample "$T/grid.gsdb" x
+expect_fail 2 "need DB K" "sample: missing K" sample "$T/grid.gsdb"
+expect_fail 2 "unknown or incomplete option" "sample: unknown option" sample "$T/grid.gsdb" 2 --k 3
+expect_fail 1 "nope.gsdb" "sample: missing database" sample "$T/nope.gsdb" 2
 
 # ---- path (exact paths) ------------------------------------------------------
 run generate grid:5,5 -o "$T/g55.obj"
