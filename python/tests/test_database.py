@@ -204,7 +204,15 @@ def test_corrupt_database(tmp_path, sphere_db):
         p = tmp_path / f"flip{where}.gsdb"
         p.write_bytes(bytes(bad))
         with pytest.raises(geosep.DatabaseError):
-            geosep.Database.open(p)
+            geosep.Database.open(p, verify=True)
+    # the header is checked at every open, verified or not
+    bad = bytearray(data)
+    bad[9] ^= 0xFF
+    p = tmp_path / "version.gsdb"
+    p.write_bytes(bytes(bad))
+    with pytest.raises(geosep.DatabaseError):
+        geosep.Database.open(p)
+    assert geosep.Database.open(path, verify=True).n_vertices == sphere_db.n_vertices
     p = tmp_path / "truncated.gsdb"
     p.write_bytes(bytes(data[: len(data) // 2]))
     with pytest.raises(geosep.DatabaseError, match="truncated.gsdb"):
@@ -250,13 +258,14 @@ def test_progress(plane, capsys):
     stages = [ln.split("\r")[-1].split()[0] for ln in lines]
     # one line per stage, in order; the build reports "fields" only from its
     # own thread, which may get no node of a small mesh
-    assert stages in (["tree", "fields", "write"], ["tree", "write"])
+    assert stages[0] == "tree" and stages[-1] == "write" and stages == sorted(
+        stages, key=["tree", "fields", "leaves", "write"].index)
     assert all(ln.startswith("\r") and ln.rstrip().endswith("s") and "100%" in ln.split("\r")[-1] for ln in lines)
     calls = []
     geosep.Database.build(plane, progress=lambda stage, f: calls.append((stage, f)))
     assert capsys.readouterr().err == ""
     assert calls[0] == ("tree", 0.0) and calls[-1] == ("write", 1.0)
-    assert {s for s, _ in calls} <= {"tree", "fields", "write"}
+    assert {s for s, _ in calls} <= {"tree", "fields", "leaves", "write"}
 
     def fail(stage, f):
         raise RuntimeError("stop here")
