@@ -142,7 +142,7 @@ expect_fail 2 "F:b0,b1,b2" "source-point with junk" solve "$G" --source-point 1:
 expect_fail 2 "sum to 1" "source-point not summing to 1" solve "$G" --source-point 0:0.5,0.6,0.2
 expect_fail 2 "sum to 1|>= 0" "source-point negative" solve "$G" --source-point 0:-0.5,1,0.5
 expect_fail 2 "face out of range" "source-point face out of range" solve "$G" --source-point 100:1,0,0
-expect_fail 2 "exact, graph, fmm or heat" "unknown method" solve "$G" --source 0 --method dijkstra
+expect_fail 2 "exact, graph, fmm, heat or dgg" "unknown method" solve "$G" --source 0 --method dijkstra
 for m in fmm heat; do
     run solve "$G" --source 0 --method $m -o "$T/$m.txt"
     { [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/$m.txt")" -eq 66 ] && [ "$(head -1 "$T/$m.txt")" = "0" ]; }; verdict "solve --method $m"
