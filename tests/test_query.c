@@ -1,9 +1,14 @@
 /* test_query.c - point-to-point queries (paper sec. 3.2) on the hand-made
- * database of test_db.c: same-leaf, cross-leaf against brute force and a
+ * database of tests/util/db_fixture.c: same-leaf, cross-leaf against brute force and a
  * no-reject reference, symmetry, unreachable, batch and field; and the
  * section 5 error measures on hand-made fields. */
-#define GS_TEST_DB_FIXTURE_ONLY
-#include "test_db.c"
+#include "check.h"
+#include "db_fixture.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include <unistd.h>
 
