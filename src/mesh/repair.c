@@ -1,5 +1,8 @@
 /* repair.c - gs_mesh_repair: a flawed triangle soup made into a valid mesh,
- * knowingly (doc/repair.md). The stages, in order:
+ * knowingly (doc/repair.md). One file (about 1,100 lines) on purpose: the
+ * stages share one working state (union-find of welded vertices, the face
+ * list, the report being filled) and read as one pipeline; split, each part
+ * would export that state. The stages, in order:
  *   1. faces naming a vertex twice are dropped; duplicate faces too;
  *   2. zero-area faces (rounds): corners at one position are welded (the
  *      face and its neighbours across the collapsed edge vanish); collinear
