@@ -618,7 +618,7 @@ static const command *find_command(const char *name)
 
 static int cmd_help(int argc, char **argv)
 {
-    if (argc < 2) return print_usage(stdout), 0;
+    if (argc < 2 || !strcmp(argv[1], "help")) return print_usage(stdout), 0;
     const command *c = find_command(argv[1]);
     if (!c) return fail(EXIT_USAGE, "help: unknown command '%s'", argv[1]);
     fputs(c->usage, stdout);

@@ -390,6 +390,8 @@ run render --help
 { [ "$rc" -eq 0 ] && grep -q "usage: geosep render" "$T/out" && grep -q -- "--separators" "$T/out"; }; verdict "render --help"
 run help render
 { [ "$rc" -eq 0 ] && grep -q "usage: geosep render" "$T/out"; }; verdict "help render"
+run help help
+{ [ "$rc" -eq 0 ] && grep -q "^usage: geosep COMMAND" "$T/out"; }; verdict "help help: the general usage"
 run solve "$D" --source 0 -o "$T/f.txt"
 run render "$D" -o "$T/f.png" --field "$T/f.txt" --isolines 5 --size 200x100 --view 10,30
 { [ "$rc" -eq 0 ] && png_ok "$T/f.png" && [ "$(png_size "$T/f.png")" = "200x100" ]; }; verdict "render --field: a 200x100 PNG"
