@@ -521,7 +521,7 @@ run sample "$T/grid.gsdb" 3 --seed 210
 { [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = "$(head -3 "$T/s.txt")" ]; }; verdict "sample: K samples are the first K of more"
 run sample "$T/grid.gsdb" 0
 { [ "$rc" -eq 0 ] && [ ! -s "$T/out" ]; }; verdict "sample: K = 0 prints nothing"
-run generate two:6 -o "$T/two_s.obj"  # two:3 fits one leaf, which answers Euclidean distances across its components
+run generate two:6 -o "$T/two_s.obj"
 run build "$T/two_s.obj" -o "$T/two_s.gsdb" --quiet
 run sample "$T/two_s.gsdb" 2
 { [ "$rc" -eq 0 ] && [ "$("$BIN" query "$T/two_s.gsdb" $(tr '\n' ' ' <"$T/out"))" = inf ]; }
