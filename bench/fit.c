@@ -1,11 +1,11 @@
 /* bench/fit.c - speed of the separator distance functions (paper sec. 4.2,
- * 4.3): ns per gs_fun_value and per gs_fun_pair_min for degrees 4..20, paths
+ * 4.3): ns per gs__fun_value and per gs__fun_pair_min for degrees 4..20, paths
  * and loops, split by the kinds of the pair (d+d, d+d^2, d^2+d^2), and per
  * fit (n = 50, 200, 1000 samples, m_max 12). Single thread, median of 7 runs.
  * Data: distances from random points (a quarter of them close to the curve,
  * giving d^2 fits) to a wavy planar path or an ellipse-like loop.
  * With GS_BENCH_BELOW defined at compile time (the default) it also times
- * gs_fun_pair_min_below in a query-like sequence. */
+ * gs__fun_pair_min_below in a query-like sequence. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -73,12 +73,12 @@ static void samples(int closed, uint32_t n, double px, double py, double *u, dou
 
 /* NF functions of exactly degree m (m_min = m_max = m); every fourth point
  * lies within 0.05 of the curve (d^2 fits, sharp dips). */
-static void make_funs(int closed, uint32_t m, gs_fit_result *r, uint32_t *nsq)
+static void make_funs(int closed, uint32_t m, gs__fit_result *r, uint32_t *nsq)
 {
-    gs_fit_options o = {m, m, 0.005};
-    gs_fit_work *w = NULL;
+    gs__fit_options o = {m, m, 0.005};
+    gs__fit_work *w = NULL;
     double u[200], d[200];
-    if (gs_fit_work_create(200, &o, &w, NULL))
+    if (gs__fit_work_create(200, &o, &w, NULL))
         exit(1);
     *nsq = 0;
     for (int i = 0; i < NF; i++) {
@@ -88,18 +88,18 @@ static void make_funs(int closed, uint32_t m, gs_fit_result *r, uint32_t *nsq)
             px += 0.1 * rnd() - 0.05, py += 0.1 * rnd() - 0.05;
         }
         samples(closed, 200, px, py, u, d);
-        if (gs_fit_distance(w, u, d, 200, closed, 0, &r[i], NULL))
+        if (gs__fit_distance(w, u, d, 200, closed, 0, &r[i], NULL))
             exit(1);
         r[i].fun.coef = r[i].coef;
         *nsq += r[i].fun.squared;
     }
-    gs_fit_work_free(w);
+    gs__fit_work_free(w);
 }
 
 static double g_sink;
 
 /* ns per pair_min over the n pairs (ia, ib), median of RUNS. */
-static double time_pairs(const gs_fit_result *r, const uint32_t *ia, const uint32_t *ib, int n)
+static double time_pairs(const gs__fit_result *r, const uint32_t *ia, const uint32_t *ib, int n)
 {
     double t[RUNS];
     int reps = 1 + 20000 / (n > 0 ? n : 1);
@@ -109,7 +109,7 @@ static double time_pairs(const gs_fit_result *r, const uint32_t *ia, const uint3
         double t0 = now();
         for (int rep = 0; rep < reps; rep++)
             for (int k = 0; k < n; k++)
-                g_sink += gs_fun_pair_min(&r[ia[k]].fun, &r[ib[k]].fun, NULL);
+                g_sink += gs__fun_pair_min(&r[ia[k]].fun, &r[ib[k]].fun, NULL);
         t[run] = (now() - t0) / ((double)reps * n) * 1e9;
     }
     return median(t);
@@ -119,7 +119,7 @@ static double time_pairs(const gs_fit_result *r, const uint32_t *ia, const uint3
 /* A query-like sequence: three candidate pairs, the first with no bound, the
  * next two against the running minimum; ns per call with pair_min and with
  * pair_min_below, and the fraction of calls cut short. */
-static void time_below(const gs_fit_result *r, const uint32_t *ia, const uint32_t *ib, int n,
+static void time_below(const gs__fit_result *r, const uint32_t *ia, const uint32_t *ib, int n,
                        double *t_full, double *t_below, double *frac_cut)
 {
     double tf[RUNS], tb[RUNS];
@@ -130,7 +130,7 @@ static void time_below(const gs_fit_result *r, const uint32_t *ia, const uint32_
             for (int k = 0; k + 2 < n; k += 3) {
                 double best = INFINITY;
                 for (int i = 0; i < 3; i++) {
-                    double d = gs_fun_pair_min(&r[ia[k + i]].fun, &r[ib[k + i]].fun, NULL);
+                    double d = gs__fun_pair_min(&r[ia[k + i]].fun, &r[ib[k + i]].fun, NULL);
                     best = d < best ? d : best;
                 }
                 g_sink += best;
@@ -141,7 +141,7 @@ static void time_below(const gs_fit_result *r, const uint32_t *ia, const uint32_
             for (int k = 0; k + 2 < n; k += 3) {
                 double best = INFINITY;
                 for (int i = 0; i < 3; i++) {
-                    double d = gs_fun_pair_min_below(&r[ia[k + i]].fun, &r[ib[k + i]].fun, best, NULL);
+                    double d = gs__fun_pair_min_below(&r[ia[k + i]].fun, &r[ib[k + i]].fun, best, NULL);
                     if (run == 0 && rep == 0)
                         cut += i > 0 && d >= best, calls++;
                     best = d < best ? d : best;
@@ -157,7 +157,7 @@ static void time_below(const gs_fit_result *r, const uint32_t *ia, const uint32_
 
 static void bench_funs(int closed, uint32_t m)
 {
-    static gs_fit_result r[NF];
+    static gs__fit_result r[NF];
     static uint32_t ia[NP], ib[NP], ka[3][NP], kb[3][NP];
     static double us[NP];
     int nk[3] = {0, 0, 0};
@@ -177,7 +177,7 @@ static void bench_funs(int closed, uint32_t m)
         double t0 = now();
         for (int rep = 0; rep < 50; rep++)
             for (int k = 0; k < NP; k++)
-                g_sink += gs_fun_value(&r[ia[k]].fun, us[k]);
+                g_sink += gs__fun_value(&r[ia[k]].fun, us[k]);
         tv[run] = (now() - t0) / (50 * NP) * 1e9;
     }
     double tall = time_pairs(r, ia, ib, NP), tk[3];
@@ -196,24 +196,24 @@ static void bench_funs(int closed, uint32_t m)
 
 static void bench_fit(uint32_t n, int closed)
 {
-    gs_fit_work *w = NULL;
+    gs__fit_work *w = NULL;
     double *u = malloc(n * sizeof *u), *d = malloc(n * sizeof *d), t[RUNS], deg = 0;
-    gs_fit_result r;
-    if (gs_fit_work_create(n, NULL, &w, NULL))
+    gs__fit_result r;
+    if (gs__fit_work_create(n, NULL, &w, NULL))
         exit(1);
     int reps = n >= 1000 ? 40 : 200;
     for (int run = 0; run < RUNS; run++) {
         double t0 = now();
         for (int i = 0; i < reps; i++) {
             samples(closed, n, 4 * rnd() - 2, 4 * rnd() - 2, u, d);
-            gs_fit_distance(w, u, d, n, closed, 0, &r, NULL);
+            gs__fit_distance(w, u, d, n, closed, 0, &r, NULL);
             deg += r.fun.degree;
         }
         t[run] = (now() - t0) / reps * 1e6;
     }
     printf("fit n=%-4u %s m_max 12: %8.1f us per fit (mean degree %.1f, incl. sampling)\n", n,
            closed ? "loop" : "path", median(t), deg / (RUNS * reps));
-    gs_fit_work_free(w);
+    gs__fit_work_free(w);
     free(u), free(d);
 }
 

@@ -7,15 +7,15 @@
 #include <stdio.h>
 #include <string.h>
 
-static void dump(const gs_mesh *m, const gs_tree *t, const char *path)
+static void dump(const gs_mesh *m, const gs__tree *t, const char *path)
 {
     FILE *f = fopen(path, "w");
     if (!f) return;
     for (uint32_t k = 0; k < t->n_curves; ++k) {
-        const gs_sep_curve *c = &t->curves[k];
+        const gs__sep_curve *c = &t->curves[k];
         fprintf(f, "c %u %u %u\n", t->nodes[c->node].depth, c->closed, c->n_samples);
         for (uint32_t j = 0; j < c->n_samples; ++j) {
-            const gs_sep_sample *s = &t->samples[c->sample_start + j];
+            const gs__sep_sample *s = &t->samples[c->sample_start + j];
             double p[3] = {0, 0, 0};
             for (int i = 0; i < 3; ++i)
                 for (int d = 0; d < 3; ++d)
@@ -43,11 +43,11 @@ int main(int argc, char **argv)
             fprintf(stderr, "%s: %s\n", argv[i], err.message);
             return 1;
         }
-        gs_tree_options opt;
-        gs_tree_options_default(&opt);
-        gs_tree *t = NULL;
+        gs__tree_options opt;
+        gs__tree_options_default(&opt);
+        gs__tree *t = NULL;
         double t0 = gs__now();
-        rc = gs_tree_build(m, &opt, &t, &err);
+        rc = gs__tree_build(m, &opt, &t, &err);
         double s = gs__now() - t0;
         if (rc) {
             fprintf(stderr, "%s: %s\n", argv[i], err.message);
@@ -59,7 +59,7 @@ int main(int argc, char **argv)
                t->max_depth, t->avg_curves_per_separator, t->avg_samples_per_curve,
                t->n_face_refs, (double)t->n_face_refs / gs_mesh_num_faces(m), s);
         if (dump_path) dump(m, t, dump_path);
-        gs_tree_free(t);
+        gs__tree_free(t);
         gs_mesh_free(m);
     }
     return 0;

@@ -37,7 +37,7 @@ static void check_loaded(const gs_mesh *m)
     gs_mesh_free(again);
 }
 
-static void check_repaired(const gs_mesh *m, const gs_repair *r, const gs_soup *in)
+static void check_repaired(const gs_mesh *m, const gs_repair *r, const gs__soup *in)
 {
     uint32_t nv = gs_mesh_num_vertices(m), nf = gs_mesh_num_faces(m);
     const double *xyz = gs_mesh_positions(m);
@@ -82,7 +82,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     gs_mesh_free(m);
 
     /* the repair path reads the same soup */
-    gs_soup s;
+    gs__soup s;
     gs_error serr = {0};
     int src = gs__load_soup_memory(FUZZ_NAME, data, size, FUZZ_FORMAT, &s, &serr);
     if (src) check_failure(src, &serr);

@@ -98,7 +98,7 @@ static void generated(const char *spec, const bounds *b)
 static void shared(const char *name, const bounds *b)
 {
     char obj[4096], gtp[4096];
-    if (!gs_test_shared_pair(name, obj, gtp, sizeof obj)) {
+    if (!gs__test_shared_pair(name, obj, gtp, sizeof obj)) {
         printf("%-16s skipped: not in the shared data\n", name);
         return;
     }
@@ -122,10 +122,10 @@ int main(void)
     generated("knot:120,12", &knot);
     generated("cylinder:48,30", &targets);
     generated("cone:48,30", &targets);
-    if (getenv("GEOSEP_QUICK")) return gs_test_finish("test_accuracy");
-    if (!gs_test_shared_path("meshes")) {
+    if (getenv("GEOSEP_QUICK")) return gs__test_finish("test_accuracy");
+    if (!gs__test_shared_path("meshes")) {
         printf("shared meshes skipped: no ../shared (GEOSEP_SHARED_DIR)\n");
-        return gs_test_finish("test_accuracy");
+        return gs__test_finish("test_accuracy");
     }
     shared("spot", &targets);
     shared("bunny-5k", &targets);
@@ -139,5 +139,5 @@ int main(void)
     shared("bunny-10k", &targets);
     /* bunny-20k, stanford-bunny and homer-60k: doc/accuracy.md (their builds
      * take minutes each) */
-    return gs_test_finish("test_accuracy");
+    return gs__test_finish("test_accuracy");
 }

@@ -44,11 +44,11 @@ static int own_fields(const gs_mesh *m, gs_method method, uint32_t heat_refine, 
  * given) and check it against the method's own fields from src: ME <=
  * max_me, RMSE <= max_rmse; the database records the heat resolution
  * used. Returns the errors (ME +inf if it could not be built). */
-static gs_test_errs check_mesh(const char *name, const gs_mesh *m, gs_method method, uint32_t heat_refine,
+static gs__test_errs check_mesh(const char *name, const gs_mesh *m, gs_method method, uint32_t heat_refine,
                        const uint32_t *src, uint32_t k, double max_me, double max_rmse)
 {
     uint32_t n = gs_mesh_num_vertices(m);
-    gs_test_errs e = {INFINITY, INFINITY, INFINITY};
+    gs__test_errs e = {INFINITY, INFINITY, INFINITY};
     double *want = malloc((size_t)k * n * sizeof *want);
     CHECK(want != NULL);
     if (!want || !own_fields(m, method, heat_refine, src, k, want)) {
@@ -73,7 +73,7 @@ static gs_test_errs check_mesh(const char *name, const gs_mesh *m, gs_method met
         CHECK_MSG(info.method == method && info.solver.heat_refine == want_refine,
                   "%s %s: recorded method %d, heat_refine %u (expected %u)", name, gs_method_name(method),
                   (int)info.method, info.solver.heat_refine, want_refine);
-        e = gs_test_db_errors(db, src, k, want, n);
+        e = gs__test_db_errors(db, src, k, want, n);
         char bound[64] = "";
         if (isfinite(max_me)) snprintf(bound, sizeof bound, "  (at most %.2f%%, %.2f%%)", 100 * max_me, 100 * max_rmse);
         printf("%-16s %6u vertices, %s fields%s, %u sources: database vs own fields ME %.3f%%  RMSE %.3f%%  "
@@ -97,7 +97,7 @@ static gs_test_errs check_mesh(const char *name, const gs_mesh *m, gs_method met
 static void shared_mesh(const char *name, int quick)
 {
     char obj[4096], gtp[4096];
-    if (!gs_test_shared_pair(name, obj, gtp, sizeof obj)) {
+    if (!gs__test_shared_pair(name, obj, gtp, sizeof obj)) {
         printf("%s: skipped (shared meshes/%s.obj or groundtruth/%s.gt not found)\n", name, name, name);
         return;
     }
@@ -134,9 +134,9 @@ static void generated(const char *spec, gs_method method, double max_me, double 
     if (!m) return;
     uint32_t n = gs_mesh_num_vertices(m), src[12];
     for (uint32_t j = 0; j < 12; ++j) src[j] = (uint32_t)(((uint64_t)j * 2654435761u + 17) % n);
-    gs_test_errs e = check_mesh(spec, m, method, GS_HEAT_REFINE_AUTO, src, 12, max_me, max_rmse);
+    gs__test_errs e = check_mesh(spec, m, method, GS_HEAT_REFINE_AUTO, src, 12, max_me, max_rmse);
     if (method == GS_METHOD_HEAT) {
-        gs_test_errs e0 = check_mesh(spec, m, method, 0, src, 12, INFINITY, INFINITY);
+        gs__test_errs e0 = check_mesh(spec, m, method, 0, src, 12, INFINITY, INFINITY);
         CHECK_MSG(e.me < e0.me && e.rmse < e0.rmse, "%s: refined ME %g RMSE %g, as it is %g %g", spec, e.me, e.rmse,
                   e0.me, e0.rmse);
     }
@@ -152,11 +152,11 @@ int main(void)
     generated("peaks:40", GS_METHOD_HEAT, 0.008, 0.015);
     generated("torus:60,30", GS_METHOD_HEAT, 0.010, 0.012);
     generated("plate:1400", GS_METHOD_HEAT, 0.0095, 0.013);
-    if (!gs_test_shared_path("meshes/bunny-5k.obj"))
+    if (!gs__test_shared_path("meshes/bunny-5k.obj"))
         printf("shared data absent (no meshes/bunny-5k.obj): bunny-5k and stanford-bunny skipped\n");
     else {
         shared_mesh("bunny-5k", quick);
         shared_mesh("stanford-bunny", quick);
     }
-    return gs_test_finish("test_approx_db");
+    return gs__test_finish("test_approx_db");
 }

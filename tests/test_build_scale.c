@@ -389,5 +389,5 @@ int main(void)
     capped_samples();
     blocks();
     threads();
-    return gs_test_finish("test_build_scale");
+    return gs__test_finish("test_build_scale");
 }

@@ -420,7 +420,7 @@ static void test_huge_coefficients(void)
         make_fixture(&f, 0);
         double big[3][GS_FUN_MAX_DEGREE + 1];
         for (uint32_t i = 0; i < 3; ++i) { /* vertex 2's functions (curves 0, 1, 2), degree 24 */
-            gs_fun *g = &f.funs[f.fun_start[2] + i];
+            gs__fun *g = &f.funs[f.fun_start[2] + i];
             for (uint32_t k = 0; k <= GS_FUN_MAX_DEGREE; ++k) big[i][k] = (k % 3 == 0 ? 1 : -1) * mags[t];
             big[i][0] = 30 * mags[t];
             g->degree = GS_FUN_MAX_DEGREE;
@@ -532,7 +532,7 @@ static void test_minval_above(void)
     gs_db *db = NULL;
     gs_error err = {0};
     double truth = f.funs[i].minval;
-    f.funs[i].minval = 1.0 + 2.0 * gs_fun_value(&f.funs[i], 0.0);
+    f.funs[i].minval = 1.0 + 2.0 * gs__fun_value(&f.funs[i], 0.0);
     CHECK_MSG(gs__db_pack(&f.c, &db, &err) == GS_OK, "pack: %s", err.message);
     if (!db) return;
     CHECK(gs_db_verify(db, &err) == GS_OK);
@@ -627,6 +627,6 @@ int main(void)
     test_minval_above();
     test_files();
     test_checksum_speed();
-    return gs_test_finish("test_db");
+    return gs__test_finish("test_db");
 }
 

@@ -261,7 +261,7 @@ static void test_options_threads(void)
 static int test_shared_mesh(const char *name, int quick)
 {
     char obj[4096], gtp[4096];
-    if (!gs_test_shared_pair(name, obj, gtp, sizeof obj)) return 0;
+    if (!gs__test_shared_pair(name, obj, gtp, sizeof obj)) return 0;
     gs_error err;
     gs_mesh *m = NULL;
     gs_gt *gt = NULL;
@@ -321,12 +321,12 @@ done:
 
 static void test_shared(void)
 {
-    if (!gs_test_shared_path("meshes/bunny-5k.obj")) {
+    if (!gs__test_shared_path("meshes/bunny-5k.obj")) {
         printf("shared data absent (no meshes/bunny-5k.obj): ground-truth part skipped\n");
         return;
     }
     static char names[256][GS_TEST_NAME_MAX];
-    int n_names = gs_test_shared_names(names, 256);
+    int n_names = gs__test_shared_names(names, 256);
     if (n_names < 0) {
         printf("shared folder has no groundtruth/: ground-truth part skipped\n");
         return;
@@ -347,5 +347,5 @@ int main(void)
     test_patch();
     test_options_threads();
     test_shared();
-    return gs_test_finish("test_dgg");
+    return gs__test_finish("test_dgg");
 }

@@ -77,5 +77,5 @@ int main(void)
 {
     known_answers();
     quantiles();
-    return gs_test_finish("test_eval");
+    return gs__test_finish("test_eval");
 }

@@ -776,5 +776,5 @@ int main(void)
     test_contract();
     test_components();
     printf("worst relative error against closed forms: %.3g\n", g_worst);
-    return gs_test_finish("test_exact_basic");
+    return gs__test_finish("test_exact_basic");
 }

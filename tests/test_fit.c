@@ -43,17 +43,17 @@ static void uniform_u(double *u, uint32_t n, int closed)
         u[k] = closed ? -1.0 + 2.0 * k / n : (n == 1 ? -1.0 : -1.0 + 2.0 * k / (n - 1));
 }
 
-static gs_fit_work *make_work(uint32_t m_min, uint32_t m_max, double tol)
+static gs__fit_work *make_work(uint32_t m_min, uint32_t m_max, double tol)
 {
-    gs_fit_options o;
-    gs_fit_options_default(&o);
+    gs__fit_options o;
+    gs__fit_options_default(&o);
     o.m_min = m_min, o.m_max = m_max, o.tol = tol;
-    gs_fit_work *w = NULL;
-    CHECK(gs_fit_work_create(MAXN, &o, &w, NULL) == GS_OK);
+    gs__fit_work *w = NULL;
+    CHECK(gs__fit_work_create(MAXN, &o, &w, NULL) == GS_OK);
     return w;
 }
 
-/* gs_fun_wrap's shortcuts ([-1,1) as it is, one period either side by
+/* gs__fun_wrap's shortcuts ([-1,1) as it is, one period either side by
  * +-2) give what the floor rule gives, bit for bit: at 2,000 doubles either
  * side of every shortcut's edge, random values over +-5 at all scales, and
  * the special values. */
@@ -70,21 +70,21 @@ static void test_wrap(void)
     for (int e = 0; e < 8; e++) {
         double lo = edges[e], hi = edges[e];
         for (int k = 0; k < 2000; k++, lo = nextafter(lo, -INFINITY), hi = nextafter(hi, INFINITY)) {
-            double a = gs_fun_wrap(lo), b = wrap_rule(lo), c = gs_fun_wrap(hi), d = wrap_rule(hi);
+            double a = gs__fun_wrap(lo), b = wrap_rule(lo), c = gs__fun_wrap(hi), d = wrap_rule(hi);
             bad += memcmp(&a, &b, sizeof a) != 0, bad += memcmp(&c, &d, sizeof c) != 0, n += 2;
         }
     }
     for (long i = 0; i < 2000000; i++) {
         double u = ldexp(urand(-5.0, 5.0), -(int)(i % 60));
-        double a = gs_fun_wrap(u), b = wrap_rule(u);
+        double a = gs__fun_wrap(u), b = wrap_rule(u);
         bad += memcmp(&a, &b, sizeof a) != 0, n++;
     }
     static const double special[] = {INFINITY, -INFINITY, 1e300, -1e300, 0x1.fffffffffffffp-1, NAN};
     for (int i = 0; i < 6; i++) {
-        double a = gs_fun_wrap(special[i]), b = wrap_rule(special[i]);
+        double a = gs__fun_wrap(special[i]), b = wrap_rule(special[i]);
         bad += !(memcmp(&a, &b, sizeof a) == 0 || (a != a && b != b)), n++;
     }
-    CHECK_MSG(bad == 0, "gs_fun_wrap differs from the floor rule at %ld of %ld values", bad, n);
+    CHECK_MSG(bad == 0, "gs__fun_wrap differs from the floor rule at %ld of %ld values", bad, n);
     printf("  wrap: %ld values, %ld unlike the floor rule\n", n, bad);
 }
 
@@ -101,13 +101,13 @@ static void test_cheb(void)
             double u = i == 0 ? -1.0 : (i == 1 ? 1.0 : urand(-1, 1)), ref = 0.0;
             for (uint32_t k = 0; k <= m; k++)
                 ref += c[k] * cos(k * acos(u));
-            maxerr = fmax(maxerr, fabs(gs_cheb_eval(c, m, u) - ref));
+            maxerr = fmax(maxerr, fabs(gs__cheb_eval(c, m, u) - ref));
             double p, p1, p2, h = 1e-5, x = fmax(-1 + h, fmin(1 - h, u));
-            gs_cheb_eval3(c, m, x, &p, &p1, &p2);
-            double fd1 = (gs_cheb_eval(c, m, x + h) - gs_cheb_eval(c, m, x - h)) / (2 * h);
-            double fd2 = (gs_cheb_eval(c, m, x + h) - 2 * p + gs_cheb_eval(c, m, x - h)) / (h * h);
+            gs__cheb_eval3(c, m, x, &p, &p1, &p2);
+            double fd1 = (gs__cheb_eval(c, m, x + h) - gs__cheb_eval(c, m, x - h)) / (2 * h);
+            double fd2 = (gs__cheb_eval(c, m, x + h) - 2 * p + gs__cheb_eval(c, m, x - h)) / (h * h);
             maxd = fmax(maxd, fabs(p1 - fd1) / (1 + fabs(p1)) + fabs(p2 - fd2) / (1e3 + fabs(p2)));
-            CHECK_NEAR(p, gs_cheb_eval(c, m, x), 1e-12);
+            CHECK_NEAR(p, gs__cheb_eval(c, m, x), 1e-12);
         }
     }
     CHECK_MSG(maxerr < 1e-13, "clenshaw vs cos(k acos u): %g", maxerr);
@@ -119,49 +119,49 @@ static void test_cheb(void)
 
 static void test_poly_reproduction(void)
 {
-    gs_fit_work *w = make_work(2, 12, 1e-10);
+    gs__fit_work *w = make_work(2, 12, 1e-10);
     double u[MAXN], d[MAXN], c[13];
-    gs_fit_result r;
+    gs__fit_result r;
     for (uint32_t m = 2; m <= 12; m++) {
         for (uint32_t k = 1; k <= m; k++)
             c[k] = urand(-0.3, 0.3) / m;
         c[m] = 0.05, c[0] = 2.0; /* positive on [-1,1], exact degree m */
         uniform_u(u, 100, 0);
         for (int k = 0; k < 100; k++)
-            d[k] = gs_cheb_eval(c, m, u[k]);
-        CHECK(gs_fit_distance(w, u, d, 100, 0, 0, &r, NULL) == GS_OK);
+            d[k] = gs__cheb_eval(c, m, u[k]);
+        CHECK(gs__fit_distance(w, u, d, 100, 0, 0, &r, NULL) == GS_OK);
         CHECK_MSG(r.fun.degree == m && !r.fun.squared, "m %u: got %u sq %u", m, r.fun.degree,
                   r.fun.squared);
         for (uint32_t k = 0; k <= m && r.fun.degree == m; k++)
             CHECK_NEAR(r.coef[k], c[k], 1e-11);
         CHECK(r.mean_rel_err < 1e-12 && r.cost == m + 1);
     }
-    gs_fit_work_free(w);
+    gs__fit_work_free(w);
 }
 
 /* Distance from (a, b) to the straight segment y = 0, x = u: d^2 is exact. */
 static void test_segment(void)
 {
-    gs_fit_work *w = make_work(2, 12, 0.005);
+    gs__fit_work *w = make_work(2, 12, 0.005);
     double u[MAXN], d[MAXN];
-    gs_fit_result r;
+    gs__fit_result r;
     for (int trial = 0; trial < 50; trial++) {
         double a = urand(-1.5, 1.5), b = urand(0.01, 1.0);
         uniform_u(u, 60, 0);
         for (int k = 0; k < 60; k++)
             d[k] = hypot(u[k] - a, b);
-        CHECK(gs_fit_distance(w, u, d, 60, 0, 0, &r, NULL) == GS_OK);
+        CHECK(gs__fit_distance(w, u, d, 60, 0, 0, &r, NULL) == GS_OK);
         CHECK_MSG(r.fun.degree == 2 && r.fun.squared == 1, "deg %u sq %u", r.fun.degree,
                   r.fun.squared);
         CHECK(r.mean_rel_err < 1e-12);
         for (int i = 0; i < 20; i++) {
             double x = urand(-1, 1);
-            CHECK_NEAR(gs_fun_value(&r.fun, x), hypot(x - a, b), 1e-12);
+            CHECK_NEAR(gs__fun_value(&r.fun, x), hypot(x - a, b), 1e-12);
         }
         double exact = fabs(a) <= 1 ? b : hypot(fabs(a) - 1, b);
         CHECK_NEAR(r.fun.minval, exact, 1e-12);
     }
-    gs_fit_work_free(w);
+    gs__fit_work_free(w);
 }
 
 static void circle_samples(double px, double py, double R, uint32_t n, double *u, double *d)
@@ -175,55 +175,55 @@ static void circle_samples(double px, double py, double R, uint32_t n, double *u
 
 static void test_loops(void)
 {
-    gs_fit_work *w = make_work(2, 12, 0.005);
+    gs__fit_work *w = make_work(2, 12, 0.005);
     double u[MAXN], d[MAXN], worst = 0.0;
-    gs_fit_result r;
+    gs__fit_result r;
     for (int trial = 0; trial < 100; trial++) {
         double rad = trial % 2 ? urand(0.0, 0.7) : urand(1.3, 3.0), ang = urand(0, 2 * M_PI);
         uint32_t n = 64 + (uint32_t)(rnd() * 200);
         circle_samples(rad * cos(ang), rad * sin(ang), 1.0, n, u, d);
-        CHECK(gs_fit_distance(w, u, d, n, 1, 0, &r, NULL) == GS_OK);
+        CHECK(gs__fit_distance(w, u, d, n, 1, 0, &r, NULL) == GS_OK);
         uint32_t kmax = 0;
         for (uint32_t k = 1; k < n; k++)
             kmax = d[k] > d[kmax] ? k : kmax;
-        CHECK(r.fun.closed == 1 && fabs(gs_fun_wrap(u[kmax] - r.fun.shift) + 1.0) < 1e-15);
+        CHECK(r.fun.closed == 1 && fabs(gs__fun_wrap(u[kmax] - r.fun.shift) + 1.0) < 1e-15);
         CHECK(r.cost == r.fun.degree + 2);
         /* the largest distance sits at the interval ends: t = -1 and t -> 1 */
-        CHECK_NEAR(gs_fun_value(&r.fun, u[kmax] + 1e-9), d[kmax], 0.03 * d[kmax]);
-        CHECK_NEAR(gs_fun_value(&r.fun, u[kmax] - 1e-9), d[kmax], 0.03 * d[kmax]);
+        CHECK_NEAR(gs__fun_value(&r.fun, u[kmax] + 1e-9), d[kmax], 0.03 * d[kmax]);
+        CHECK_NEAR(gs__fun_value(&r.fun, u[kmax] - 1e-9), d[kmax], 0.03 * d[kmax]);
         CHECK(r.mean_rel_err < 0.005);
         for (uint32_t k = 0; k < n; k++) {
-            double e = fabs(gs_fun_value(&r.fun, u[k]) - d[k]) / d[k];
+            double e = fabs(gs__fun_value(&r.fun, u[k]) - d[k]) / d[k];
             worst = fmax(worst, e);
             /* periodic: u and u + 2 agree (away from the seam) */
             if (k != kmax)
-                CHECK_NEAR(gs_fun_value(&r.fun, u[k] + 2.0), gs_fun_value(&r.fun, u[k]), 1e-12);
+                CHECK_NEAR(gs__fun_value(&r.fun, u[k] + 2.0), gs__fun_value(&r.fun, u[k]), 1e-12);
         }
     }
     printf("  circle loops: worst sample relative error %.3g\n", worst);
-    gs_fit_work_free(w);
+    gs__fit_work_free(w);
 }
 
 /* A bumpy planar path: the first degree below tol is the one kept. */
 static void test_escalation(void)
 {
     double u[MAXN], d[MAXN];
-    gs_fit_result r, r2;
+    gs__fit_result r, r2;
     int checked = 0;
     for (int trial = 0; trial < 40; trial++) {
         double px = urand(-1, 1), py = urand(0.3, 1.0), f = urand(1.5, 3.0);
         uniform_u(u, 200, 0);
         for (int k = 0; k < 200; k++)
             d[k] = hypot(px - u[k], py - 0.2 * sin(f * u[k]));
-        gs_fit_work *w = make_work(2, 12, 0.002);
-        CHECK(gs_fit_distance(w, u, d, 200, 0, 0, &r, NULL) == GS_OK);
-        gs_fit_work_free(w);
+        gs__fit_work *w = make_work(2, 12, 0.002);
+        CHECK(gs__fit_distance(w, u, d, 200, 0, 0, &r, NULL) == GS_OK);
+        gs__fit_work_free(w);
         if (r.mean_rel_err >= 0.002 || r.fun.degree <= 2)
             continue;
         w = make_work(2, r.fun.degree - 1, 0.002);
-        CHECK(gs_fit_distance(w, u, d, 200, 0, 0, &r2, NULL) == GS_OK);
+        CHECK(gs__fit_distance(w, u, d, 200, 0, 0, &r2, NULL) == GS_OK);
         CHECK_MSG(r2.mean_rel_err >= 0.002, "degree %u already below tol", r2.fun.degree);
-        gs_fit_work_free(w);
+        gs__fit_work_free(w);
         checked++;
     }
     CHECK(checked > 10);
@@ -232,9 +232,9 @@ static void test_escalation(void)
 /* Vertex on the curve: d = 0 at a sample. */
 static void test_near_zero(void)
 {
-    gs_fit_work *w = make_work(2, 12, 0.005);
+    gs__fit_work *w = make_work(2, 12, 0.005);
     double u[MAXN], d[MAXN];
-    gs_fit_result r;
+    gs__fit_result r;
     for (int closed = 0; closed <= 1; closed++)
         for (int trial = 0; trial < 20; trial++) {
             uint32_t n = 101, k0 = (uint32_t)(rnd() * n);
@@ -244,51 +244,51 @@ static void test_near_zero(void)
                 d[k] = closed ? hypot(cos(M_PI * u[k]) - cos(M_PI * u[k0]) * (1 + off),
                                       sin(M_PI * u[k]) - sin(M_PI * u[k0]) * (1 + off))
                               : hypot(u[k] - u[k0], off);
-            CHECK(gs_fit_distance(w, u, d, n, closed, 0, &r, NULL) == GS_OK);
+            CHECK(gs__fit_distance(w, u, d, n, closed, 0, &r, NULL) == GS_OK);
             for (uint32_t k = 0; k <= r.fun.degree; k++)
                 CHECK(isfinite(r.coef[k]));
             CHECK(r.fun.minval >= 0.0 && r.fun.minval < 0.02);
-            CHECK(gs_fun_value(&r.fun, u[k0]) < 0.02);
+            CHECK(gs__fun_value(&r.fun, u[k0]) < 0.02);
             CHECK(isfinite(r.mean_rel_err));
         }
-    gs_fit_work_free(w);
+    gs__fit_work_free(w);
 }
 
 static void test_tiny_and_bad(void)
 {
-    gs_fit_work *w = make_work(2, 12, 0.005);
+    gs__fit_work *w = make_work(2, 12, 0.005);
     double u[4] = {-1, -0.2, 0.5, 1}, d[4] = {1, 2, 1.5, 3}, ul[3] = {-1, -1.0 / 3, 1.0 / 3};
-    gs_fit_result r;
+    gs__fit_result r;
     for (uint32_t n = 1; n <= 4; n++) {
         double uu[4] = {-1, 1};
-        CHECK(gs_fit_distance(w, n == 2 ? uu : u, d, n, 0, 0, &r, NULL) == GS_OK);
+        CHECK(gs__fit_distance(w, n == 2 ? uu : u, d, n, 0, 0, &r, NULL) == GS_OK);
         CHECK(r.fun.degree <= n - 1 && isfinite(r.fun.minval));
         if (n <= 3) {
-            CHECK(gs_fit_distance(w, ul, d, n, 1, 0, &r, NULL) == GS_OK);
+            CHECK(gs__fit_distance(w, ul, d, n, 1, 0, &r, NULL) == GS_OK);
             CHECK(r.fun.degree <= n - 1 && isfinite(r.fun.minval));
         }
     }
     double zero[4] = {0, 0, 0, 0};
-    CHECK(gs_fit_distance(w, u, zero, 4, 0, 0, &r, NULL) == GS_OK);
-    CHECK(r.fun.minval == 0.0 && gs_fun_value(&r.fun, 0.3) == 0.0);
+    CHECK(gs__fit_distance(w, u, zero, 4, 0, 0, &r, NULL) == GS_OK);
+    CHECK(r.fun.minval == 0.0 && gs__fun_value(&r.fun, 0.3) == 0.0);
     gs_error err;
     double bad[4] = {1, NAN, 1, 1}, neg[4] = {1, -1, 1, 1}, uinf[4] = {-1, INFINITY, 0, 1};
     double unord[4] = {-1, 0.5, 0.2, 1};
-    CHECK(gs_fit_distance(w, u, bad, 4, 0, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(w, u, neg, 4, 0, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(w, uinf, d, 4, 0, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(w, unord, d, 4, 0, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(w, u, d, 0, 0, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(w, u, d, 4, 1, 0, &r, &err) == GS_EARG); /* loop: u = 1 */
-    CHECK(gs_fit_distance(w, u, d, MAXN + 5, 0, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(NULL, u, d, 4, 0, 0, &r, &err) == GS_EARG);
-    gs_fit_options o = {5, 3, 0.005};
-    gs_fit_work *w2 = NULL;
-    CHECK(gs_fit_work_create(100, &o, &w2, &err) == GS_EARG && w2 == NULL);
-    o = (gs_fit_options){2, GS_FUN_MAX_DEGREE + 1, 0.005};
-    CHECK(gs_fit_work_create(100, &o, &w2, &err) == GS_EARG);
-    CHECK(gs_fit_work_create(0, NULL, &w2, &err) == GS_EARG);
-    gs_fit_work_free(w);
+    CHECK(gs__fit_distance(w, u, bad, 4, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs__fit_distance(w, u, neg, 4, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs__fit_distance(w, uinf, d, 4, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs__fit_distance(w, unord, d, 4, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs__fit_distance(w, u, d, 0, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs__fit_distance(w, u, d, 4, 1, 0, &r, &err) == GS_EARG); /* loop: u = 1 */
+    CHECK(gs__fit_distance(w, u, d, MAXN + 5, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs__fit_distance(NULL, u, d, 4, 0, 0, &r, &err) == GS_EARG);
+    gs__fit_options o = {5, 3, 0.005};
+    gs__fit_work *w2 = NULL;
+    CHECK(gs__fit_work_create(100, &o, &w2, &err) == GS_EARG && w2 == NULL);
+    o = (gs__fit_options){2, GS_FUN_MAX_DEGREE + 1, 0.005};
+    CHECK(gs__fit_work_create(100, &o, &w2, &err) == GS_EARG);
+    CHECK(gs__fit_work_create(0, NULL, &w2, &err) == GS_EARG);
+    gs__fit_work_free(w);
 }
 
 /* ---- real-looking data: curves in the plane and on a bumpy surface --- */
@@ -351,7 +351,7 @@ static double dist(const curve *c, double px, double py, uint32_t k)
 
 typedef struct fset {
     uint32_t nf;
-    gs_fit_result *r;
+    gs__fit_result *r;
     double *dense; /* nf x DENSE values */
 } fset;
 
@@ -360,7 +360,7 @@ typedef struct fset {
 static void make_fset(const curve *c, uint32_t nf, uint32_t m_max, fset *s, double *mean_err,
                       uint32_t *n_sq)
 {
-    gs_fit_work *w = make_work(2, m_max, 0.005);
+    gs__fit_work *w = make_work(2, m_max, 0.005);
     double u[MAXN], d[MAXN];
     uniform_u(u, c->n, c->closed);
     s->nf = nf;
@@ -376,14 +376,14 @@ static void make_fset(const curve *c, uint32_t nf, uint32_t m_max, fset *s, doub
         }
         for (uint32_t k = 0; k < c->n; k++)
             d[k] = dist(c, px, py, k);
-        CHECK(gs_fit_distance(w, u, d, c->n, c->closed, 0, &s->r[i], NULL) == GS_OK);
+        CHECK(gs__fit_distance(w, u, d, c->n, c->closed, 0, &s->r[i], NULL) == GS_OK);
         s->r[i].fun.coef = s->r[i].coef;
         *mean_err += s->r[i].mean_rel_err / nf;
         *n_sq += s->r[i].fun.squared;
         for (int k = 0; k < DENSE; k++)
-            s->dense[(size_t)i * DENSE + k] = gs_fun_value(&s->r[i].fun, dense_u(k));
+            s->dense[(size_t)i * DENSE + k] = gs__fun_value(&s->r[i].fun, dense_u(k));
     }
-    gs_fit_work_free(w);
+    gs__fit_work_free(w);
 }
 
 /* The dense minimum of the samples v (at dense_u), refined by two local
@@ -409,14 +409,14 @@ static double true_min(const double *v, double (*eval)(const void *, double), co
 
 static double eval_one(const void *f, double u)
 {
-    return gs_fun_value((const gs_fun *)f, u);
+    return gs__fun_value((const gs__fun *)f, u);
 }
 
 /* minval is a (tight) lower bound of the function as evaluated. */
 static void check_minval(const fset *s, double *worst_gap)
 {
     for (uint32_t i = 0; i < s->nf; i++) {
-        const gs_fun *f = &s->r[i].fun;
+        const gs__fun *f = &s->r[i].fun;
         double dm = true_min(s->dense + (size_t)i * DENSE, eval_one, f), mv = f->minval;
         CHECK_MSG(mv <= dm * (1 + 1e-12) + 1e-300, "minval %.17g above true min %.17g", mv, dm);
         CHECK_MSG(mv >= dm - 1e-8 * dm - 1e-8, "minval %.17g far below true min %.17g", mv, dm);
@@ -429,7 +429,7 @@ typedef struct pstats {
     double worst_above, worst_incons;
     long grid_off, grid_incons; /* the cached-grid minimiser of queries  */
     double grid_worst, grid_sum;
-    long loop_sharp, loop_sharp_off; /* loops with a sharp dip: grid vs gs_fun_pair_min */
+    long loop_sharp, loop_sharp_off; /* loops with a sharp dip: grid vs gs__fun_pair_min */
     double loop_sharp_worst;
 } pstats;
 
@@ -439,20 +439,20 @@ static long cell_diff, cell_loops; /* grid_pair_min with and without the seam ce
  * For loops it also runs with the seam cells given, as the cache gives
  * them, and counts any answer or minimiser that is not the same bit for
  * bit (cell_diff). */
-static double grid_pair_min(const gs_fun *a, const gs_fun *b, double *u)
+static double grid_pair_min(const gs__fun *a, const gs__fun *b, double *u)
 {
-    uint32_t m = a->degree > b->degree ? a->degree : b->degree, g = gs_fun_grid_points(m);
+    uint32_t m = a->degree > b->degree ? a->degree : b->degree, g = gs__fun_grid_points(m);
     float ga[GS_FUN_GRID_MAX], gb[GS_FUN_GRID_MAX];
     gs__grid_values(a, g, ga);
     gs__grid_values(b, g, gb);
-    gs_fun_dip da, db;
-    gs_fun_dip_find(a, &da), gs_fun_dip_find(b, &db);
+    gs__fun_dip da, db;
+    gs__fun_dip_find(a, &da), gs__fun_dip_find(b, &db);
     CHECK(da.seam_cell == GS_FUN_NO_CELL && db.seam_cell == GS_FUN_NO_CELL);
-    double r = gs_fun_pair_min_grid(a, b, ga, gb, g, &da, &db, u);
+    double r = gs__fun_pair_min_grid(a, b, ga, gb, g, &da, &db, u);
     if (a->closed && b->closed) {
         double u2 = 0.0;
-        da.seam_cell = gs_fun_seam_cell(a, g), db.seam_cell = gs_fun_seam_cell(b, g);
-        double r2 = gs_fun_pair_min_grid(a, b, ga, gb, g, &da, &db, &u2);
+        da.seam_cell = gs__fun_seam_cell(a, g), db.seam_cell = gs__fun_seam_cell(b, g);
+        double r2 = gs__fun_pair_min_grid(a, b, ga, gb, g, &da, &db, &u2);
         cell_diff += memcmp(&r, &r2, sizeof r) != 0 || (u && memcmp(u, &u2, sizeof u2) != 0);
         cell_loops++;
     }
@@ -471,39 +471,39 @@ static void test_seam_cell(void)
         for (int k = -4000; k <= 4000; ++k) {
             uint32_t g = gs[i];
             double shift = k < -3000 || k > 3000 ? k / 1000.0 : k / 3000.0 + (k % 7) * 1e-17;
-            gs_fun f = {GS_FUN_CHEBYSHEV, 1, 0, 1, shift, 0.0, c};
-            uint32_t j = gs_fun_seam_cell(&f, g);
-            double us = gs_fun_wrap(shift - 1.0), lo = -1.0 + 2.0 * j / g, hi = -1.0 + 2.0 * (j + 1) / g;
+            gs__fun f = {GS_FUN_CHEBYSHEV, 1, 0, 1, shift, 0.0, c};
+            uint32_t j = gs__fun_seam_cell(&f, g);
+            double us = gs__fun_wrap(shift - 1.0), lo = -1.0 + 2.0 * j / g, hi = -1.0 + 2.0 * (j + 1) / g;
             bad += !(j < g && us >= lo - 1e-12 && us < hi + 1e-12);
         }
     CHECK_MSG(bad == 0, "%ld seam cells outside their grid cell", bad);
-    gs_fun f = {GS_FUN_CHEBYSHEV, 1, 0, 1, 1.0, 0.0, c}; /* seam at u = 0: the cell starting there */
-    CHECK(gs_fun_seam_cell(&f, 96) == 48 && gs_fun_seam_cell(&f, 33) == 16);
+    gs__fun f = {GS_FUN_CHEBYSHEV, 1, 0, 1, 1.0, 0.0, c}; /* seam at u = 0: the cell starting there */
+    CHECK(gs__fun_seam_cell(&f, 96) == 48 && gs__fun_seam_cell(&f, 33) == 16);
 }
 
 static void check_pairs(const fset *s, long npairs, pstats *st)
 {
     for (long p = 0; p < npairs; p++) {
         uint32_t i = (uint32_t)(rnd() * s->nf), j = (uint32_t)(rnd() * s->nf);
-        const gs_fun *a = &s->r[i].fun, *b = &s->r[j].fun;
-        double ua, r = gs_fun_pair_min(a, b, &ua), dm = INFINITY;
+        const gs__fun *a = &s->r[i].fun, *b = &s->r[j].fun;
+        double ua, r = gs__fun_pair_min(a, b, &ua), dm = INFINITY;
         const double *da = s->dense + (size_t)i * DENSE, *db = s->dense + (size_t)j * DENSE;
         for (int k = 0; k < DENSE; k++)
             dm = fmin(dm, da[k] + db[k]);
-        double ev = gs_fun_value(a, ua) + gs_fun_value(b, ua);
+        double ev = gs__fun_value(a, ua) + gs__fun_value(b, ua);
         /* the early-exit variant: the same answer when it is below best,
          * otherwise a value >= best, consistent with its u */
-        double ub, rb = gs_fun_pair_min_below(a, b, r * (1 + 1e-9) + 1e-300, &ub);
+        double ub, rb = gs__fun_pair_min_below(a, b, r * (1 + 1e-9) + 1e-300, &ub);
         st->below_bad += !(rb == r && ub == ua);
-        double uc, rc = gs_fun_pair_min_below(a, b, r * (1 - 1e-3), &uc);
-        st->below_bad += !(rc >= r * (1 - 1e-3) && rc == gs_fun_value(a, uc) + gs_fun_value(b, uc));
-        double ug, rg = grid_pair_min(a, b, &ug), eg = gs_fun_value(a, ug) + gs_fun_value(b, ug);
+        double uc, rc = gs__fun_pair_min_below(a, b, r * (1 - 1e-3), &uc);
+        st->below_bad += !(rc >= r * (1 - 1e-3) && rc == gs__fun_value(a, uc) + gs__fun_value(b, uc));
+        double ug, rg = grid_pair_min(a, b, &ug), eg = gs__fun_value(a, ug) + gs__fun_value(b, ug);
         double ge = fmax(0.0, (rg - fmin(dm, r)) / fmax(dm, 1e-300)); /* lower is fine */
         st->grid_worst = fmax(st->grid_worst, ge);
         st->grid_sum += ge;
         st->grid_off += ge > 1e-3;
         st->grid_incons += !(fabs(rg - eg) <= 1e-12 * eg + 1e-15);
-        if (a->closed && (gs_fun_is_sharp(a) || gs_fun_is_sharp(b))) { /* searched in a window */
+        if (a->closed && (gs__fun_is_sharp(a) || gs__fun_is_sharp(b))) { /* searched in a window */
             double ex = (rg - r) / fmax(r, 1e-300);
             st->loop_sharp++;
             st->loop_sharp_off += ex > 1e-6;
@@ -562,18 +562,18 @@ static void test_pairs_real(void)
     CHECK_MSG(st.grid_incons == 0, "%ld cached-grid results not reached by the functions", st.grid_incons);
     CHECK_MSG(st.grid_sum / st.pairs < 2e-5 && st.grid_off * 500 <= st.pairs && st.grid_worst < 0.01,
               "cached-grid minimiser: mean excess %.3g, %ld above 1e-3", st.grid_sum / st.pairs, st.grid_off);
-    printf("  loop pairs with a sharp dip: %ld, grid above gs_fun_pair_min by > 1e-6: %ld, worst %.3g\n",
+    printf("  loop pairs with a sharp dip: %ld, grid above gs__fun_pair_min by > 1e-6: %ld, worst %.3g\n",
            st.loop_sharp, st.loop_sharp_off, st.loop_sharp_worst);
     CHECK(st.loop_sharp >= 1000);
     CHECK_MSG(st.loop_sharp_off * 200 <= st.loop_sharp && st.loop_sharp_worst < 1e-4,
-              "loops with a dip: %ld grid results above gs_fun_pair_min by > 1e-6 (worst %.3g)", st.loop_sharp_off,
+              "loops with a dip: %ld grid results above gs__fun_pair_min by > 1e-6 (worst %.3g)", st.loop_sharp_off,
               st.loop_sharp_worst);
     CHECK(st.pairs >= 10000);
     /* known gap: two nearly equal minima inside one coarse cell (the sum is
      * almost flat along the curve) can differ by up to ~1e-6 relative */
     CHECK_MSG(st.above * 2000 <= st.pairs && st.worst_above < 1e-5,
               "%ld pairs above the dense minimum (worst %.3g)", st.above, st.worst_above);
-    CHECK_MSG(st.inconsistent == 0, "%ld pairs inconsistent with gs_fun_value", st.inconsistent);
+    CHECK_MSG(st.inconsistent == 0, "%ld pairs inconsistent with gs__fun_value", st.inconsistent);
     CHECK_MSG(st.below_bad == 0, "%ld pair_min_below results off", st.below_bad);
     CHECK(st.kinds[1] > 500 && st.kinds[2] > 50);
 }
@@ -583,52 +583,52 @@ static void test_pairs_real(void)
 static void test_infinity(void)
 {
     double c[3] = {1, 0.1, 0.2};
-    gs_fun inf = {GS_FUN_CHEBYSHEV, 0, 0, 0, 0.0, INFINITY, NULL};
-    gs_fun f = {GS_FUN_CHEBYSHEV, 2, 0, 0, 0.0, 0.0, c};
-    f.minval = gs_fun_min(&f, NULL);
+    gs__fun inf = {GS_FUN_CHEBYSHEV, 0, 0, 0, 0.0, INFINITY, NULL};
+    gs__fun f = {GS_FUN_CHEBYSHEV, 2, 0, 0, 0.0, 0.0, c};
+    f.minval = gs__fun_min(&f, NULL);
     double u = 5.0;
-    CHECK(isinf(gs_fun_value(&inf, 0.3)));
-    CHECK(isinf(gs_fun_pair_min(&inf, &f, &u)) && u == 0.0);
-    CHECK(isinf(gs_fun_pair_min(&f, &inf, NULL)));
-    CHECK(isinf(gs_fun_pair_min(&inf, &inf, NULL)));
-    CHECK(gs_fun_cost(&inf) == 0 && gs_fun_cost(&f) == 3);
-    CHECK(isfinite(gs_fun_pair_min(&f, &f, NULL)));
+    CHECK(isinf(gs__fun_value(&inf, 0.3)));
+    CHECK(isinf(gs__fun_pair_min(&inf, &f, &u)) && u == 0.0);
+    CHECK(isinf(gs__fun_pair_min(&f, &inf, NULL)));
+    CHECK(isinf(gs__fun_pair_min(&inf, &inf, NULL)));
+    CHECK(gs__fun_cost(&inf) == 0 && gs__fun_cost(&f) == 3);
+    CHECK(isfinite(gs__fun_pair_min(&f, &f, NULL)));
 }
 
 static void test_sampled(void)
 {
     double d1[MAXN], d2[MAXN], c1[MAXN], c2[MAXN];
-    gs_fun a, b;
+    gs__fun a, b;
     gs_error err;
     for (int closed = 0; closed <= 1; closed++)
         for (int trial = 0; trial < 50; trial++) {
             uint32_t n = 20 + (uint32_t)(rnd() * 100);
             for (uint32_t k = 0; k < n; k++)
                 d1[k] = urand(0.5, 2), d2[k] = urand(0.5, 2);
-            CHECK(gs_fun_make_sampled(d1, n, closed, c1, &a, &err) == GS_OK);
-            CHECK(gs_fun_make_sampled(d2, n, closed, c2, &b, &err) == GS_OK);
-            CHECK(gs_fun_cost(&a) == n);
+            CHECK(gs__fun_make_sampled(d1, n, closed, c1, &a, &err) == GS_OK);
+            CHECK(gs__fun_make_sampled(d2, n, closed, c2, &b, &err) == GS_OK);
+            CHECK(gs__fun_cost(&a) == n);
             double du = closed ? 2.0 / n : 2.0 / (n - 1);
             for (uint32_t k = 0; k + 1 < n; k++) {
-                CHECK_NEAR(gs_fun_value(&a, -1 + k * du), d1[k], 1e-12);
-                CHECK_NEAR(gs_fun_value(&a, -1 + (k + 0.5) * du), 0.5 * (d1[k] + d1[k + 1]), 1e-12);
+                CHECK_NEAR(gs__fun_value(&a, -1 + k * du), d1[k], 1e-12);
+                CHECK_NEAR(gs__fun_value(&a, -1 + (k + 0.5) * du), 0.5 * (d1[k] + d1[k + 1]), 1e-12);
             }
             if (closed)
-                CHECK_NEAR(gs_fun_value(&a, 1 - 0.5 * du), 0.5 * (d1[n - 1] + d1[0]), 1e-12);
-            double ua, r = gs_fun_pair_min(&a, &b, &ua), dm = INFINITY;
+                CHECK_NEAR(gs__fun_value(&a, 1 - 0.5 * du), 0.5 * (d1[n - 1] + d1[0]), 1e-12);
+            double ua, r = gs__fun_pair_min(&a, &b, &ua), dm = INFINITY;
             for (int k = 0; k < DENSE; k++)
-                dm = fmin(dm, gs_fun_value(&a, dense_u(k)) + gs_fun_value(&b, dense_u(k)));
+                dm = fmin(dm, gs__fun_value(&a, dense_u(k)) + gs__fun_value(&b, dense_u(k)));
             CHECK(r <= dm + 1e-12 && r >= dm - 0.1);
-            CHECK_NEAR(gs_fun_value(&a, ua) + gs_fun_value(&b, ua), r, 1e-12);
+            CHECK_NEAR(gs__fun_value(&a, ua) + gs__fun_value(&b, ua), r, 1e-12);
         }
-    CHECK(gs_fun_make_sampled(d1, 0, 0, c1, &a, &err) == GS_EARG);
+    CHECK(gs__fun_make_sampled(d1, 0, 0, c1, &a, &err) == GS_EARG);
     d1[3] = NAN;
-    CHECK(gs_fun_make_sampled(d1, 10, 0, c1, &a, &err) == GS_EARG);
+    CHECK(gs__fun_make_sampled(d1, 10, 0, c1, &a, &err) == GS_EARG);
 }
 
 /* The cached-grid minimiser on loops: the fit is not periodic, so its seam
  * may jump; a minimum at the seam (one-sided limit) must be found exactly
- * as gs_fun_pair_min finds it, and a loop without a seam near the minimum
+ * as gs__fun_pair_min finds it, and a loop without a seam near the minimum
  * agrees with it closely. A sharp dip clamped to 0 (a vertex on the curve):
  * the minimum sits at its zero set's edge. */
 static void test_grid_loops(void)
@@ -636,33 +636,33 @@ static void test_grid_loops(void)
     double ca[3] = {1.0, 0.3, 0.0}, cb[3] = {1.0, 0.0, 0.0}, cc[3] = {1.0, 0.0, 0.5};
     for (int i = 0; i < 8; i++) {
         double shift = -0.9 + 0.237 * i; /* seam of a at u = shift - 1 (wrapped) */
-        gs_fun a = {GS_FUN_CHEBYSHEV, 1, 0, 1, shift, 0.0, ca};
-        gs_fun b = {GS_FUN_CHEBYSHEV, 0, 0, 1, 0.3, 0.0, cb};
-        a.minval = gs_fun_min(&a, NULL), b.minval = gs_fun_min(&b, NULL);
-        double u, r = gs_fun_pair_min(&a, &b, NULL), rg = grid_pair_min(&a, &b, &u);
+        gs__fun a = {GS_FUN_CHEBYSHEV, 1, 0, 1, shift, 0.0, ca};
+        gs__fun b = {GS_FUN_CHEBYSHEV, 0, 0, 1, 0.3, 0.0, cb};
+        a.minval = gs__fun_min(&a, NULL), b.minval = gs__fun_min(&b, NULL);
+        double u, r = gs__fun_pair_min(&a, &b, NULL), rg = grid_pair_min(&a, &b, &u);
         /* a = 1 + 0.3 t jumps from 1.3 to 0.7 at its seam: the minimum, 1.7 */
         CHECK_NEAR(r, 1.7, 1e-9);
-        CHECK_MSG(fabs(rg - r) <= 1e-12 && rg == gs_fun_value(&a, u) + gs_fun_value(&b, u),
+        CHECK_MSG(fabs(rg - r) <= 1e-12 && rg == gs__fun_value(&a, u) + gs__fun_value(&b, u),
                   "seam minimum: grid %.17g, robust %.17g", rg, r);
         /* a smooth periodic partner: 1 + 0.5 T2(t) has its minimum inside */
-        gs_fun c = {GS_FUN_CHEBYSHEV, 2, 0, 1, -shift, 0.0, cc};
-        c.minval = gs_fun_min(&c, NULL);
-        double r2 = gs_fun_pair_min(&c, &b, NULL), rg2 = grid_pair_min(&c, &b, &u);
-        CHECK_MSG(fabs(rg2 - r2) <= 1e-7 * r2 && /* 16-bit grid values: the parabola's vertex ~1e-4 off */ rg2 == gs_fun_value(&c, u) + gs_fun_value(&b, u),
+        gs__fun c = {GS_FUN_CHEBYSHEV, 2, 0, 1, -shift, 0.0, cc};
+        c.minval = gs__fun_min(&c, NULL);
+        double r2 = gs__fun_pair_min(&c, &b, NULL), rg2 = grid_pair_min(&c, &b, &u);
+        CHECK_MSG(fabs(rg2 - r2) <= 1e-7 * r2 && /* 16-bit grid values: the parabola's vertex ~1e-4 off */ rg2 == gs__fun_value(&c, u) + gs__fun_value(&b, u),
                   "smooth loop: grid %.17g, robust %.17g", rg2, r2);
     }
     /* sharp: d^2 = (t - 0.2)^2 - 1e-4 dips below 0 on [0.19, 0.21]; with
      * the slope of b the minimum is b at the zero set's right edge */
     double cs[3] = {0.5 * 1.0 + 0.04 - 1e-4, -0.4, 0.5}, cl[2] = {2.0, -0.5};
     for (int closed = 0; closed <= 1; closed++) {
-        gs_fun a = {GS_FUN_CHEBYSHEV, 2, 1, (uint32_t)closed, 0.0, 0.0, cs};
-        gs_fun b = {GS_FUN_CHEBYSHEV, 1, 0, (uint32_t)closed, 0.0, 0.0, cl};
-        a.minval = gs_fun_min(&a, NULL), b.minval = gs_fun_min(&b, NULL);
-        gs_fun_dip d;
-        gs_fun_dip_find(&a, &d);
+        gs__fun a = {GS_FUN_CHEBYSHEV, 2, 1, (uint32_t)closed, 0.0, 0.0, cs};
+        gs__fun b = {GS_FUN_CHEBYSHEV, 1, 0, (uint32_t)closed, 0.0, 0.0, cl};
+        a.minval = gs__fun_min(&a, NULL), b.minval = gs__fun_min(&b, NULL);
+        gs__fun_dip d;
+        gs__fun_dip_find(&a, &d);
         CHECK_NEAR(d.lo, 0.19, 1e-9);
         CHECK_NEAR(d.hi, 0.21, 1e-9);
-        double u, r = gs_fun_pair_min(&a, &b, NULL), rg = grid_pair_min(&a, &b, &u);
+        double u, r = gs__fun_pair_min(&a, &b, NULL), rg = grid_pair_min(&a, &b, &u);
         CHECK_NEAR(r, 2.0 - 0.5 * 0.21, 1e-9);
         CHECK_MSG(rg >= r && rg - r <= 1e-8, "zero-set edge: grid %.17g, robust %.17g", rg, r);
     }
@@ -681,8 +681,8 @@ static void test_grid_values(void)
     static const double shifts[3] = {0.0, 0.37, -1.5};
     for (int t = 0; t < 4; ++t) {
         int closed = t > 0;
-        gs_fun f = {GS_FUN_CHEBYSHEV, 6, (uint32_t)(t & 1), (uint32_t)closed, closed ? shifts[t - 1] : 0.0, 0.0, c};
-        uint32_t g = gs_fun_grid_points(f.degree);
+        gs__fun f = {GS_FUN_CHEBYSHEV, 6, (uint32_t)(t & 1), (uint32_t)closed, closed ? shifts[t - 1] : 0.0, 0.0, c};
+        uint32_t g = gs__fun_grid_points(f.degree);
         float v[GS_FUN_GRID_MAX];
         gs__grid_values(&f, g, v);
         double h = 2.0 / g, p4 = 0.0, worst = 0.0;
@@ -693,9 +693,9 @@ static void test_grid_values(void)
         double bound = closed && f.shift != 0.0 ? 3.0 / 128.0 * h * h * h * h * p4 + 1e-6 : 1e-6;
         for (uint32_t j = 0; j < g; ++j) {
             double u = closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1);
-            gs_fun sq = f;
+            gs__fun sq = f;
             sq.squared = 0; /* the bound is on the series: compare p, then its root */
-            double pv = gs_fun_value(&sq, u), e = fabs((double)v[j] - gs_fun_value(&f, u));
+            double pv = gs__fun_value(&sq, u), e = fabs((double)v[j] - gs__fun_value(&f, u));
             if (f.squared) e = fabs((double)v[j] * v[j] - pv);
             worst = fmax(worst, e);
         }
@@ -704,8 +704,8 @@ static void test_grid_values(void)
         printf("  grid values (%s, shift %g, %u points): worst error %.3g (bound %.3g)\n", closed ? "loop" : "path",
                f.shift, g, worst, bound);
     }
-    gs_fun a = {GS_FUN_CHEBYSHEV, 1, 0, 0, 0.0, 0.0, big}, b = a;
-    double r = gs_fun_pair_min(&a, &b, NULL), rg = grid_pair_min(&a, &b, NULL);
+    gs__fun a = {GS_FUN_CHEBYSHEV, 1, 0, 0, 0.0, 0.0, big}, b = a;
+    double r = gs__fun_pair_min(&a, &b, NULL), rg = grid_pair_min(&a, &b, NULL);
     CHECK(r == rg); /* no float grid: the robust minimiser */
 }
 
@@ -713,11 +713,11 @@ static void test_depth_tol(void)
 {
     const double expect[8] = {0.002, 0.003, 0.0045, 0.00675, 0.010125, 0.0151875, 0.02, 0.02};
     for (uint32_t d = 0; d < 8; d++)
-        CHECK_NEAR(gs_fit_tol_at_depth(0.002, d), expect[d], 1e-15);
-    CHECK_NEAR(gs_fit_tol_at_depth(0.002, 1000000), 0.02, 0);
+        CHECK_NEAR(gs__fit_tol_at_depth(0.002, d), expect[d], 1e-15);
+    CHECK_NEAR(gs__fit_tol_at_depth(0.002, 1000000), 0.02, 0);
     for (uint32_t d = 0; d < 5; d++) /* looser than the cap at the root: kept */
-        CHECK_NEAR(gs_fit_tol_at_depth(0.05, d), 0.05, 0);
-    CHECK_NEAR(gs_fit_tol_at_depth(0.015, 1), 0.02, 0);
+        CHECK_NEAR(gs__fit_tol_at_depth(0.05, d), 0.05, 0);
+    CHECK_NEAR(gs__fit_tol_at_depth(0.015, 1), 0.02, 0);
 }
 
 /* The certificate between samples (fit.h): a vertex at height h over a
@@ -736,21 +736,21 @@ static void test_depth_tol(void)
  * wherever it reports so (cert_err), and its true error is smaller. */
 static void test_certificate(void)
 {
-    gs_fit_work *w = make_work(2, 20, 0.002);
+    gs__fit_work *w = make_work(2, 20, 0.002);
     enum { N = 21, FINE = 4000 };
     double u[N], d[N], L = 2.0, worst_cert = 0, worst_plain = 0, band_plain = 0;
     uniform_u(u, N, 0);
     for (int q = 0; q < 40; ++q) {
         double s0 = L * (0.013 + 0.024 * q);
         for (int k = 0; k < N; ++k) d[k] = 0.05 + fabs((u[k] + 1) * L / 2 - s0);
-        gs_fit_result rc, rp;
-        CHECK(gs_fit_distance(w, u, d, N, 0, L / 2, &rc, NULL) == GS_OK);
-        CHECK(gs_fit_distance(w, u, d, N, 0, 0, &rp, NULL) == GS_OK);
+        gs__fit_result rc, rp;
+        CHECK(gs__fit_distance(w, u, d, N, 0, L / 2, &rc, NULL) == GS_OK);
+        CHECK(gs__fit_distance(w, u, d, N, 0, 0, &rp, NULL) == GS_OK);
         CHECK(rp.cert_err == 0 && rc.cert_err >= 0);
         double ec = 0, ep = 0, band = 0, bandp = 0;
         for (int i = 0; i <= FINE; ++i) {
             double t = -1 + 2.0 * i / FINE, s = (t + 1) * L / 2, dt = 0.05 + fabs(s - s0);
-            double vc = gs_fun_value(&rc.fun, t), vp = gs_fun_value(&rp.fun, t);
+            double vc = gs__fun_value(&rc.fun, t), vp = gs__fun_value(&rp.fun, t);
             int k = (int)((t + 1) / 2 * (N - 1)); /* the samples k, k+1 around t */
             if (k > N - 2) k = N - 2;
             double da = (t - u[k]) * L / 2, db = (u[k + 1] - t) * L / 2;
@@ -771,7 +771,7 @@ static void test_certificate(void)
            100 * worst_cert, 100 * worst_plain, 100 * band_plain);
     CHECK_MSG(band_plain > 2 * GS_FIT_MAX_ERR, "the uncertified fits stay in the band (%g): no test", band_plain);
     CHECK_MSG(worst_cert < 0.5 * worst_plain, "certified %g vs plain %g", worst_cert, worst_plain);
-    gs_fit_work_free(w);
+    gs__fit_work_free(w);
 }
 
 int main(void)
@@ -798,5 +798,5 @@ int main(void)
     test_grid_values();
     test_infinity();
     test_sampled();
-    return gs_test_finish("test_fit");
+    return gs__test_finish("test_fit");
 }

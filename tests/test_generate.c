@@ -295,5 +295,5 @@ int main(void)
     test_geometry();
     test_deterministic();
     test_bad_specs();
-    return gs_test_finish("test_generate");
+    return gs__test_finish("test_generate");
 }

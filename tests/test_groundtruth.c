@@ -34,7 +34,7 @@ static double rel_err(double got, double want)
 static int test_mesh(const char *name, int quick, int *n_tested)
 {
     char obj[4096], gtp[4096];
-    if (!gs_test_shared_pair(name, obj, gtp, sizeof obj)) return 0;
+    if (!gs__test_shared_pair(name, obj, gtp, sizeof obj)) return 0;
 
     gs_error err;
     gs_mesh *mesh = NULL;
@@ -112,18 +112,18 @@ done:
 
 int main(void)
 {
-    if (!gs_test_shared_path("meshes"))
-        gs_test_skip("shared folder with meshes/ and groundtruth/ not found "
+    if (!gs__test_shared_path("meshes"))
+        gs__test_skip("shared folder with meshes/ and groundtruth/ not found "
                      "(set GEOSEP_SHARED or the GEOSEP_SHARED_DIR CMake cache variable)");
     const char *q = getenv("GEOSEP_QUICK");
     int quick = q && strcmp(q, "1") == 0;
     /* every groundtruth/M.gt, in name order; test_mesh skips those without
      * meshes/M.obj */
     static char names[256][GS_TEST_NAME_MAX];
-    int n_names = gs_test_shared_names(names, 256);
-    if (n_names < 0) gs_test_skip("shared folder has no groundtruth/");
+    int n_names = gs__test_shared_names(names, 256);
+    if (n_names < 0) gs__test_skip("shared folder has no groundtruth/");
     int n_tested = 0;
     for (int i = 0; i < n_names; ++i) test_mesh(names[i], quick, &n_tested);
     CHECK_MSG(n_tested > 0, "no mesh with both meshes/M.obj and groundtruth/M.gt was found");
-    return gs_test_finish("test_groundtruth");
+    return gs__test_finish("test_groundtruth");
 }

@@ -524,8 +524,8 @@ static void test_shared(void)
                  {"fandisk", 0.011},   {"rocker-arm", 0.016}, {"bunny-10k", 0.010},
                  {"bunny-20k", 0.0085}, {"stanford-bunny", 0.0095}, {"homer-60k", 0.003}};
     static char names[256][GS_TEST_NAME_MAX];
-    int n_names = gs_test_shared_names(names, 256);
-    if (n_names < 0 || !gs_test_shared_path("meshes/bunny-5k.obj")) {
+    int n_names = gs__test_shared_names(names, 256);
+    if (n_names < 0 || !gs__test_shared_path("meshes/bunny-5k.obj")) {
         printf("shared data absent (no groundtruth/ or meshes/bunny-5k.obj): ground-truth part skipped\n");
         return;
     }
@@ -534,7 +534,7 @@ static void test_shared(void)
     for (int i = 0; i < n_names; ++i) {
         const char *name = names[i];
         char obj[4096], gtp[4096];
-        if (!gs_test_shared_pair(name, obj, gtp, sizeof obj)) {
+        if (!gs__test_shared_pair(name, obj, gtp, sizeof obj)) {
             printf("%s: skipped (no meshes/%s.obj)\n", name, name);
             continue;
         }
@@ -577,5 +577,5 @@ int main(void)
     test_far();
     test_refine();
     test_shared();
-    return gs_test_finish("test_heat");
+    return gs__test_finish("test_heat");
 }

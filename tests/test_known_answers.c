@@ -736,5 +736,5 @@ int main(void)
     test_invariants("peaks:25");
     test_invariants("torus:24,12");
     test_invariants("sphere:2");
-    return gs_test_finish("test_known_answers");
+    return gs__test_finish("test_known_answers");
 }

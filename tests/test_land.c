@@ -121,5 +121,5 @@ int main(void)
     test_mesh("grid:20,20", 4, 16, 0.25);
     test_mesh("sphere:2", 4, 16, 0.25);
     test_components();
-    return gs_test_finish("test_land");
+    return gs__test_finish("test_land");
 }

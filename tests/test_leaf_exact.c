@@ -30,18 +30,18 @@ static gs_db *build(const gs_mesh *m, gs_method method, int leaf_exact, uint32_t
 }
 
 /* The tree the builder uses for the default options. */
-static gs_tree *tree_of(const gs_mesh *m)
+static gs__tree *tree_of(const gs_mesh *m)
 {
     gs_build_options o;
     gs_build_options_default(&o);
-    gs_tree_options to;
-    gs_tree_options_default(&to);
+    gs__tree_options to;
+    gs__tree_options_default(&to);
     to.vmax = o.vmax;
     to.seed = o.seed;
     to.sample_spacing = o.sample_spacing;
-    gs_tree *t = NULL;
+    gs__tree *t = NULL;
     gs_error e = {0};
-    int rc = gs_tree_build(m, &to, &t, &e);
+    int rc = gs__tree_build(m, &to, &t, &e);
     CHECK_MSG(rc == GS_OK, "tree: %s", e.message);
     return t;
 }
@@ -61,7 +61,7 @@ static double euclid(const gs_mesh *m, uint32_t x, uint32_t y)
 /* Every same-leaf pair against the unbounded whole-mesh field of `method`.
  * Returns the number of pairs where the exact answer is clearly longer than
  * the Euclidean distance (what the tables fix). */
-static uint64_t check_leaves(const char *spec, const gs_mesh *m, const gs_tree *t, const gs_db *dx,
+static uint64_t check_leaves(const char *spec, const gs_mesh *m, const gs__tree *t, const gs_db *dx,
                              const gs_db *d0, gs_method method)
 {
     uint32_t nv = gs_mesh_num_vertices(m);
@@ -72,7 +72,7 @@ static uint64_t check_leaves(const char *spec, const gs_mesh *m, const gs_tree *
     double *f = malloc(nv * sizeof *f), *fd = malloc(nv * sizeof *fd);
     uint64_t n_pairs = 0, n_better = 0, n_bad = 0, n_asym = 0, n_changed = 0, n_field = 0;
     for (uint32_t l = 0; l < t->n_nodes; ++l) {
-        const gs_tree_node *nd = &t->nodes[l];
+        const gs__tree_node *nd = &t->nodes[l];
         if (nd->child[0] != GS_NONE) continue;
         for (uint32_t i = 0; i < nd->n_verts; ++i) {
             uint32_t x = t->verts[nd->vert_start + i];
@@ -113,11 +113,11 @@ static uint64_t check_leaves(const char *spec, const gs_mesh *m, const gs_tree *
 }
 
 /* The plain database answers same-leaf queries with the Euclidean distance. */
-static void check_plain_is_euclidean(const gs_mesh *m, const gs_tree *t, const gs_db *d0)
+static void check_plain_is_euclidean(const gs_mesh *m, const gs__tree *t, const gs_db *d0)
 {
     uint64_t bad = 0;
     for (uint32_t l = 0; l < t->n_nodes; ++l) {
-        const gs_tree_node *nd = &t->nodes[l];
+        const gs__tree_node *nd = &t->nodes[l];
         if (nd->child[0] != GS_NONE) continue;
         for (uint32_t i = 0; i < nd->n_verts; ++i)
             for (uint32_t j = 0; j < nd->n_verts; ++j) {
@@ -135,7 +135,7 @@ static void check_mesh(const char *spec, gs_method method, int want_better)
     int rc = gs_mesh_generate(spec, &m, &e);
     CHECK_MSG(rc == GS_OK, "%s: %s", spec, e.message);
     if (rc) return;
-    gs_tree *t = tree_of(m);
+    gs__tree *t = tree_of(m);
     gs_db *dx = build(m, method, 1, 2), *d0 = build(m, method, 0, 2);
     if (t && dx && d0) {
         /* the tables are exact whatever the method (leaves.c) */
@@ -145,7 +145,7 @@ static void check_mesh(const char *spec, gs_method method, int want_better)
     }
     gs_db_free(dx);
     gs_db_free(d0);
-    gs_tree_free(t);
+    gs__tree_free(t);
     gs_mesh_free(m);
 }
 
@@ -196,11 +196,11 @@ static void check_roundtrip_and_threads(void)
         CHECK(i0.leaf_exact == 0);
         CHECK(ix.file_bytes == ibuilt.file_bytes);
         /* at least the n_L^2 doubles of every leaf on top */
-        gs_tree *t = tree_of(m);
+        gs__tree *t = tree_of(m);
         uint64_t entries = 0;
         for (uint32_t l = 0; t && l < t->n_nodes; ++l)
             if (t->nodes[l].child[0] == GS_NONE) entries += (uint64_t)t->nodes[l].n_verts * t->nodes[l].n_verts;
-        gs_tree_free(t);
+        gs__tree_free(t);
         CHECK_MSG(ix.file_bytes >= i0.file_bytes + 8 * entries, "%llu vs %llu + 8 * %llu",
                   (unsigned long long)ix.file_bytes, (unsigned long long)i0.file_bytes,
                   (unsigned long long)entries);
@@ -224,7 +224,7 @@ static void check_two_components(void)
     gs_mesh *m = NULL;
     CHECK(gs_mesh_generate("two:12", &m, NULL) == GS_OK);
     if (!m) return;
-    gs_tree *t = tree_of(m);
+    gs__tree *t = tree_of(m);
     gs_db *dx = build(m, GS_METHOD_EXACT, 1, 2), *d0 = build(m, GS_METHOD_EXACT, 0, 2);
     if (t && dx && d0) {
         check_leaves("two:12", m, t, dx, d0, GS_METHOD_EXACT);
@@ -233,7 +233,7 @@ static void check_two_components(void)
     }
     gs_db_free(dx);
     gs_db_free(d0);
-    gs_tree_free(t);
+    gs__tree_free(t);
     gs_mesh_free(m);
 }
 
@@ -247,5 +247,5 @@ int main(void)
     check_mesh("peaks:24", GS_METHOD_FMM, 1); /* fmm's tables had +inf pairs before they were exact */
     check_roundtrip_and_threads();
     check_two_components();
-    return gs_test_finish("test_leaf_exact");
+    return gs__test_finish("test_leaf_exact");
 }

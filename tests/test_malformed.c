@@ -322,7 +322,7 @@ static void fuzz(void)
 int main(void)
 {
     snprintf(g_dir, sizeof g_dir, "/tmp/geosep-bad-XXXXXX");
-    if (!mkdtemp(g_dir)) gs_test_skip("cannot create a temporary directory");
+    if (!mkdtemp(g_dir)) gs__test_skip("cannot create a temporary directory");
     size_t n = sizeof CASES / sizeof *CASES, negative = 0;
     for (size_t i = 0; i < n; ++i) {
         run_case(&CASES[i]);
@@ -331,5 +331,5 @@ int main(void)
     printf("malformed table: %zu cases (%zu must fail)\n", n, negative);
     fuzz();
     CHECK_MSG(rmdir(g_dir) == 0, "temp dir %s not empty", g_dir);
-    return gs_test_finish("test_malformed");
+    return gs__test_finish("test_malformed");
 }

@@ -448,14 +448,14 @@ static void test_shared(void)
         {"rocker-arm.obj", 10044, 20088, 1, 0, 1, 0},
         {"homer-60k.obj", 60010, 120016, 0, 0, 1, 0},
     };
-    if (!gs_test_shared_path("meshes/spot.obj")) {
+    if (!gs__test_shared_path("meshes/spot.obj")) {
         printf("shared meshes not found (set GEOSEP_SHARED): table check skipped\n");
         return;
     }
     for (size_t i = 0; i < sizeof table / sizeof *table; ++i) {
         char rel[128];
         snprintf(rel, sizeof rel, "meshes/%s", table[i].name);
-        const char *p = gs_test_shared_path(rel);
+        const char *p = gs__test_shared_path(rel);
         CHECK_MSG(p != NULL, "%s missing", table[i].name);
         if (!p) continue;
         check_report(table[i].name, p, table[i].nv, table[i].nf, table[i].comps,
@@ -562,7 +562,7 @@ int main(void)
 {
     test_gt_files();
     snprintf(g_dir, sizeof g_dir, "/tmp/geosep-io-XXXXXX");
-    if (!mkdtemp(g_dir)) gs_test_skip("cannot create a temporary directory");
+    if (!mkdtemp(g_dir)) gs__test_skip("cannot create a temporary directory");
     test_obj();
     test_off();
     test_ply();
@@ -573,5 +573,5 @@ int main(void)
     test_create_no_faces();
     test_shared();
     cleanup();
-    return gs_test_finish("test_mesh_io");
+    return gs__test_finish("test_mesh_io");
 }

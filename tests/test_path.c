@@ -365,14 +365,14 @@ static void test_plate(void)
 static void test_shared(int quick)
 {
     char names[64][GS_TEST_NAME_MAX];
-    int nm = gs_test_shared_names(names, 64);
+    int nm = gs__test_shared_names(names, 64);
     if (nm <= 0) {
         printf("shared ground truth: skipped (no ../shared/groundtruth)\n");
         return;
     }
     for (int i = 0; i < nm; ++i) {
         char obj[4096], gtp[4096];
-        if (!gs_test_shared_pair(names[i], obj, gtp, sizeof obj)) continue;
+        if (!gs__test_shared_pair(names[i], obj, gtp, sizeof obj)) continue;
         gs_error err;
         gs_mesh *m = NULL;
         gs_gt *gt = NULL;
@@ -438,5 +438,5 @@ int main(void)
     test_cube();
     test_plate();
     test_shared(quick);
-    return gs_test_finish("test_path");
+    return gs__test_finish("test_path");
 }

@@ -691,5 +691,5 @@ int main(void)
     test_bad_input();
     test_components();
     test_threads();
-    return gs_test_finish("test_points");
+    return gs__test_finish("test_points");
 }

@@ -307,5 +307,5 @@ int main(void)
     run("two:5", &exact, "two, leaf tables", n, 8);
     run_ex("peaks:16", &small, "reopened", n, 8, 1);
     run_ex("two:8", &small, "two, reopened", n, 8, 1);
-    return gs_test_finish("test_points_props");
+    return gs__test_finish("test_points_props");
 }

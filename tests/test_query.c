@@ -12,7 +12,7 @@
 
 #include <unistd.h>
 
-/* Reference without quick reject: all common curves, via gs_fun_pair_min. */
+/* Reference without quick reject: all common curves, via gs__fun_pair_min. */
 static double ref_no_reject(const fixture *f, uint32_t x, uint32_t y)
 {
     uint32_t a = f->leaf[x], b = f->leaf[y];
@@ -24,15 +24,15 @@ static double ref_no_reject(const fixture *f, uint32_t x, uint32_t y)
     for (; a != GS_NONE; a = f->nodes[a].parent)
         for (uint32_t j = 0; j < f->nodes[a].n_curves; ++j) {
             uint32_t k = f->nodes[a].curve_prefix + j;
-            const gs_fun *fx = &f->funs[f->fun_start[x] + k], *fy = &f->funs[f->fun_start[y] + k];
+            const gs__fun *fx = &f->funs[f->fun_start[x] + k], *fy = &f->funs[f->fun_start[y] + k];
             if (fx->minval == INFINITY || fy->minval == INFINITY) continue;
-            double d = gs_fun_pair_min(fx, fy, NULL);
+            double d = gs__fun_pair_min(fx, fy, NULL);
             if (d < best) best = d;
         }
     return best;
 }
 
-/* Brute force, independent of gs_fun_pair_min: dense scan of the values. */
+/* Brute force, independent of gs__fun_pair_min: dense scan of the values. */
 static double ref_dense(const fixture *f, uint32_t x, uint32_t y)
 {
     uint32_t a = f->leaf[x], b = f->leaf[y];
@@ -44,10 +44,10 @@ static double ref_dense(const fixture *f, uint32_t x, uint32_t y)
     for (; a != GS_NONE; a = f->nodes[a].parent)
         for (uint32_t j = 0; j < f->nodes[a].n_curves; ++j) {
             uint32_t k = f->nodes[a].curve_prefix + j;
-            const gs_fun *fx = &f->funs[f->fun_start[x] + k], *fy = &f->funs[f->fun_start[y] + k];
+            const gs__fun *fx = &f->funs[f->fun_start[x] + k], *fy = &f->funs[f->fun_start[y] + k];
             if (fx->minval == INFINITY || fy->minval == INFINITY) continue;
             for (int i = 0; i <= 200000; ++i) {
-                double u = -1 + i / 100000.0, s = gs_fun_value(fx, u) + gs_fun_value(fy, u);
+                double u = -1 + i / 100000.0, s = gs__fun_value(fx, u) + gs__fun_value(fy, u);
                 if (s < best) best = s;
             }
         }
@@ -158,7 +158,7 @@ static void test_errors(void)
 
 /* The robust reference on the stored functions: every common curve of x
  * and y (no quick reject), the functions decoded from the file's blocks,
- * gs_fun_pair_min; at least the straight segment. */
+ * gs__fun_pair_min; at least the straight segment. */
 static double ref_stored(const gs_db *db, uint32_t x, uint32_t y)
 {
     uint32_t lx = db->leaf[x], ly = db->leaf[y];
@@ -174,7 +174,7 @@ static double ref_stored(const gs_db *db, uint32_t x, uint32_t y)
     if (lx == ly) return -1; /* same leaf: not this reference's business */
     double best = INFINITY;
     uint32_t K = db->nodes[a].curve_prefix + db->nodes[a].n_curves;
-    gs_fun fx[64], fy[64];
+    gs__fun fx[64], fy[64];
     double cx[64][GS_FUN_MAX_DEGREE + 1], cy[64][GS_FUN_MAX_DEGREE + 1];
     for (int v = 0; v < 2; ++v) {
         uint32_t z = v ? y : x;
@@ -184,24 +184,24 @@ static double ref_stored(const gs_db *db, uint32_t x, uint32_t y)
         for (uint32_t k = 0; k < K && k < 64; ++k) {
             float mv;
             memcpy(&mv, r + 4 * k, 4);
-            gs_fun *f = v ? &fy[k] : &fx[k];
+            gs__fun *f = v ? &fy[k] : &fx[k];
             memset(f, 0, sizeof *f);
             f->minval = mv;
             if (mv == INFINITY) continue;
-            gs_db_fblock bl;
+            gs__db_fblock bl;
             memset(&bl, 0, sizeof bl);
             double *c = v ? cy[k] : cx[k];
             if (!gs__db_fblock_parse(blk, (uint64_t)(end - blk), &bl) || bl.sampled || !gs__db_fblock_coef(&bl, c)) {
                 CHECK_MSG(0, "vertex %u: function %u's block", z, k);
                 return NAN;
             }
-            *f = (gs_fun){GS_FUN_CHEBYSHEV, bl.degree, bl.squared, bl.closed, bl.shift, mv, c};
+            *f = (gs__fun){GS_FUN_CHEBYSHEV, bl.degree, bl.squared, bl.closed, bl.shift, mv, c};
             blk += bl.bytes;
         }
     }
     for (uint32_t k = 0; k < K && k < 64; ++k)
         if (fx[k].minval < INFINITY && fy[k].minval < INFINITY) {
-            double d = gs_fun_pair_min(&fx[k], &fy[k], NULL);
+            double d = gs__fun_pair_min(&fx[k], &fy[k], NULL);
             best = d < best ? d : best;
         }
     return best < e ? e : best;
@@ -303,5 +303,5 @@ int main(void)
     test_built("torus:40,20"); /* loops */
     test_built("plate:1400");  /* paths, holes */
     test_built("two:10");      /* two components: unreachable pairs */
-    return gs_test_finish("test_query");
+    return gs__test_finish("test_query");
 }

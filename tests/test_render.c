@@ -580,5 +580,5 @@ int main(void)
     test_extremes();
     test_png();
     test_bad_args();
-    return gs_test_finish("test_render");
+    return gs__test_finish("test_render");
 }

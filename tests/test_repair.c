@@ -967,7 +967,7 @@ static void test_sphere_all_flaws(void)
                 memcpy(want_d + (size_t)j * n, d, n * sizeof *d);
                 free(d);
             }
-            gs_test_errs e = gs_test_db_errors(db, src, 3, want_d, n);
+            gs__test_errs e = gs__test_db_errors(db, src, 3, want_d, n);
             CHECK_MSG(e.me < 0.005, "ME %.4f%% on the repaired sphere", 100 * e.me);
             free(want_d);
             gs_db_free(db);
@@ -1060,7 +1060,7 @@ static void test_shared_unchanged(void)
     for (size_t i = 0; i < sizeof names / sizeof *names; ++i) {
         char rel[128];
         snprintf(rel, sizeof rel, "meshes/%s.obj", names[i]);
-        const char *path = gs_test_shared_path(rel);
+        const char *path = gs__test_shared_path(rel);
         if (!path) continue;
         seen++;
         gs_mesh *a = NULL, *b = NULL;
@@ -1108,5 +1108,5 @@ int main(void)
     test_sphere_all_flaws();
     test_uv_patches();
     test_shared_unchanged();
-    return gs_test_finish("test_repair");
+    return gs__test_finish("test_repair");
 }

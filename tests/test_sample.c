@@ -190,5 +190,5 @@ int main(void)
         free(new_id);
     }
     gs_mesh_free(g);
-    return gs_test_finish("test_sample");
+    return gs__test_finish("test_sample");
 }

@@ -108,13 +108,13 @@ static void run_target(const target *t)
     if (t->spec) {
         CHECK(gs_mesh_generate(t->spec, &m, &err) == GS_OK);
     } else {
-        const char *mp = gs_test_shared_path(t->shared_mesh), *gp;
+        const char *mp = gs__test_shared_path(t->shared_mesh), *gp;
         if (!mp) {
             printf("%s: skipped (../shared not found)\n", t->name);
             return;
         }
         CHECK(gs_mesh_load(mp, GS_FORMAT_AUTO, &m, &err) == GS_OK);
-        gp = gs_test_shared_path(t->shared_gt);
+        gp = gs__test_shared_path(t->shared_gt);
         if (!gp || gs_gt_read(gp, &gt, &err) != GS_OK) {
             printf("%s: skipped (no ground truth)\n", t->name);
             gs_mesh_free(m);
@@ -142,7 +142,7 @@ static void run_target(const target *t)
     if (rc == GS_OK) {
         gs_db_info info;
         CHECK(gs_db_get_info(db, &info, &err) == GS_OK);
-        gs_test_errs e = gs_test_db_errors(db, src, k, exact, n);
+        gs__test_errs e = gs__test_db_errors(db, src, k, exact, n);
         printf("%-24s n=%5u  ME %.3f%% (paper <= %.2f)  RMSE %.3f%% (<= %.2f)  max %.2f%%  cost %.1f (<= %.1f)"
                "  depth %.1f/%u  build %.2f s\n",
                t->name, n, 100 * e.me, 100 * t->me, 100 * e.rmse, 100 * t->rmse, 100 * e.max, info.cost,
@@ -241,7 +241,7 @@ static void variants(void)
         int rc = gs_db_build(m, &o, &db, NULL, &err);
         CHECK_MSG(rc == GS_OK, "variant %d: %s", v, err.message);
         if (rc) continue;
-        gs_test_errs e = gs_test_db_errors(db, src, 8, exact, n);
+        gs__test_errs e = gs__test_db_errors(db, src, 8, exact, n);
         gs_db_info info;
         CHECK(gs_db_get_info(db, &info, &err) == GS_OK);
         /* the default source mode follows the method: vertices for graph fields */
@@ -267,5 +267,5 @@ int main(void)
     unreachable();
     reproducible();
     variants();
-    return gs_test_finish("test_sep");
+    return gs__test_finish("test_sep");
 }

@@ -58,5 +58,5 @@ int main(void)
     check_spec("two:6");
     check_spec("cube:3");
     CHECK(gs_mesh_subdivide(NULL, NULL, NULL) == GS_EARG);
-    return gs_test_finish("test_subdivide");
+    return gs__test_finish("test_subdivide");
 }

@@ -245,5 +245,5 @@ int main(void)
 {
     run_mesh("torus:30,16", 0);  /* closed, genus 1 */
     run_mesh("two:12", 1);       /* two components: +inf answers; leaf tables */
-    return gs_test_finish("test_threads");
+    return gs__test_finish("test_threads");
 }

@@ -16,7 +16,7 @@
 /* Scratch shared by the checks: mesh-sized stamps. */
 typedef struct ctx {
     const gs_mesh *m;
-    const gs_tree *t;
+    const gs__tree *t;
     uint32_t *fstamp, *vstamp, *owner, *uf, *vcomp;
     double worst_balance, worst_chord_ratio, worst_on_curve, turn_sum;
     uint64_t turn_n, turn_big;
@@ -30,14 +30,14 @@ static void pos(const gs_mesh *m, uint32_t v, double p[3])
     for (int d = 0; d < 3; ++d) p[d] = m->xyz[3 * (size_t)v + d];
 }
 
-static void sample_pos(const gs_mesh *m, const gs_sep_sample *s, double p[3])
+static void sample_pos(const gs_mesh *m, const gs__sep_sample *s, double p[3])
 {
     p[0] = p[1] = p[2] = 0;
     for (int k = 0; k < 3; ++k)
         for (int d = 0; d < 3; ++d) p[d] += s->bary[k] * m->xyz[3 * (size_t)m->tri[3 * (size_t)s->face + k] + d];
 }
 
-static void cross_pos(const gs_mesh *m, const gs_sep_cross *c, double p[3])
+static void cross_pos(const gs_mesh *m, const gs__sep_cross *c, double p[3])
 {
     double a[3], b[3];
     pos(m, c->v[0], a);
@@ -60,7 +60,7 @@ static int face_has(const gs_mesh *m, uint32_t f, uint32_t v)
 /* Mark the faces of P(n) with stamp n+1 (and their corners). */
 static void stamp_patch(ctx *c, uint32_t n)
 {
-    const gs_tree_node *nd = &c->t->nodes[n];
+    const gs__tree_node *nd = &c->t->nodes[n];
     for (uint32_t i = 0; i < nd->n_faces; ++i) {
         uint32_t f = c->t->faces[nd->face_start + i];
         c->fstamp[f] = n + 1;
@@ -72,7 +72,7 @@ static void stamp_patch(ctx *c, uint32_t n)
 
 static void check_structure(ctx *c, uint32_t vmax)
 {
-    const gs_tree *t = c->t;
+    const gs__tree *t = c->t;
     const gs_mesh *m = c->m;
     uint32_t n_ref = 0, *seen = calloc(m->nv, sizeof *seen);
     for (uint32_t v = 0; v < m->nv; ++v) n_ref += !(m->topo.vflag[v] & GS_V_UNUSED);
@@ -91,7 +91,7 @@ static void check_structure(ctx *c, uint32_t vmax)
     CHECK(t->nodes[0].curve_prefix == 0);
     uint32_t curves_seen = 0;
     for (uint32_t n = 0; n < t->n_nodes; ++n) {
-        const gs_tree_node *nd = &t->nodes[n];
+        const gs__tree_node *nd = &t->nodes[n];
         CHECK_MSG(nd->curve_start == curves_seen, "node %u curve_start", n);
         curves_seen += nd->n_curves;
         for (uint32_t k = 0; k < nd->n_verts; ++k)
@@ -103,7 +103,7 @@ static void check_structure(ctx *c, uint32_t vmax)
             continue;
         }
         CHECK(nd->n_verts > vmax);
-        const gs_tree_node *a = &t->nodes[nd->child[0]], *b = &t->nodes[nd->child[1]];
+        const gs__tree_node *a = &t->nodes[nd->child[0]], *b = &t->nodes[nd->child[1]];
         CHECK(nd->child[0] > n && nd->child[1] > n && a->parent == n && b->parent == n);
         CHECK(a->depth == nd->depth + 1 && b->depth == nd->depth + 1);
         CHECK(a->vert_start == nd->vert_start && b->vert_start == a->vert_start + a->n_verts);
@@ -116,7 +116,7 @@ static void check_structure(ctx *c, uint32_t vmax)
     }
     CHECK(curves_seen == t->n_curves);
     for (uint32_t k = 0; k < t->n_curves; ++k) {
-        const gs_tree_node *nd = &t->nodes[t->curves[k].node];
+        const gs__tree_node *nd = &t->nodes[t->curves[k].node];
         CHECK(k >= nd->curve_start && k < nd->curve_start + nd->n_curves);
     }
     free(seen);
@@ -126,14 +126,14 @@ static void check_structure(ctx *c, uint32_t vmax)
  * of a child patch are faces of the parent patch. */
 static void check_patches(ctx *c)
 {
-    const gs_tree *t = c->t;
+    const gs__tree *t = c->t;
     int bad_owned = 0, bad_faces = 0;
     for (uint32_t n = 0; n < t->n_nodes; ++n) {
-        const gs_tree_node *nd = &t->nodes[n];
+        const gs__tree_node *nd = &t->nodes[n];
         stamp_patch(c, n);
         for (uint32_t k = 0; k < nd->n_verts; ++k) bad_owned += c->vstamp[t->verts[nd->vert_start + k]] != n + 1;
         for (int s = 0; s < 2 && nd->child[0] != GS_NONE; ++s) {
-            const gs_tree_node *ch = &t->nodes[nd->child[s]];
+            const gs__tree_node *ch = &t->nodes[nd->child[s]];
             for (uint32_t i = 0; i < ch->n_faces; ++i) bad_faces += c->fstamp[t->faces[ch->face_start + i]] != n + 1;
         }
     }
@@ -146,11 +146,11 @@ static void check_patches(ctx *c)
 /* Crossing chain of one curve: consecutive crossings share their face, the
  * face holds both edges, path ends lie on the patch boundary (fstamp of the
  * node must be set). Sides agree with the children's owned vertices. */
-static void check_crossings(ctx *c, const gs_sep_curve *cv)
+static void check_crossings(ctx *c, const gs__sep_curve *cv)
 {
-    const gs_tree *t = c->t;
+    const gs__tree *t = c->t;
     const gs_mesh *m = c->m;
-    const gs_sep_cross *x = t->cross + cv->cross_start;
+    const gs__sep_cross *x = t->cross + cv->cross_start;
     uint32_t n = cv->n_cross, node = cv->node;
     CHECK(n >= 2);
     for (uint32_t i = 0; i < n; ++i) {
@@ -161,7 +161,7 @@ static void check_crossings(ctx *c, const gs_sep_curve *cv)
         }
         int last = !cv->closed && i == n - 1;
         if (last) { CHECK(x[i].face == GS_NONE); continue; }
-        const gs_sep_cross *y = &x[(i + 1) % n];
+        const gs__sep_cross *y = &x[(i + 1) % n];
         uint32_t f = x[i].face;
         CHECK(f < m->nf && c->fstamp[f] == node + 1);
         CHECK(face_has(m, f, x[i].v[0]) && face_has(m, f, x[i].v[1]));
@@ -169,7 +169,7 @@ static void check_crossings(ctx *c, const gs_sep_curve *cv)
     }
     if (cv->closed) return;
     for (int e = 0; e < 2; ++e) { /* the end edges border one face of P(N) */
-        const gs_sep_cross *z = e ? &x[n - 1] : &x[0];
+        const gs__sep_cross *z = e ? &x[n - 1] : &x[0];
         uint32_t in = 0, u = z->v[0], w = z->v[1];
         for (uint32_t k = m->topo.vc_start[u]; k < m->topo.vc_start[u + 1]; ++k) {
             uint32_t f = m->topo.vc[k] / 3;
@@ -191,7 +191,7 @@ static double point_segment(const double *p, const double *a, const double *b)
 /* Filtered samples (paper 4.1: filtered, projected back onto the surface):
  * arc lengths are the chord lengths between them, and each stays within a
  * two mean edge lengths of the crossing polyline that separates the sides. */
-static void check_filtered(ctx *c, const gs_sep_curve *cv, const gs_sep_sample *sm, const gs_sep_cross *x,
+static void check_filtered(ctx *c, const gs__sep_curve *cv, const gs__sep_sample *sm, const gs__sep_cross *x,
                            uint32_t n, uint32_t nx, uint32_t npieces, double scale)
 {
     double acc = 0, p[3], q[3], a[3], b[3];
@@ -227,12 +227,12 @@ static void check_filtered(ctx *c, const gs_sep_curve *cv, const gs_sep_sample *
 /* Samples: in the patch, valid barycentrics, on the crossing polyline at
  * their arc length (or near it, when filtered), regular spacing, path ends
  * at the curve ends. */
-static void check_samples(ctx *c, const gs_sep_curve *cv, double scale)
+static void check_samples(ctx *c, const gs__sep_curve *cv, double scale)
 {
-    const gs_tree *t = c->t;
+    const gs__tree *t = c->t;
     const gs_mesh *m = c->m;
-    const gs_sep_sample *sm = t->samples + cv->sample_start;
-    const gs_sep_cross *x = t->cross + cv->cross_start;
+    const gs__sep_sample *sm = t->samples + cv->sample_start;
+    const gs__sep_cross *x = t->cross + cv->cross_start;
     uint32_t n = cv->n_samples, nx = cv->n_cross, npieces = cv->closed ? nx : nx - 1;
     CHECK(n >= 2 && cv->length > 0);
     double *cum = malloc((npieces + 1) * sizeof *cum), p[3], q[3];
@@ -245,7 +245,7 @@ static void check_samples(ctx *c, const gs_sep_curve *cv, double scale)
     if (!c->filtered) CHECK_NEAR(cum[npieces], cv->length, 1e-9 * scale);
     double step = cv->length / (cv->closed ? n : n - 1), cmin = INFINITY, cmax = 0;
     for (uint32_t j = 0; j < n; ++j) {
-        const gs_sep_sample *s = &sm[j];
+        const gs__sep_sample *s = &sm[j];
         CHECK(s->face < m->nf && c->fstamp[s->face] == cv->node + 1);
         double bs = s->bary[0] + s->bary[1] + s->bary[2];
         CHECK_MSG(s->bary[0] >= 0 && s->bary[1] >= 0 && s->bary[2] >= 0 && fabs(bs - 1) < 1e-12, "bary %.17g %.17g %.17g", s->bary[0], s->bary[1], s->bary[2]);
@@ -318,19 +318,19 @@ static uint32_t uf_find(uint32_t *uf, uint32_t v)
 /* owner[v] = child (0/1) for vertices owned by node n, GS_NONE otherwise. */
 static void set_owner(ctx *c, uint32_t n, int clear)
 {
-    const gs_tree_node *nd = &c->t->nodes[n];
+    const gs__tree_node *nd = &c->t->nodes[n];
     for (int s = 0; s < 2; ++s) {
-        const gs_tree_node *ch = &c->t->nodes[nd->child[s]];
+        const gs__tree_node *ch = &c->t->nodes[nd->child[s]];
         for (uint32_t k = 0; k < ch->n_verts; ++k) c->owner[c->t->verts[ch->vert_start + k]] = clear ? GS_NONE : (uint32_t)s;
     }
 }
 
-static int is_crossed(const gs_tree *t, const gs_tree_node *nd, uint32_t u, uint32_t v)
+static int is_crossed(const gs__tree *t, const gs__tree_node *nd, uint32_t u, uint32_t v)
 {
     for (uint32_t k = nd->curve_start; k < nd->curve_start + nd->n_curves; ++k) {
-        const gs_sep_curve *cv = &t->curves[k];
+        const gs__sep_curve *cv = &t->curves[k];
         for (uint32_t i = 0; i < cv->n_cross; ++i) {
-            const gs_sep_cross *x = &t->cross[cv->cross_start + i];
+            const gs__sep_cross *x = &t->cross[cv->cross_start + i];
             if ((x->v[0] == u && x->v[1] == v) || (x->v[0] == v && x->v[1] == u)) return 1;
         }
     }
@@ -341,9 +341,9 @@ static int is_crossed(const gs_tree *t, const gs_tree_node *nd, uint32_t u, uint
  * component may hold owned vertices of both children. */
 static void check_separation(ctx *c, uint32_t n)
 {
-    const gs_tree *t = c->t;
+    const gs__tree *t = c->t;
     const gs_mesh *m = c->m;
-    const gs_tree_node *nd = &t->nodes[n];
+    const gs__tree_node *nd = &t->nodes[n];
     for (uint32_t i = 0; i < nd->n_faces; ++i)
         for (int k = 0; k < 3; ++k) {
             uint32_t v = m->tri[3 * (size_t)t->faces[nd->face_start + i] + k];
@@ -382,9 +382,9 @@ static void check_separation(ctx *c, uint32_t n)
 
 static void check_curves(ctx *c, double scale)
 {
-    const gs_tree *t = c->t;
+    const gs__tree *t = c->t;
     for (uint32_t n = 0; n < t->n_nodes; ++n) {
-        const gs_tree_node *nd = &t->nodes[n];
+        const gs__tree_node *nd = &t->nodes[n];
         if (nd->child[0] == GS_NONE) continue;
         stamp_patch(c, n);
         set_owner(c, n, 0);
@@ -399,20 +399,20 @@ static void check_curves(ctx *c, double scale)
 
 /* ---- drivers --------------------------------------------------------------- */
 
-static int same_tree(const gs_tree *a, const gs_tree *b)
+static int same_tree(const gs__tree *a, const gs__tree *b)
 {
     if (a->n_nodes != b->n_nodes || a->n_samples != b->n_samples || a->n_curves != b->n_curves ||
         memcmp(a->nodes, b->nodes, a->n_nodes * sizeof *a->nodes) ||
         memcmp(a->verts, b->verts, a->n_verts * sizeof *a->verts))
         return 0;
     for (uint32_t i = 0; i < a->n_curves; ++i) {
-        const gs_sep_curve *x = &a->curves[i], *y = &b->curves[i];
+        const gs__sep_curve *x = &a->curves[i], *y = &b->curves[i];
         if (x->node != y->node || x->closed != y->closed || x->n_samples != y->n_samples ||
             x->length != y->length || x->n_cross != y->n_cross)
             return 0;
     }
     for (uint32_t i = 0; i < a->n_samples; ++i) {
-        const gs_sep_sample *x = &a->samples[i], *y = &b->samples[i];
+        const gs__sep_sample *x = &a->samples[i], *y = &b->samples[i];
         if (x->face != y->face || x->s != y->s || memcmp(x->bary, y->bary, sizeof x->bary)) return 0;
     }
     return 1;
@@ -424,18 +424,18 @@ static int g_strip;
 
 static void run(const char *name, gs_mesh *m, double paper_av, uint32_t paper_max)
 {
-    gs_tree_options opt;
-    gs_tree_options_default(&opt);
+    gs__tree_options opt;
+    gs__tree_options_default(&opt);
     opt.threads = 1;
     if (g_strip) {
         opt.level_iters = 0;
         opt.smooth_iters = 4;
         opt.filter_iters = 0;
     }
-    gs_tree *t = NULL;
+    gs__tree *t = NULL;
     gs_error err = {0};
     double t0 = gs__now();
-    int rc = gs_tree_build(m, &opt, &t, &err);
+    int rc = gs__tree_build(m, &opt, &t, &err);
     double secs = gs__now() - t0;
     CHECK_MSG(rc == GS_OK, "%s: %s", name, err.message);
     if (rc) return;
@@ -447,12 +447,12 @@ static void run(const char *name, gs_mesh *m, double paper_av, uint32_t paper_ma
     check_structure(&c, opt.vmax);
     check_patches(&c);
     check_curves(&c, scale);
-    gs_tree *t2 = NULL;
+    gs__tree *t2 = NULL;
     /* the same tree again, with the candidate cuts spread over threads */
     opt.threads = 3;
-    CHECK(gs_tree_build(m, &opt, &t2, NULL) == GS_OK && t2 && same_tree(t, t2));
+    CHECK(gs__tree_build(m, &opt, &t2, NULL) == GS_OK && t2 && same_tree(t, t2));
     opt.threads = 1;
-    gs_tree_free(t2);
+    gs__tree_free(t2);
     char paper[32] = "";
     if (paper_av > 0) snprintf(paper, sizeof paper, "%.1f/%u", paper_av, paper_max);
     printf("%-16s %7u %6u %6u  %5.2f/%-3u %-8s %5.2f %7.1f %6.3f  %.2f %5.2f %.1e %5.1f %5.2f%% %.3fs\n", name,
@@ -471,7 +471,7 @@ static void run(const char *name, gs_mesh *m, double paper_av, uint32_t paper_ma
     free(c.owner);
     free(c.uf);
     free(c.vcomp);
-    gs_tree_free(t);
+    gs__tree_free(t);
 }
 
 static void run_spec(const char *spec, double paper_av, uint32_t paper_max)
@@ -488,7 +488,7 @@ static void run_file(const char *file, double paper_av, uint32_t paper_max)
 {
     char rel[256];
     snprintf(rel, sizeof rel, "meshes/%s", file);
-    const char *path = gs_test_shared_path(rel);
+    const char *path = gs__test_shared_path(rel);
     if (!path) {
         printf("(%s not found: skipped)\n", file);
         return;
@@ -509,15 +509,15 @@ static void check_straight_on_grid(void)
     gs_mesh *m = NULL;
     CHECK(gs_mesh_generate("grid:30,30", &m, NULL) == GS_OK);
     if (!m) return;
-    gs_tree_options o;
-    gs_tree_options_default(&o);
+    gs__tree_options o;
+    gs__tree_options_default(&o);
     o.level_bias = 1e6; /* the bisector candidates always win */
-    gs_tree *t = NULL;
-    CHECK(gs_tree_build(m, &o, &t, NULL) == GS_OK);
+    gs__tree *t = NULL;
+    CHECK(gs__tree_build(m, &o, &t, NULL) == GS_OK);
     double worst = 0;
     uint32_t paths = 0;
     for (uint32_t k = 0; t && k < t->n_curves; ++k) {
-        const gs_sep_curve *cv = &t->curves[k];
+        const gs__sep_curve *cv = &t->curves[k];
         if (cv->closed) continue;
         paths++;
         double a[3], b[3], p[3];
@@ -532,35 +532,35 @@ static void check_straight_on_grid(void)
     CHECK_MSG(worst < 1e-9, "grid separator %g off its chord", worst);
     /* rejected arguments */
     o.level_bias = 0;
-    gs_tree *t2 = (gs_tree *)1;
-    CHECK(gs_tree_build(m, &o, &t2, NULL) == GS_EARG && t2 == NULL);
-    gs_tree_free(t);
+    gs__tree *t2 = (gs__tree *)1;
+    CHECK(gs__tree_build(m, &o, &t2, NULL) == GS_EARG && t2 == NULL);
+    gs__tree_free(t);
     gs_mesh_free(m);
 }
 
 static void check_arguments(void)
 {
     gs_mesh *m = NULL;
-    gs_tree *t = (gs_tree *)1;
+    gs__tree *t = (gs__tree *)1;
     gs_error err = {0};
     CHECK(gs_mesh_generate("grid:5,5", &m, NULL) == GS_OK);
-    CHECK(gs_tree_build(NULL, NULL, &t, &err) == GS_EARG && t == NULL);
-    CHECK(gs_tree_build(m, NULL, NULL, &err) == GS_EARG);
-    gs_tree_options o;
-    gs_tree_options_default(&o);
+    CHECK(gs__tree_build(NULL, NULL, &t, &err) == GS_EARG && t == NULL);
+    CHECK(gs__tree_build(m, NULL, NULL, &err) == GS_EARG);
+    gs__tree_options o;
+    gs__tree_options_default(&o);
     o.vmax = 0;
-    CHECK(gs_tree_build(m, &o, &t, &err) == GS_EARG);
+    CHECK(gs__tree_build(m, &o, &t, &err) == GS_EARG);
     o.vmax = 30;
     o.threads = 5000;
-    CHECK(gs_tree_build(m, &o, &t, &err) == GS_EARG && strstr(err.message, "threads"));
+    CHECK(gs__tree_build(m, &o, &t, &err) == GS_EARG && strstr(err.message, "threads"));
     o.threads = 0;
     o.vmax = 30; /* 25 vertices: a single leaf */
-    CHECK(gs_tree_build(m, &o, &t, &err) == GS_OK && t->n_nodes == 1 && t->n_leaves == 1);
-    gs_tree_free(t);
+    CHECK(gs__tree_build(m, &o, &t, &err) == GS_OK && t->n_nodes == 1 && t->n_leaves == 1);
+    gs__tree_free(t);
     o.vmax = 1; /* down to single vertices */
-    CHECK(gs_tree_build(m, &o, &t, &err) == GS_OK && t && t->n_leaves == 25);
-    gs_tree_free(t);
-    gs_tree_free(NULL);
+    CHECK(gs__tree_build(m, &o, &t, &err) == GS_OK && t && t->n_leaves == 25);
+    gs__tree_free(t);
+    gs__tree_free(NULL);
     gs_mesh_free(m);
 }
 
@@ -586,5 +586,5 @@ int main(void)
     run_spec("plate:1400", 6.2, 8);
     run_spec("torus:40,20", 0, 0);
     run_file("bunny-5k.obj", 8.8, 12);
-    return gs_test_finish("test_tree");
+    return gs__test_finish("test_tree");
 }

@@ -6,14 +6,14 @@
 #include <stdint.h>
 #include <stdlib.h>
 
-typedef struct gs_iheap {
+typedef struct gs__iheap {
     uint32_t n, cap;
     uint32_t *ids;  /* heap order -> id          */
     uint32_t *pos;  /* id -> heap slot or UINT32_MAX */
     double *key;    /* id -> key                 */
-} gs_iheap;
+} gs__iheap;
 
-static inline int gs_iheap_init(gs_iheap *h, uint32_t cap)
+static inline int gs__iheap_init(gs__iheap *h, uint32_t cap)
 {
     h->n = 0;
     h->cap = cap;
@@ -25,7 +25,7 @@ static inline int gs_iheap_init(gs_iheap *h, uint32_t cap)
     return 0;
 }
 
-static inline void gs_iheap_free(gs_iheap *h)
+static inline void gs__iheap_free(gs__iheap *h)
 {
     free(h->ids);
     free(h->pos);
@@ -35,13 +35,13 @@ static inline void gs_iheap_free(gs_iheap *h)
 }
 
 /* Empty the heap in O(n) of its current size. */
-static inline void gs_iheap_clear(gs_iheap *h)
+static inline void gs__iheap_clear(gs__iheap *h)
 {
     for (uint32_t i = 0; i < h->n; ++i) h->pos[h->ids[i]] = UINT32_MAX;
     h->n = 0;
 }
 
-static inline void gs_iheap_up(gs_iheap *h, uint32_t i)
+static inline void gs__iheap_up(gs__iheap *h, uint32_t i)
 {
     uint32_t id = h->ids[i];
     double k = h->key[id];
@@ -56,7 +56,7 @@ static inline void gs_iheap_up(gs_iheap *h, uint32_t i)
     h->pos[id] = i;
 }
 
-static inline void gs_iheap_down(gs_iheap *h, uint32_t i)
+static inline void gs__iheap_down(gs__iheap *h, uint32_t i)
 {
     uint32_t id = h->ids[i];
     double k = h->key[id];
@@ -74,22 +74,22 @@ static inline void gs_iheap_down(gs_iheap *h, uint32_t i)
 }
 
 /* Insert id with key, or lower its key if present and larger. */
-static inline void gs_iheap_push_or_decrease(gs_iheap *h, uint32_t id, double key)
+static inline void gs__iheap_push_or_decrease(gs__iheap *h, uint32_t id, double key)
 {
     if (h->pos[id] == UINT32_MAX) {
         h->key[id] = key;
         h->ids[h->n] = id;
         h->pos[id] = h->n;
         h->n++;
-        gs_iheap_up(h, h->n - 1);
+        gs__iheap_up(h, h->n - 1);
     } else if (key < h->key[id]) {
         h->key[id] = key;
-        gs_iheap_up(h, h->pos[id]);
+        gs__iheap_up(h, h->pos[id]);
     }
 }
 
 /* Remove and return the id with the smallest key (heap must not be empty). */
-static inline uint32_t gs_iheap_pop(gs_iheap *h, double *key)
+static inline uint32_t gs__iheap_pop(gs__iheap *h, double *key)
 {
     uint32_t id = h->ids[0];
     if (key) *key = h->key[id];
@@ -98,7 +98,7 @@ static inline uint32_t gs_iheap_pop(gs_iheap *h, double *key)
     if (h->n) {
         h->ids[0] = h->ids[h->n];
         h->pos[h->ids[0]] = 0;
-        gs_iheap_down(h, 0);
+        gs__iheap_down(h, 0);
     }
     return id;
 }

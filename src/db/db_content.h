@@ -10,20 +10,20 @@
 #include "../fit/fun.h"
 #include "format.h"
 
-typedef struct gs_db_curve {
+typedef struct gs__db_curve {
     uint32_t node;
     uint32_t closed;
     uint32_t n_samples;
     double length;
-} gs_db_curve;
+} gs__db_curve;
 
-typedef struct gs_db_content {
+typedef struct gs__db_content {
     uint32_t nv;
     const double *xyz;          /* 3*nv                                      */
     uint32_t n_nodes;
-    const gs_db_node *nodes;
+    const gs__db_node *nodes;
     uint32_t n_curves;
-    const gs_db_curve *curves;
+    const gs__db_curve *curves;
     const uint32_t *leaf;       /* nv: leaf node of each vertex, GS_NONE if  */
                                 /*   unreferenced                            */
     /* Vertex x has nodes[leaf[x]].curve_prefix functions, one per curve of
@@ -32,7 +32,7 @@ typedef struct gs_db_content {
      * curve... i.e. index nodes[A].curve_prefix + (j - nodes[A].curve_start)).
      * funs[fun_start[x] + i]; fun.coef arrays are owned by the builder. */
     const uint64_t *fun_start;  /* nv+1                                      */
-    const gs_fun *funs;
+    const gs__fun *funs;
     /* Optional exact distances inside each leaf (leaf_exact option), else
      * NULL: leaf_verts lists each leaf's vertices (ranges leaf_vstart[l]..)
      * and leaf_dist the row-major table of each leaf, at leaf_dstart[l]. */
@@ -52,6 +52,6 @@ typedef struct gs_db_content {
     uint32_t heat_refine;         /* gs_solver_options, 0..3                 */
     double avg_depth;
     uint32_t max_depth, n_leaves;
-} gs_db_content;
+} gs__db_content;
 
 #endif

@@ -28,8 +28,8 @@ struct gs_db {
     /* sections, in place */
     const double *xyz;
     const uint32_t *leaf;
-    const gs_db_node *nodes;
-    const gs_db_disk_curve *curves;
+    const gs__db_node *nodes;
+    const gs__db_disk_curve *curves;
     const uint32_t *index;         /* nv+1: records in 8-byte units          */
     const unsigned char *records;
     const uint32_t *leaf_vstart, *leaf_local; /* NULL without leaf tables */
@@ -48,7 +48,7 @@ static inline const unsigned char *gs__db_record(const gs_db *db, uint32_t x, co
 
 /* Serialise c into the on-disk layout and attach the result. *out: new
  * database (gs_db_free). */
-int gs__db_pack(const gs_db_content *c, gs_db **out, gs_error *err);
+int gs__db_pack(const gs__db_content *c, gs_db **out, gs_error *err);
 
 /* Validate the structure of `size` bytes (checksums too when verify) and
  * wrap them in a database. On success the database owns `storage`

@@ -172,7 +172,7 @@ static int check_padding(reader *r, uint32_t s, uint64_t used)
 
 /* ---- tree: nodes, curves, leaves ---------------------------------------- */
 
-static int check_node(reader *r, uint32_t i, const gs_db_node *n, const uint32_t *n_children)
+static int check_node(reader *r, uint32_t i, const gs__db_node *n, const uint32_t *n_children)
 {
     gs_db *db = r->db;
     if (i == 0) {
@@ -183,7 +183,7 @@ static int check_node(reader *r, uint32_t i, const gs_db_node *n, const uint32_t
         if (n->parent >= i)
             return BAD(r, "%s: section 'nodes': node %u has parent %u (must be < its own index)", r->name, i,
                        n->parent);
-        const gs_db_node *p = &db->nodes[n->parent];
+        const gs__db_node *p = &db->nodes[n->parent];
         if (n->depth != p->depth + 1)
             return BAD(r, "%s: section 'nodes': node %u has depth %u, its parent %u depth %u", r->name, i, n->depth,
                        n->parent, p->depth);
@@ -228,10 +228,10 @@ static int check_curves(reader *r)
 {
     gs_db *db = r->db;
     for (uint32_t j = 0; j < db->n_curves; ++j) {
-        const gs_db_disk_curve *c = &db->curves[j];
+        const gs__db_disk_curve *c = &db->curves[j];
         if (c->node >= db->n_nodes)
             return BAD(r, "%s: section 'curves': curve %u has node %u (n_nodes %u)", r->name, j, c->node, db->n_nodes);
-        const gs_db_node *n = &db->nodes[c->node];
+        const gs__db_node *n = &db->nodes[c->node];
         if (j < n->curve_start || j - n->curve_start >= n->n_curves)
             return BAD(r, "%s: section 'curves': curve %u names node %u whose curves are [%u, +%u)", r->name, j,
                        c->node, n->curve_start, n->n_curves);
@@ -373,15 +373,15 @@ static int check_record(reader *r, uint32_t x, uint32_t *path)
     const unsigned char *q = p + 4 * nf;
     for (uint32_t a = db->nodes[l].parent; a != GS_NONE; a = db->nodes[a].parent) path[n++] = a;
     while (n--) {
-        const gs_db_node *a = &db->nodes[path[n]];
+        const gs__db_node *a = &db->nodes[path[n]];
         for (uint32_t j = 0; j < a->n_curves; ++j, ++k) {
-            const gs_db_disk_curve *cv = &db->curves[a->curve_start + j];
+            const gs__db_disk_curve *cv = &db->curves[a->curve_start + j];
             float mv = gs__ldf(p + 4 * k);
             if (mv != mv || mv == -INFINITY)
                 return BAD(r, "%s: section 'records': vertex %u, function %llu: minimum %g", r->name, x,
                            (unsigned long long)k, mv);
             if (mv == INFINITY) continue;
-            gs_db_fblock b;
+            gs__db_fblock b;
             if (!gs__db_fblock_parse(q, (uint64_t)(end - q), &b))
                 return BAD(r, "%s: section 'records': vertex %u, function %llu: malformed block at byte %llu", r->name,
                            x, (unsigned long long)k, (unsigned long long)(q - db->records));
@@ -407,11 +407,11 @@ static int check_record(reader *r, uint32_t x, uint32_t *path)
             if (!b.sampled) { /* the quick reject's bound is one (on the query's grid) */
                 double c[GS_FUN_MAX_DEGREE + 1];
                 gs__db_fblock_coef(&b, c);
-                gs_fun f = {GS_FUN_CHEBYSHEV, b.degree, b.squared, b.closed, b.shift, mv, c};
-                const uint32_t g = gs_fun_grid_points(cv->degree1 - 1);
+                gs__fun f = {GS_FUN_CHEBYSHEV, b.degree, b.squared, b.closed, b.shift, mv, c};
+                const uint32_t g = gs__fun_grid_points(cv->degree1 - 1);
                 for (uint32_t i = 0; i < g; ++i) {
                     double u = b.closed ? -1.0 + 2.0 * i / g : -1.0 + 2.0 * i / (g - 1);
-                    double v = gs_fun_value(&f, u);
+                    double v = gs__fun_value(&f, u);
                     if (!(mv <= v * (1.0 + 1e-9) + 1e-300))
                         return BAD(r, "%s: section 'records': vertex %u, function %llu: minimum %.9g is above the "
                                       "function's value %.9g at u = %.6f (the quick reject would skip it)",
@@ -465,8 +465,8 @@ static void set_pointers(reader *r)
     gs_db *db = r->db;
     db->xyz = (const double *)r->sec[GS__SEC_POSITIONS];
     db->leaf = (const uint32_t *)r->sec[GS__SEC_LEAVES];
-    db->nodes = (const gs_db_node *)r->sec[GS__SEC_NODES];
-    db->curves = (const gs_db_disk_curve *)r->sec[GS__SEC_CURVES];
+    db->nodes = (const gs__db_node *)r->sec[GS__SEC_NODES];
+    db->curves = (const gs__db_disk_curve *)r->sec[GS__SEC_CURVES];
     db->index = (const uint32_t *)r->sec[GS__SEC_INDEX];
     db->records = r->sec[GS__SEC_RECORDS];
     if (r->n_sec == GS__SEC_COUNT_FULL) {

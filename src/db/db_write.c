@@ -1,4 +1,4 @@
-/* db_write.c - the database writer: packs a gs_db_content (paper sec. 3.1)
+/* db_write.c - the database writer: packs a gs__db_content (paper sec. 3.1)
  * into format version 3 (doc/database-format.md) and attaches the bytes;
  * the atomic save. Each function is stored compactly: 16-bit coefficients
  * against a power-of-two step when that keeps the stored function within
@@ -66,7 +66,7 @@ static double quantise16(const double *c, uint32_t m, int16_t *q, int *e)
  * stored; *numbers adds the numbers it costs (coefficients and a loop's
  * shift, as Table 1 counts). g: its curve's grid (0: none). Returns the
  * block's size in bytes (0: unreachable, no block). */
-static uint32_t encode(const gs_fun *f, uint32_t g, unsigned char *out, float *entry, uint64_t *numbers, int *bad)
+static uint32_t encode(const gs__fun *f, uint32_t g, unsigned char *out, float *entry, uint64_t *numbers, int *bad)
 {
     if (!f->coef || !(f->minval < INFINITY)) {
         *entry = INFINITY;
@@ -79,7 +79,7 @@ static uint32_t encode(const gs_fun *f, uint32_t g, unsigned char *out, float *e
     int16_t q[GS_FUN_MAX_DEGREE + 1];
     int e = GS__FB_F32;
     float shift = (float)(f->closed ? f->shift : 0.0);
-    gs_fun fd = *f;
+    gs__fun fd = *f;
     fd.shift = shift;
     float dip[4] = {0};
     int has_dip = 0;
@@ -103,14 +103,14 @@ static uint32_t encode(const gs_fun *f, uint32_t g, unsigned char *out, float *e
         fd.coef = dec;
         /* the stored function's own minimum, a little lower, as a float
          * rounded down: the quick reject's bound stays a bound */
-        double lo = gs_fun_min(&fd, NULL);
+        double lo = gs__fun_min(&fd, NULL);
         lo = lo < f->minval ? lo : f->minval;
         lo = lo > 0.0 ? lo * (1.0 - 1e-7) : lo;
         *entry = float_below(lo);
         fd.minval = *entry;
-        if (g && gs_fun_is_sharp(&fd)) {
-            gs_fun_dip d;
-            gs_fun_dip_find(&fd, &d);
+        if (g && gs__fun_is_sharp(&fd)) {
+            gs__fun_dip d;
+            gs__fun_dip_find(&fd, &d);
             if (d.u == d.u) {
                 /* offsets from u as a float, pulled in a little (as the
                  * edges must not move by u's rounding) */
@@ -153,13 +153,13 @@ static uint32_t encode(const gs_fun *f, uint32_t g, unsigned char *out, float *e
 
 /* Vertex x's record into out (NULL: only its size, in bytes, a multiple of
  * 8). */
-static uint64_t encode_vertex(const gs_db_content *c, const uint32_t *grid, const uint32_t *fcurve, uint32_t x,
+static uint64_t encode_vertex(const gs__db_content *c, const uint32_t *grid, const uint32_t *fcurve, uint32_t x,
                               unsigned char *out, uint64_t *numbers, int *bad)
 {
     uint64_t k0 = c->fun_start[x], nf = c->fun_start[x + 1] - k0, at = 4 * nf;
     for (uint64_t k = 0; k < nf; ++k) {
         float entry;
-        uint32_t g = grid[fcurve[k0 + k]] ? gs_fun_grid_points(grid[fcurve[k0 + k]] - 1) : 0;
+        uint32_t g = grid[fcurve[k0 + k]] ? gs__fun_grid_points(grid[fcurve[k0 + k]] - 1) : 0;
         uint32_t b = encode(&c->funs[k0 + k], g, out ? out + at : NULL, &entry, numbers, bad);
         if (out) memcpy(out + 4 * k, &entry, 4);
         at += b;
@@ -170,7 +170,7 @@ static uint64_t encode_vertex(const gs_db_content *c, const uint32_t *grid, cons
 /* The curve of every function (fcurve) and each curve's degree1: 1 + the
  * highest degree of its Chebyshev functions, 0 when one is sampled or none
  * is reachable. */
-static int curve_grids(const gs_db_content *c, uint32_t *grid, uint32_t *fcurve, gs_error *err)
+static int curve_grids(const gs__db_content *c, uint32_t *grid, uint32_t *fcurve, gs_error *err)
 {
     uint32_t *path = gs__malloc((size_t)c->n_nodes + 1, sizeof *path);
     uint32_t *deg = gs__calloc((size_t)c->n_curves + 1, sizeof *deg);
@@ -184,10 +184,10 @@ static int curve_grids(const gs_db_content *c, uint32_t *grid, uint32_t *fcurve,
         for (uint32_t a = c->nodes[l].parent; a != GS_NONE && n < c->n_nodes; a = c->nodes[a].parent) path[n++] = a;
         uint64_t k = c->fun_start[x];
         while (n--) {
-            const gs_db_node *a = &c->nodes[path[n]];
+            const gs__db_node *a = &c->nodes[path[n]];
             for (uint32_t j = 0; j < a->n_curves && k < c->fun_start[x + 1]; ++j, ++k) {
                 uint32_t cv = a->curve_start + j;
-                const gs_fun *f = &c->funs[k];
+                const gs__fun *f = &c->funs[k];
                 fcurve[k] = cv;
                 if (!f->coef || !(f->minval < INFINITY)) continue;
                 if (f->kind == GS_FUN_SAMPLED) deg[cv] = UINT32_MAX;
@@ -201,7 +201,7 @@ static int curve_grids(const gs_db_content *c, uint32_t *grid, uint32_t *fcurve,
     return GS_OK;
 }
 
-static void write_header(unsigned char *b, const gs_db_content *c, uint32_t n_sec, uint64_t file_bytes,
+static void write_header(unsigned char *b, const gs__db_content *c, uint32_t n_sec, uint64_t file_bytes,
                          uint64_t records_bytes, uint64_t leaf_entries, int tables, uint64_t numbers)
 {
     memcpy(b, GS__DB_MAGIC, 8);
@@ -237,19 +237,19 @@ static void write_header(unsigned char *b, const gs_db_content *c, uint32_t n_se
     gs__putf64(b + GS__H_FMM_START, c->fmm_exact_start);
 }
 
-static void write_tree(unsigned char *const sec[], const gs_db_content *c, const uint32_t *grid)
+static void write_tree(unsigned char *const sec[], const gs__db_content *c, const uint32_t *grid)
 {
     memcpy(sec[GS__SEC_POSITIONS], c->xyz, 24 * (size_t)c->nv);
     memcpy(sec[GS__SEC_LEAVES], c->leaf, 4 * (size_t)c->nv);
     for (uint32_t i = 0; i < c->n_nodes; ++i) memcpy(sec[GS__SEC_NODES] + 20 * (uint64_t)i, &c->nodes[i], 20);
     for (uint32_t j = 0; j < c->n_curves; ++j) {
-        gs_db_disk_curve d = {c->curves[j].node, c->curves[j].closed, c->curves[j].n_samples, grid[j],
+        gs__db_disk_curve d = {c->curves[j].node, c->curves[j].closed, c->curves[j].n_samples, grid[j],
                               c->curves[j].length};
         memcpy(sec[GS__SEC_CURVES] + 24 * (uint64_t)j, &d, 24);
     }
 }
 
-static void write_leaf_tables(unsigned char *const sec[], const gs_db_content *c)
+static void write_leaf_tables(unsigned char *const sec[], const gs__db_content *c)
 {
     memcpy(sec[GS__SEC_LEAF_VSTART], c->leaf_vstart, 4 * ((size_t)c->n_nodes + 1));
     memcpy(sec[GS__SEC_LEAF_DSTART], c->leaf_dstart, 8 * ((size_t)c->n_nodes + 1));
@@ -275,7 +275,7 @@ static void write_table(unsigned char *buf, unsigned char *const sec[], const ui
               gs__db_checksum(buf, GS__DB_CHECKSUM_AT, buf + GS__DB_HEADER_BYTES, GS__DB_ENTRY_BYTES * n_sec));
 }
 
-int gs__db_pack(const gs_db_content *c, gs_db **out, gs_error *err)
+int gs__db_pack(const gs__db_content *c, gs_db **out, gs_error *err)
 {
     if (!c || !out || !c->fun_start || (c->nv && (!c->xyz || !c->leaf)) || !c->nodes)
         return gs__fail(err, GS_EARG, "gs__db_pack: missing content");
@@ -340,12 +340,12 @@ int gs__db_pack(const gs_db_content *c, gs_db **out, gs_error *err)
 int gs_db_save(const gs_db *db, const char *path, gs_error *err)
 {
     if (!db || !path) return gs__fail(err, GS_EARG, "gs_db_save: NULL argument");
-    gs_atomic_file af;
-    int rc = gs_atomic_open(&af, path, err);
+    gs__atomic_file af;
+    int rc = gs__atomic_open(&af, path, err);
     if (rc) return rc;
     if (fwrite(db->bytes, 1, (size_t)db->size, af.fp) != (size_t)db->size) {
-        gs_atomic_abort(&af);
+        gs__atomic_abort(&af);
         return gs__fail(err, GS_EIO, "%s: cannot write the database", path);
     }
-    return gs_atomic_commit(&af, err);
+    return gs__atomic_commit(&af, err);
 }

@@ -81,22 +81,22 @@ enum {
 extern const char *const gs__db_section_name[GS__SEC_COUNT_FULL + 1];
 
 /* A node of the bisection tree (section 'nodes', 20 bytes, in place). */
-typedef struct gs_db_node {
+typedef struct gs__db_node {
     uint32_t parent;       /* GS_NONE for the root (node 0)                 */
     uint32_t depth;
     uint32_t curve_start;  /* its separator's curves: [start, start+n)      */
     uint32_t n_curves;
     uint32_t curve_prefix; /* curves of all proper ancestors                */
-} gs_db_node;
+} gs__db_node;
 
 /* A curve (section 'curves', 24 bytes, in place). */
-typedef struct gs_db_disk_curve {
+typedef struct gs__db_disk_curve {
     uint32_t node, closed, n_samples;
     uint32_t degree1; /* 1 + the highest degree of its Chebyshev functions */
                       /*   (0: none reachable, or sampled): the query's    */
-                      /*   grid for the curve (gs_fun_grid_points)         */
+                      /*   grid for the curve (gs__fun_grid_points)         */
     double length;
-} gs_db_disk_curve;
+} gs__db_disk_curve;
 
 /* ---- a function's block (doc: "Records") --------------------------------
  * byte 0   meta: bits 0-4 degree code (0..24 Chebyshev degree; 31 sampled),
@@ -118,7 +118,7 @@ typedef struct gs_db_disk_curve {
 #define GS__FB_EXP_MAX 120
 
 /* A decoded block: what the query needs of one function. */
-typedef struct gs_db_fblock {
+typedef struct gs__db_fblock {
     uint32_t degree, sampled, squared, closed, f32;
     int e;
     double shift;
@@ -126,7 +126,7 @@ typedef struct gs_db_fblock {
     int has_dip;
     const unsigned char *coef; /* the raw coefficients                   */
     uint32_t bytes;    /* the whole block's size                          */
-} gs_db_fblock;
+} gs__db_fblock;
 
 static inline float gs__ldf(const unsigned char *p)
 {
@@ -139,7 +139,7 @@ static inline float gs__ldf(const unsigned char *p)
  * when the block is malformed or runs past the record (the caller then
  * answers NaN: never reads outside the record). Reads only the header
  * fields; the coefficients stay at b->coef. */
-static inline int gs__db_fblock_parse(const unsigned char *p, uint64_t avail, gs_db_fblock *b)
+static inline int gs__db_fblock_parse(const unsigned char *p, uint64_t avail, gs__db_fblock *b)
 {
     if (avail < 2) return 0;
     uint32_t meta = p[0];
@@ -184,7 +184,7 @@ static inline int gs__db_fblock_parse(const unsigned char *p, uint64_t avail, gs
 
 /* The m+1 coefficients of a parsed block as doubles; 0 if a float32 one
  * is not finite or beyond 1e30 (a corrupt file: the caller answers NaN). */
-static inline int gs__db_fblock_coef(const gs_db_fblock *b, double *c)
+static inline int gs__db_fblock_coef(const gs__db_fblock *b, double *c)
 {
     uint32_t n = b->degree + 1;
     if (b->f32) {

@@ -10,7 +10,7 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-double gs_cheb_eval(const double *c, uint32_t m, double t)
+double gs__cheb_eval(const double *c, uint32_t m, double t)
 {
     if (m == 0)
         return c[0];
@@ -23,7 +23,7 @@ double gs_cheb_eval(const double *c, uint32_t m, double t)
     return c[0] + t * b1 - b2;
 }
 
-void gs_cheb_eval3(const double *c, uint32_t m, double t, double *p, double *p1, double *p2)
+void gs__cheb_eval3(const double *c, uint32_t m, double t, double *p, double *p1, double *p2)
 {
     double v = c[0], d1 = 0.0, d2 = 0.0;
     if (m >= 1) {
@@ -45,7 +45,7 @@ void gs_cheb_eval3(const double *c, uint32_t m, double t, double *p, double *p1,
     *p2 = d2;
 }
 
-uint32_t gs_cheb_grid_size(uint32_t m)
+uint32_t gs__cheb_grid_size(uint32_t m)
 {
     uint32_t g = 3 * m + 6;
     if (g < 10)
@@ -63,7 +63,7 @@ static double g_tab[TAB_DOUBLES];
 static double g_tp[PAD_DOUBLES] __attribute__((aligned(64)));
 static double g_dp[PAD_DOUBLES] __attribute__((aligned(64)));
 static double g_x[(GS_FUN_MAX_DEGREE + 1) * (GS_CHEB_GRID_MAX + 1)];
-static gs_cheb_grid g_grids[GS_FUN_MAX_DEGREE + 1];
+static gs__cheb_grid g_grids[GS_FUN_MAX_DEGREE + 1];
 static double g_fine[GS_CHEB_FINE + 1];
 static pthread_once_t g_once = PTHREAD_ONCE_INIT;
 
@@ -71,7 +71,7 @@ static void build_tables(void)
 {
     size_t tpos = 0, ppos = 0;
     for (uint32_t m = 0; m <= GS_FUN_MAX_DEGREE; m++) {
-        uint32_t g = gs_cheb_grid_size(m);
+        uint32_t g = gs__cheb_grid_size(m);
         double *x = g_x + (size_t)m * (GS_CHEB_GRID_MAX + 1), *tk = g_tab + tpos;
         for (uint32_t j = 0; j <= g; j++)
             x[j] = -cos(M_PI * j / g);
@@ -97,7 +97,7 @@ static void build_tables(void)
                 tp[(size_t)k * np + j] = tk[(size_t)k * (g + 1) + jj];
                 dp[(size_t)k * np + j] = d;
             }
-        g_grids[m] = (gs_cheb_grid){g, m + 1, x, tk, np, tp, dp};
+        g_grids[m] = (gs__cheb_grid){g, m + 1, x, tk, np, tp, dp};
         tpos += (size_t)(m + 1) * (g + 1);
         ppos += (size_t)(m + 1) * np;
     }
@@ -106,13 +106,13 @@ static void build_tables(void)
     g_fine[0] = -1.0, g_fine[GS_CHEB_FINE] = 1.0, g_fine[GS_CHEB_FINE / 2] = 0.0;
 }
 
-const double *gs_cheb_fine_grid(void)
+const double *gs__cheb_fine_grid(void)
 {
     pthread_once(&g_once, build_tables);
     return g_fine;
 }
 
-const gs_cheb_grid *gs_cheb_grid_for(uint32_t m)
+const gs__cheb_grid *gs__cheb_grid_for(uint32_t m)
 {
     pthread_once(&g_once, build_tables);
     return &g_grids[m > GS_FUN_MAX_DEGREE ? GS_FUN_MAX_DEGREE : m];

@@ -11,8 +11,8 @@
 
 #define RANK_TOL 1e-13 /* |R_jj| below this times max |R_ii|: column dropped */
 
-struct gs_fit_work {
-    gs_fit_options opt;
+struct gs__fit_work {
+    gs__fit_options opt;
     uint32_t cap;        /* rows: max_samples + 1 (a loop's closing row)      */
     double *t, *y;       /* abscissae and normalised distances, per row       */
     double *basis;       /* column-major T_j(t_r), cap x (m_max + 1)          */
@@ -34,14 +34,14 @@ typedef struct cand {
                          /*   the samples' Lipschitz band between samples    */
 } cand;
 
-void gs_fit_options_default(gs_fit_options *o)
+void gs__fit_options_default(gs__fit_options *o)
 {
     o->m_min = 2;
     o->m_max = 12;
     o->tol = 0.005;
 }
 
-double gs_fit_tol_at_depth(double tol, uint32_t depth)
+double gs__fit_tol_at_depth(double tol, uint32_t depth)
 {
     double cap = tol > GS_FIT_TOL_CAP ? tol : GS_FIT_TOL_CAP, t = tol;
     for (uint32_t d = 0; d < depth && t < cap; d++)
@@ -49,7 +49,7 @@ double gs_fit_tol_at_depth(double tol, uint32_t depth)
     return t < cap ? t : cap;
 }
 
-void gs_fit_work_free(gs_fit_work *w)
+void gs__fit_work_free(gs__fit_work *w)
 {
     if (!w)
         return;
@@ -58,18 +58,18 @@ void gs_fit_work_free(gs_fit_work *w)
     free(w);
 }
 
-int gs_fit_work_create(uint32_t max_samples, const gs_fit_options *o, gs_fit_work **out,
+int gs__fit_work_create(uint32_t max_samples, const gs__fit_options *o, gs__fit_work **out,
                        gs_error *err)
 {
-    gs_fit_options def;
-    gs_fit_options_default(&def);
+    gs__fit_options def;
+    gs__fit_options_default(&def);
     if (!o)
         o = &def;
     if (!out || max_samples == 0 || max_samples > (1u << 26) || o->m_min > o->m_max ||
         o->m_max > GS_FUN_MAX_DEGREE || !(o->tol >= 0.0 && o->tol < INFINITY))
-        return gs__fail(err, GS_EARG, "gs_fit_work_create: bad arguments (samples %u, m %u..%u)",
+        return gs__fail(err, GS_EARG, "gs__fit_work_create: bad arguments (samples %u, m %u..%u)",
                         max_samples, o->m_min, o->m_max);
-    gs_fit_work *w = gs__calloc(1, sizeof *w);
+    gs__fit_work *w = gs__calloc(1, sizeof *w);
     size_t cap = (size_t)max_samples + 1, cols = o->m_max + 1;
     if (w) {
         w->opt = *o, w->cap = (uint32_t)cap;
@@ -83,8 +83,8 @@ int gs_fit_work_create(uint32_t max_samples, const gs_fit_options *o, gs_fit_wor
     }
     if (!w || !w->t || !w->y || !w->basis || !w->qa || !w->qb || !w->ra || !w->rb || !w->val || !w->va ||
         !w->vb || !w->wt) {
-        gs_fit_work_free(w);
-        return gs__fail(err, GS_ENOMEM, "gs_fit_work_create: out of memory");
+        gs__fit_work_free(w);
+        return gs__fail(err, GS_ENOMEM, "gs__fit_work_create: out of memory");
     }
     *out = w;
     return GS_OK;
@@ -94,26 +94,26 @@ static int check_samples(const double *u, const double *d, uint32_t n, int close
 {
     for (uint32_t k = 0; k < n; k++) {
         if (!isfinite(u[k]) || !isfinite(d[k]) || d[k] < 0.0)
-            return gs__fail(err, GS_EARG, "gs_fit_distance: sample %u not finite or negative", k);
+            return gs__fail(err, GS_EARG, "gs__fit_distance: sample %u not finite or negative", k);
         if (u[k] < -1.0 || u[k] > 1.0 || (closed && u[k] >= 1.0) || (k > 0 && u[k] <= u[k - 1]))
-            return gs__fail(err, GS_EARG, "gs_fit_distance: parameter %u out of order or range", k);
+            return gs__fail(err, GS_EARG, "gs__fit_distance: parameter %u out of order or range", k);
     }
     return GS_OK;
 }
 
 /* Rows in fitting order; returns the row count. Loops start at the largest
  * distance (t = -1) and repeat it at t = 1 so the fit closes up. */
-static uint32_t prepare_rows(gs_fit_work *w, const double *u, const double *d, uint32_t n,
+static uint32_t prepare_rows(gs__fit_work *w, const double *u, const double *d, uint32_t n,
                              int closed, double dmax, double *shift)
 {
     uint32_t kmax = 0;
     for (uint32_t k = 1; k < n; k++)
         if (d[k] > d[kmax])
             kmax = k;
-    *shift = closed ? gs_fun_wrap(u[kmax] + 1.0) : 0.0; /* t(u[kmax]) = -1 */
+    *shift = closed ? gs__fun_wrap(u[kmax] + 1.0) : 0.0; /* t(u[kmax]) = -1 */
     for (uint32_t r = 0; r < n; r++) {
         uint32_t k = closed ? (kmax + r) % n : r;
-        w->t[r] = closed ? (r == 0 ? -1.0 : gs_fun_wrap(u[k] - *shift)) : u[k];
+        w->t[r] = closed ? (r == 0 ? -1.0 : gs__fun_wrap(u[k] - *shift)) : u[k];
         w->y[r] = d[k] / dmax;
     }
     if (!closed)
@@ -124,7 +124,7 @@ static uint32_t prepare_rows(gs_fit_work *w, const double *u, const double *d, u
 
 /* Row weights and right-hand sides of the two weighted systems (d: 1/d,
  * d^2: 1/d^2); the weights 1/d go to wt for the columns. */
-static void build_rhs(gs_fit_work *w, uint32_t rows)
+static void build_rhs(gs__fit_work *w, uint32_t rows)
 {
     for (uint32_t r = 0; r < rows; r++) {
         double wa = 1.0 / fmax(w->y[r], GS_FIT_DFLOOR), wb = wa * wa;
@@ -137,7 +137,7 @@ static void build_rhs(gs_fit_work *w, uint32_t rows)
 /* Basis columns [from, to) (Chebyshev recurrence down each column) and the
  * same columns of the two weighted systems; built when degree escalation
  * first needs them. Uses the weights build_rhs left in wt. */
-static void build_columns(gs_fit_work *w, uint32_t rows, uint32_t from, uint32_t to)
+static void build_columns(gs__fit_work *w, uint32_t rows, uint32_t from, uint32_t to)
 {
     for (uint32_t j = from; j < to; j++) {
         double *bj = w->basis + (size_t)j * rows;
@@ -211,7 +211,7 @@ static void solve_degree(const double *a, const double *y, uint32_t rows, uint32
 }
 
 /* Mean and max relative error of candidate f on the first n rows. */
-static void measure(gs_fit_work *w, uint32_t rows, uint32_t n, cand *f)
+static void measure(gs__fit_work *w, uint32_t rows, uint32_t n, cand *f)
 {
     double *v = w->val, sum = 0.0, mx = 0.0;
     for (uint32_t r = 0; r < n; r++)
@@ -237,7 +237,7 @@ static void measure(gs_fit_work *w, uint32_t rows, uint32_t n, cand *f)
  * d_k+1 + db)]. The fit is evaluated at GS_FIT_CERT_POINTS points inside
  * every interval; f->viol receives its largest step outside the band,
  * relative to the band's edge (floored like the errors). 0 without ulen. */
-static void certify(const gs_fit_work *w, uint32_t rows, cand *f)
+static void certify(const gs__fit_work *w, uint32_t rows, cand *f)
 {
     f->viol = 0.0;
     if (!(w->ulen > 0.0))
@@ -249,7 +249,7 @@ static void certify(const gs_fit_work *w, uint32_t rows, cand *f)
             double t = t0 + (t1 - t0) * q / (GS_FIT_CERT_POINTS + 1);
             double da = (t - t0) * w->ulen, db = (t1 - t) * w->ulen;
             double lo = fmax(y0 - da, y1 - db), hi = fmin(y0 + da, y1 + db);
-            double p = gs_cheb_eval(f->c, f->m, t);
+            double p = gs__cheb_eval(f->c, f->m, t);
             p = p > 0.0 ? p : 0.0;
             double v = f->sq ? sqrt(p) : p, e = 0.0;
             if (v < lo) e = (lo - v) / fmax(lo, GS_FIT_DFLOOR);
@@ -271,7 +271,7 @@ static double worst(const cand *f)
  * candidate has mean error below tol and, at the samples and between them
  * (certify), no error above GS_FIT_MAX_ERR wins (of two, the lower mean);
  * else the candidate with the smallest such worst error seen. */
-static void escalate(gs_fit_work *w, uint32_t rows, uint32_t n, uint32_t mlo, uint32_t mhi,
+static void escalate(gs__fit_work *w, uint32_t rows, uint32_t n, uint32_t mlo, uint32_t mhi,
                      cand *best)
 {
     cand ca, cb;
@@ -303,7 +303,7 @@ static void escalate(gs_fit_work *w, uint32_t rows, uint32_t n, uint32_t mlo, ui
     }
 }
 
-static int store_result(const cand *b, double dmax, double shift, int closed, gs_fit_result *res,
+static int store_result(const cand *b, double dmax, double shift, int closed, gs__fit_result *res,
                         gs_error *err)
 {
     double scale = b->sq ? dmax * dmax : dmax;
@@ -311,20 +311,20 @@ static int store_result(const cand *b, double dmax, double shift, int closed, gs
     for (uint32_t k = 0; k <= b->m; k++) {
         res->coef[k] = b->c[k] * scale;
         if (!isfinite(res->coef[k]))
-            return gs__fail(err, GS_EINTERNAL, "gs_fit_distance: non-finite coefficient");
+            return gs__fail(err, GS_EINTERNAL, "gs__fit_distance: non-finite coefficient");
     }
-    res->fun = (gs_fun){GS_FUN_CHEBYSHEV, b->m, b->sq, closed ? 1u : 0u, shift, 0.0, res->coef};
-    res->fun.minval = gs_fun_min(&res->fun, NULL);
+    res->fun = (gs__fun){GS_FUN_CHEBYSHEV, b->m, b->sq, closed ? 1u : 0u, shift, 0.0, res->coef};
+    res->fun.minval = gs__fun_min(&res->fun, NULL);
     res->mean_rel_err = b->mean, res->max_rel_err = b->max, res->cert_err = b->viol;
-    res->cost = gs_fun_cost(&res->fun);
+    res->cost = gs__fun_cost(&res->fun);
     return GS_OK;
 }
 
-int gs_fit_distance(gs_fit_work *w, const double *u, const double *d, uint32_t n, int closed,
-                    double ulen, gs_fit_result *res, gs_error *err)
+int gs__fit_distance(gs__fit_work *w, const double *u, const double *d, uint32_t n, int closed,
+                    double ulen, gs__fit_result *res, gs_error *err)
 {
     if (!w || !u || !d || !res || n == 0 || n + 1 > w->cap)
-        return gs__fail(err, GS_EARG, "gs_fit_distance: bad arguments (n = %u)", n);
+        return gs__fail(err, GS_EARG, "gs__fit_distance: bad arguments (n = %u)", n);
     int rc = check_samples(u, d, n, closed, err);
     if (rc)
         return rc;
@@ -333,7 +333,7 @@ int gs_fit_distance(gs_fit_work *w, const double *u, const double *d, uint32_t n
         dmax = fmax(dmax, d[k]);
     cand best = {{0.0}, 0, 0, 0.0, 0.0, 0.0};
     if (!(ulen >= 0.0) || !isfinite(ulen))
-        return gs__fail(err, GS_EARG, "gs_fit_distance: arc length per unit %g is not finite and >= 0", ulen);
+        return gs__fail(err, GS_EARG, "gs__fit_distance: arc length per unit %g is not finite and >= 0", ulen);
     if (dmax == 0.0) /* every sample on the curve: d = 0 */
         return store_result(&best, 1.0, closed ? u[0] : 0.0, closed, res, err);
     uint32_t rows = prepare_rows(w, u, d, n, closed, dmax, &shift);
@@ -345,18 +345,18 @@ int gs_fit_distance(gs_fit_work *w, const double *u, const double *d, uint32_t n
     return store_result(&best, dmax, shift, closed, res, err);
 }
 
-int gs_fun_make_sampled(const double *d, uint32_t n, int closed, double *coef, gs_fun *out,
+int gs__fun_make_sampled(const double *d, uint32_t n, int closed, double *coef, gs__fun *out,
                         gs_error *err)
 {
     if (!d || !coef || !out || n == 0)
-        return gs__fail(err, GS_EARG, "gs_fun_make_sampled: bad arguments (n = %u)", n);
+        return gs__fail(err, GS_EARG, "gs__fun_make_sampled: bad arguments (n = %u)", n);
     double mn = INFINITY;
     for (uint32_t k = 0; k < n; k++) {
         if (!isfinite(d[k]) || d[k] < 0.0)
-            return gs__fail(err, GS_EARG, "gs_fun_make_sampled: sample %u not finite or negative", k);
+            return gs__fail(err, GS_EARG, "gs__fun_make_sampled: sample %u not finite or negative", k);
         mn = fmin(mn, d[k]);
     }
     memmove(coef, d, (size_t)n * sizeof *coef);
-    *out = (gs_fun){GS_FUN_SAMPLED, n - 1, 0, closed ? 1u : 0u, 0.0, mn, coef};
+    *out = (gs__fun){GS_FUN_SAMPLED, n - 1, 0, closed ? 1u : 0u, 0.0, mn, coef};
     return GS_OK;
 }

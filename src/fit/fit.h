@@ -9,24 +9,24 @@
 #include "fun.h"
 #include "../core/internal.h"
 
-typedef struct gs_fit_options {
+typedef struct gs__fit_options {
     uint32_t m_min;   /* 2  */
     uint32_t m_max;   /* 12 */
     double tol;       /* 0.005: mean relative error target */
-} gs_fit_options;
+} gs__fit_options;
 
-void gs_fit_options_default(gs_fit_options *o);
+void gs__fit_options_default(gs__fit_options *o);
 
 /* Result of one fit; coef has room for GS_FUN_MAX_DEGREE+1 values. */
-typedef struct gs_fit_result {
-    gs_fun fun;                             /* fun.coef points into coef[] */
+typedef struct gs__fit_result {
+    gs__fun fun;                             /* fun.coef points into coef[] */
     double coef[GS_FUN_MAX_DEGREE + 1];
     double mean_rel_err, max_rel_err;       /* on the samples              */
     double cert_err;                        /* between them: the largest   */
                                             /*   relative step outside the */
                                             /*   samples' Lipschitz band   */
-    uint32_t cost;                          /* doubles to store: gs_fun_cost */
-} gs_fit_result;
+    uint32_t cost;                          /* doubles to store: gs__fun_cost */
+} gs__fit_result;
 
 /* Relative errors are measured against max(d, GS_FIT_DFLOOR * max d), and the
  * least-squares weights use the same floor (a vertex on the curve, d = 0,
@@ -40,7 +40,7 @@ typedef struct gs_fit_result {
  * spending the coefficients near the root buys the most accuracy. */
 #define GS_FIT_TOL_GROWTH 1.5
 #define GS_FIT_TOL_CAP 0.02
-double gs_fit_tol_at_depth(double tol, uint32_t depth);
+double gs__fit_tol_at_depth(double tol, uint32_t depth);
 
 /* The certificate (fit.c, certify): between two samples, the true distance
  * lies in the band the 1-Lipschitz bound allows around them; the fit is
@@ -52,10 +52,10 @@ double gs_fit_tol_at_depth(double tol, uint32_t depth);
 #define GS_FIT_MAX_ERR 0.02
 
 /* Scratch space for fitting, one per thread. */
-typedef struct gs_fit_work gs_fit_work;
-int gs_fit_work_create(uint32_t max_samples, const gs_fit_options *o, gs_fit_work **out,
+typedef struct gs__fit_work gs__fit_work;
+int gs__fit_work_create(uint32_t max_samples, const gs__fit_options *o, gs__fit_work **out,
                        gs_error *err);
-void gs_fit_work_free(gs_fit_work *w);
+void gs__fit_work_free(gs__fit_work *w);
 
 /* Fit n samples: u[k] in [-1,1] increasing (curve parameter; for loops in
  * [-1,1), spacing uniform), d[k] > 0 the distances (d[k] == 0 allowed: the
@@ -63,14 +63,14 @@ void gs_fit_work_free(gs_fit_work *w);
  * ulen: the curve's arc length per unit of u (length / 2), for the
  * certificate between samples (0: none). The result's fun.coef points into
  * res->coef. */
-int gs_fit_distance(gs_fit_work *w, const double *u, const double *d, uint32_t n,
-                    int closed, double ulen, gs_fit_result *res, gs_error *err);
+int gs__fit_distance(gs__fit_work *w, const double *u, const double *d, uint32_t n,
+                    int closed, double ulen, gs__fit_result *res, gs_error *err);
 
 /* SEPsam: a function holding the n >= 1 sample values d[k] >= 0 (finite) at
  * uniform u (paths: u_k = -1 + 2k/(n-1); loops: u_k = -1 + 2k/n), evaluated
  * by piecewise-linear interpolation. The values are copied to coef (n
  * doubles, caller-owned, may alias d); out->coef points to coef. */
-int gs_fun_make_sampled(const double *d, uint32_t n, int closed, double *coef, gs_fun *out,
+int gs__fun_make_sampled(const double *d, uint32_t n, int closed, double *coef, gs__fun *out,
                         gs_error *err);
 
 #endif

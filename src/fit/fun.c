@@ -10,14 +10,14 @@
 #include <stddef.h>
 
 #ifdef GS_FUN_STATS
-long gs_fun_stat[8];
+long gs__fun_stat[8];
 #endif
 
 
 
 double gs__fun_term_at(const term *f, double t)
 {
-    return gs__fun_term_value(f, gs_cheb_eval(f->c, f->m, gs__fun_clamp1(t)));
+    return gs__fun_term_value(f, gs__cheb_eval(f->c, f->m, gs__fun_clamp1(t)));
 }
 
 /* Value, first and second derivative of one term (0 where clamped). */
@@ -40,7 +40,7 @@ double gs__fun_term_post(const term *f, double p, double p1, double p2, double *
 double gs__fun_term_at3(const term *f, double t, double *v1, double *v2)
 {
     double p, p1, p2;
-    gs_cheb_eval3(f->c, f->m, gs__fun_clamp1(t), &p, &p1, &p2);
+    gs__cheb_eval3(f->c, f->m, gs__fun_clamp1(t), &p, &p1, &p2);
     return gs__fun_term_post(f, p, p1, p2, v1, v2);
 }
 
@@ -74,7 +74,7 @@ static void term_points(const term *f, const double *tk, const double *t, uint32
         }
     } else {
         for (uint32_t j = 0; j < n; j++)
-            p[j] = gs_cheb_eval(f->c, f->m, t[j]);
+            p[j] = gs__cheb_eval(f->c, f->m, t[j]);
     }
     for (uint32_t j = 0; j < n; j++) {
         double v = gs__fun_term_value(f, p[j]);
@@ -164,7 +164,7 @@ double gs__fun_poly_min(const term *f, double lo, double hi, double t, double *p
     for (int it = 0; it < 40; it++) {
         STAT(7);
         double p1, p2;
-        gs_cheb_eval3(f->c, f->m, t, p0, &p1, &p2);
+        gs__cheb_eval3(f->c, f->m, t, p0, &p1, &p2);
         if (p1 > 0.0)
             hi = t;
         else
@@ -184,7 +184,7 @@ double gs__fun_poly_root(const term *f, double lo, double hi, double t)
 {
     for (int it = 0; it < 30; it++) {
         double p, p1, p2;
-        gs_cheb_eval3(f->c, f->m, t, &p, &p1, &p2);
+        gs__cheb_eval3(f->c, f->m, t, &p, &p1, &p2);
         double tn = p1 != 0.0 ? t - p / p1 : t;
         tn = tn < lo ? lo : (tn > hi ? hi : tn);
         if (fabs(tn - t) < 1e-15)
@@ -214,12 +214,12 @@ static void add_candidate(const pctx *c, int is_b, double t, double h, best *bs)
 /* A sharp term (a vertex near the curve) has a dip narrower than the coarse
  * grid: refine the sum from its own minimum t0 and, where the fit dips
  * below 0 (value clamped), from the edges of that zero set. */
-void gs__fun_sharp_candidates(const pctx *c, int is_b, const gs_cheb_grid *gp, const double *pg,
+void gs__fun_sharp_candidates(const pctx *c, int is_b, const gs__cheb_grid *gp, const double *pg,
                              best *bs)
 {
     const term *f = is_b ? &c->b : &c->a;
     STAT(3);
-    const gs_cheb_grid *g = pg ? gp : gs_cheb_grid_for(f->m);
+    const gs__cheb_grid *g = pg ? gp : gs__cheb_grid_for(f->m);
     uint32_t n = g->g + 1, j = 0;
     double pbuf[NPTS_MAX], h = 2.0 / g->g, p0, p1, p2;
     const double *p = pg;
@@ -235,7 +235,7 @@ void gs__fun_sharp_candidates(const pctx *c, int is_b, const gs_cheb_grid *gp, c
         add_candidate(c, is_b, t0, h, bs);
         return;
     }
-    gs_cheb_eval3(f->c, f->m, t0, &p0, &p1, &p2);
+    gs__cheb_eval3(f->c, f->m, t0, &p0, &p1, &p2);
     double w = p2 > 0.0 ? sqrt(-2.0 * p0 / p2) : h;
     double r1 = gs__fun_poly_root(f, -1.0, t0, t0 - w), r2 = gs__fun_poly_root(f, t0, 1.0, t0 + w);
     add_candidate(c, is_b, r1 + ZERO_NUDGE < t0 ? r1 + ZERO_NUDGE : t0, h, bs);
@@ -293,17 +293,17 @@ double gs__fun_finish(const pctx *c, best *b)
             x = lo + NUDGE;
         if (x > hi - NUDGE)
             x = hi - NUDGE;
-        return gs_fun_wrap(x + c->frame);
+        return gs__fun_wrap(x + c->frame);
     }
     return x;
 }
 
-int gs__fun_unreachable(const gs_fun *f)
+int gs__fun_unreachable(const gs__fun *f)
 {
     return f->coef == NULL || !(f->minval < INFINITY);
 }
 
-static double sampled_value(const gs_fun *f, double u)
+static double sampled_value(const gs__fun *f, double u)
 {
     uint32_t n = f->degree + 1, k, k1;
     const double *c = f->coef;
@@ -311,7 +311,7 @@ static double sampled_value(const gs_fun *f, double u)
         return c[0];
     double x;
     if (f->closed) {
-        x = (gs_fun_wrap(u) + 1.0) * 0.5 * n;
+        x = (gs__fun_wrap(u) + 1.0) * 0.5 * n;
         k = x >= n ? n - 1 : (uint32_t)x;
         k1 = k + 1 == n ? 0 : k + 1;
     } else {
@@ -323,7 +323,7 @@ static double sampled_value(const gs_fun *f, double u)
     return c[k] + fr * (c[k1] - c[k]);
 }
 
-static double sample_u(const gs_fun *f, uint32_t k)
+static double sample_u(const gs__fun *f, uint32_t k)
 {
     uint32_t n = f->degree + 1;
     if (n == 1)
@@ -331,20 +331,20 @@ static double sample_u(const gs_fun *f, uint32_t k)
     return f->closed ? -1.0 + 2.0 * k / n : -1.0 + 2.0 * k / (n - 1);
 }
 
-double gs_fun_value(const gs_fun *f, double u)
+double gs__fun_value(const gs__fun *f, double u)
 {
     if (gs__fun_unreachable(f))
         return INFINITY;
     if (f->kind == GS_FUN_SAMPLED)
         return sampled_value(f, u);
     term t = {f->coef, f->degree, f->squared};
-    return gs__fun_term_at(&t, f->closed ? gs_fun_wrap(u - f->shift) : u);
+    return gs__fun_term_at(&t, f->closed ? gs__fun_wrap(u - f->shift) : u);
 }
 
 /* Candidates: every sample of either function (exact for two SEPsam
  * functions: a piecewise-linear sum is minimal at a breakpoint); a mix with
  * a Chebyshev function adds a uniform scan of 512 points. */
-double gs__fun_sampled_pair_min(const gs_fun *a, const gs_fun *b, double *u_at)
+double gs__fun_sampled_pair_min(const gs__fun *a, const gs__fun *b, double *u_at)
 {
     double bv = INFINITY, bu = 0.0;
     if (a->kind == b->kind && a->degree == b->degree && a->closed == b->closed) {
@@ -352,15 +352,15 @@ double gs__fun_sampled_pair_min(const gs_fun *a, const gs_fun *b, double *u_at)
             if (a->coef[k] + b->coef[k] < bv)
                 bv = a->coef[k] + b->coef[k], bu = sample_u(a, k);
     } else {
-        const gs_fun *f[2] = {a, b};
+        const gs__fun *f[2] = {a, b};
         for (int i = 0; i < 2; i++)
             for (uint32_t k = 0; f[i]->kind == GS_FUN_SAMPLED && k <= f[i]->degree; k++) {
-                double u = sample_u(f[i], k), v = gs_fun_value(a, u) + gs_fun_value(b, u);
+                double u = sample_u(f[i], k), v = gs__fun_value(a, u) + gs__fun_value(b, u);
                 if (v < bv)
                     bv = v, bu = u;
             }
         for (int k = 0; k <= 512 && (a->kind != b->kind); k++) {
-            double u = -1.0 + k / 256.0, v = gs_fun_value(a, u) + gs_fun_value(b, u);
+            double u = -1.0 + k / 256.0, v = gs__fun_value(a, u) + gs__fun_value(b, u);
             if (v < bv)
                 bv = v, bu = u;
         }
@@ -372,12 +372,12 @@ double gs__fun_sampled_pair_min(const gs_fun *a, const gs_fun *b, double *u_at)
 
 /* A narrow dip: the minimum is small against the typical value. */
 
-int gs_fun_is_sharp(const gs_fun *f)
+int gs__fun_is_sharp(const gs__fun *f)
 {
-    return f->coef && f->kind == GS_FUN_CHEBYSHEV && gs__fun_is_sharp(f);
+    return f->coef && f->kind == GS_FUN_CHEBYSHEV && gs__fun_sharp_dip(f);
 }
 
-int gs__fun_is_sharp(const gs_fun *f)
+int gs__fun_sharp_dip(const gs__fun *f)
 {
     double typ = f->squared ? sqrt(fabs(f->coef[0])) : fabs(f->coef[0]);
     return !(f->minval > SHARP * typ);
@@ -385,17 +385,17 @@ int gs__fun_is_sharp(const gs_fun *f)
 
 /* Set up a + b in a's frame; combines the coefficients when the sum is
  * one polynomial (same frame, both plain d and positive everywhere). */
-void gs__fun_pair_setup(const gs_fun *a, const gs_fun *b, pctx *c, double *comb)
+void gs__fun_pair_setup(const gs__fun *a, const gs__fun *b, pctx *c, double *comb)
 {
     double sa = a->closed ? a->shift : 0.0, sb = b->closed ? b->shift : 0.0;
-    double d0 = gs_fun_wrap(sa - sb);
+    double d0 = gs__fun_wrap(sa - sb);
     c->loop = a->closed || b->closed;
     c->frame = sa;
     c->a = (term){a->coef, a->degree, a->squared};
     c->b = (term){b->coef, b->degree, b->squared};
     c->split = 2.0;
     c->off[0] = c->off[1] = 0.0;
-    c->sharp[0] = gs__fun_is_sharp(a), c->sharp[1] = gs__fun_is_sharp(b);
+    c->sharp[0] = gs__fun_sharp_dip(a), c->sharp[1] = gs__fun_sharp_dip(b);
     c->eval_only = 0; /* 1 (cheaper) misses minima beside zero-set edges */
     if (d0 != 0.0) {
         c->split = d0 > 0.0 ? 1.0 - d0 : -1.0 - d0;
@@ -424,7 +424,7 @@ static double lower_bound(const term *t, double v)
     return gs__fun_term_value(t, p);
 }
 
-double gs_fun_min(const gs_fun *f, double *u_at)
+double gs__fun_min(const gs__fun *f, double *u_at)
 {
     if (u_at)
         *u_at = 0.0;
@@ -442,23 +442,23 @@ double gs_fun_min(const gs_fun *f, double *u_at)
     }
     pctx c = {{f->coef, f->degree, f->squared}, {NULL, 0, 0}, 2.0, {0.0, 0.0},
               f->closed ? f->shift : 0.0, (int)f->closed, {1, 0}, 0};
-    best r = gs__fun_minimise(&c, gs_cheb_fine_grid(), NULL, GS_CHEB_FINE + 1);
+    best r = gs__fun_minimise(&c, gs__cheb_fine_grid(), NULL, GS_CHEB_FINE + 1);
     double u = gs__fun_finish(&c, &r);
     if (u_at)
         *u_at = u;
     term t = {f->coef, f->degree, f->squared};
-    double v = gs__fun_term_at(&t, f->closed ? gs_fun_wrap(u - f->shift) : u);
+    double v = gs__fun_term_at(&t, f->closed ? gs__fun_wrap(u - f->shift) : u);
     return lower_bound(&t, v < r.v ? v : r.v);
 }
 
-uint32_t gs_fun_cost(const gs_fun *f)
+uint32_t gs__fun_cost(const gs__fun *f)
 {
     if (f->coef == NULL || !(f->minval < INFINITY))
         return 0;
     return f->degree + 1 + (f->kind == GS_FUN_CHEBYSHEV && f->closed ? 1u : 0u);
 }
 
-uint32_t gs_fun_grid_points(uint32_t m)
+uint32_t gs__fun_grid_points(uint32_t m)
 {
     uint32_t g = 4 * m + 9 < 33 ? 33 : 4 * m + 9;
     return g > GS_FUN_GRID_MAX ? GS_FUN_GRID_MAX : g;
@@ -467,7 +467,7 @@ uint32_t gs_fun_grid_points(uint32_t m)
 
 /* The lower of a loop's one-sided limits at its seam: its series at t = 1
  * and t = -1 (sums of the coefficients), as term values. */
-double gs__fun_seam_value(const gs_fun *f)
+double gs__fun_seam_value(const gs__fun *f)
 {
     double p1 = 0.0, pm = 0.0;
     for (uint32_t k = 0; k <= f->degree; k++) p1 += f->coef[k], pm += k & 1 ? -f->coef[k] : f->coef[k];
@@ -476,18 +476,18 @@ double gs__fun_seam_value(const gs_fun *f)
     return v1 < vm ? v1 : vm;
 }
 
-void gs_fun_dip_find(const gs_fun *f, gs_fun_dip *d)
+void gs__fun_dip_find(const gs__fun *f, gs__fun_dip *d)
 {
     d->u = d->lo = d->hi = NAN;
     d->slope = 0.0;
     d->seam_cell = GS_FUN_NO_CELL;
     d->seam = f->coef && f->kind == GS_FUN_CHEBYSHEV && f->closed ? gs__fun_seam_value(f) : NAN;
-    if (!gs_fun_is_sharp(f)) return;
+    if (!gs__fun_is_sharp(f)) return;
     double u;
-    gs_fun_min(f, &u);
+    gs__fun_min(f, &u);
     d->u = d->lo = d->hi = u;
     term t = {f->coef, f->degree, f->squared};
-    double t0 = f->closed ? gs_fun_wrap(u - f->shift) : u, p0, p1, p2;
+    double t0 = f->closed ? gs__fun_wrap(u - f->shift) : u, p0, p1, p2;
     /* the raw series' own minimum near t0 (t0 may sit on a zero set's edge) */
     double tm = gs__fun_poly_min(&t, t0 - 0.1 > -1.0 ? t0 - 0.1 : -1.0, t0 + 0.1 < 1.0 ? t0 + 0.1 : 1.0, t0, &p0);
     if (p0 > 0.0) { /* no zero set: the hyperbola's slope from the curvature at u */
@@ -496,7 +496,7 @@ void gs_fun_dip_find(const gs_fun *f, gs_fun_dip *d)
         return;
     }
     /* the fit dips below 0 (clamped): the edges of that zero set */
-    gs_cheb_eval3(t.c, t.m, tm, &p0, &p1, &p2);
+    gs__cheb_eval3(t.c, t.m, tm, &p0, &p1, &p2);
     double w = p2 > 0.0 ? sqrt(-2.0 * p0 / p2) : 0.01;
     double r1 = gs__fun_poly_root(&t, -1.0, tm, tm - w), r2 = gs__fun_poly_root(&t, tm, 1.0, tm + w);
     d->lo = u + (r1 < t0 ? r1 - t0 : 0.0);

@@ -43,8 +43,8 @@ typedef struct best {
 
 
 #ifdef GS_FUN_STATS
-extern long gs_fun_stat[8];
-#define STAT(i) (gs_fun_stat[i]++)
+extern long gs__fun_stat[8];
+#define STAT(i) (gs__fun_stat[i]++)
 #else
 #define STAT(i) ((void)0)
 #endif
@@ -82,20 +82,20 @@ double gs__fun_poly_min(const term *f, double lo, double hi, double t, double *p
 double gs__fun_poly_root(const term *f, double lo, double hi, double t);
 /* The minimum of a sharp term as a candidate of the sum (grid values pg of
  * the term on the grid gp, or NULL). */
-void gs__fun_sharp_candidates(const pctx *c, int is_b, const gs_cheb_grid *gp, const double *pg, best *bs);
+void gs__fun_sharp_candidates(const pctx *c, int is_b, const gs__cheb_grid *gp, const double *pg, best *bs);
 /* Scan of the sum at n points x (table tk, or NULL) and refinement. */
 best gs__fun_minimise(const pctx *c, const double *x, const double *tk, uint32_t n);
 /* The parameter u of a minimum found in the frame of c. */
 double gs__fun_finish(const pctx *c, best *b);
-int gs__fun_unreachable(const gs_fun *f);
+int gs__fun_unreachable(const gs__fun *f);
 /* SEPsam pairs (and a sampled function with a Chebyshev one). */
-double gs__fun_sampled_pair_min(const gs_fun *a, const gs_fun *b, double *u_at);
+double gs__fun_sampled_pair_min(const gs__fun *a, const gs__fun *b, double *u_at);
 /* A narrow dip: the minimum is small against the typical value. */
-int gs__fun_is_sharp(const gs_fun *f);
+int gs__fun_sharp_dip(const gs__fun *f);
 /* a + b in a's frame; combines the coefficients into comb when the sum is
  * one polynomial (same frame, both plain d, no sharp dip). */
-void gs__fun_pair_setup(const gs_fun *a, const gs_fun *b, pctx *c, double *comb);
+void gs__fun_pair_setup(const gs__fun *a, const gs__fun *b, pctx *c, double *comb);
 /* The lower of a loop's one-sided limits at its seam, as a distance. */
-double gs__fun_seam_value(const gs_fun *f);
+double gs__fun_seam_value(const gs__fun *f);
 
 #endif

@@ -44,11 +44,11 @@ typedef struct dgg_edge {
 } dgg_edge;
 
 typedef struct dgg_state {
-    const gs_topo *t;
+    const gs__topo *t;
     double radius;       /* R, absolute                                  */
     uint64_t *start;     /* nv + 1: CSR offsets                          */
     dgg_edge *e;         /* edges                                        */
-    gs_iheap heap;
+    gs__iheap heap;
     void *ex;            /* exact solver for surface-point sources (lazy) */
     double *exd;         /* its nv scratch distances, all +INFINITY       */
     double build_seconds;
@@ -72,8 +72,8 @@ static void dgg_destroy(void *state)
         free(g->start);
         free(g->e);
     }
-    gs_iheap_free(&g->heap);
-    if (g->ex) gs_exact_ops.destroy(g->ex);
+    gs__iheap_free(&g->heap);
+    if (g->ex) gs__exact_ops.destroy(g->ex);
     free(g->exd);
     free(g);
 }
@@ -107,13 +107,13 @@ static int collect(const void *ex, uint32_t self, double r, double *dist, const 
 /* R_v: R scaled up where the edges at v are longer than the patch's mean
  * hbar (so that coarse regions get as many edges per hop), and at least
  * the longest edge at v (so that every mesh edge's ends are joined). */
-static double dgg_vertex_radius(const gs_topo *t, double r, double hbar, uint32_t v)
+static double dgg_vertex_radius(const gs__topo *t, double r, double hbar, uint32_t v)
 {
     double sum = 0, mx = 0;
     uint32_t n = 0;
     for (uint32_t k = t->vc_start[v]; k < t->vc_start[v + 1]; ++k) {
         uint32_t h = t->vc[k];
-        double a = t->len[h], b = t->len[gs_prev(h)];
+        double a = t->len[h], b = t->len[gs__prev(h)];
         sum += a + b, n += 2;
         if (a > mx) mx = a;
         if (b > mx) mx = b;
@@ -124,7 +124,7 @@ static double dgg_vertex_radius(const gs_topo *t, double r, double hbar, uint32_
     return r * (1 + 1e-9);
 }
 
-static int dgg_create(const gs_topo *t, const gs_solver_options *opt, void **state, gs_error *err)
+static int dgg_create(const gs__topo *t, const gs_solver_options *opt, void **state, gs_error *err)
 {
     double t0 = gs__now();
     dgg_state *g = gs__calloc(1, sizeof *g);
@@ -139,7 +139,7 @@ static int dgg_create(const gs_topo *t, const gs_solver_options *opt, void **sta
     g->start = gs__calloc((size_t)nv + 1, sizeof *g->start);
     dgg_edge **lists = gs__calloc(nv ? nv : 1, sizeof *lists);
     uint32_t *cnt = gs__calloc(nv ? nv : 1, sizeof *cnt);
-    if (!g->start || !lists || !cnt || gs_iheap_init(&g->heap, nv)) {
+    if (!g->start || !lists || !cnt || gs__iheap_init(&g->heap, nv)) {
         free(lists);
         free(cnt);
         dgg_destroy(g);
@@ -152,11 +152,11 @@ static int dgg_create(const gs_topo *t, const gs_solver_options *opt, void **sta
     {
         void *ex = NULL;
         gs_error e = {0};
-        int rc = gs_exact_ops.create(t, opt, &ex, &e);
+        int rc = gs__exact_ops.create(t, opt, &ex, &e);
         double *dist = rc ? NULL : malloc((nv ? nv : 1) * sizeof *dist);
         if (!rc && !dist) rc = gs__fail(&e, GS_ENOMEM, "out of memory creating a dgg solver");
         if (rc) {
-#pragma omp critical(gs_dgg_err)
+#pragma omp critical(gs__dgg_err)
             {
                 status = rc;
                 first = e;
@@ -177,7 +177,7 @@ static int dgg_create(const gs_topo *t, const gs_solver_options *opt, void **sta
             if (!rc && collect(ex, v, rv, dist, tv, ntv, &lists[v], &cnt[v]))
                 rc = gs__fail(&e, GS_ENOMEM, "out of memory building the dgg graph");
             if (rc) {
-#pragma omp critical(gs_dgg_err)
+#pragma omp critical(gs__dgg_err)
                 if (bad_v == GS_NONE || v < bad_v) {
                     bad_v = v;
                     status = rc;
@@ -186,7 +186,7 @@ static int dgg_create(const gs_topo *t, const gs_solver_options *opt, void **sta
             }
         }
         free(dist);
-        if (ex) gs_exact_ops.destroy(ex);
+        if (ex) gs__exact_ops.destroy(ex);
     }
     if (status == GS_OK) {
         for (uint32_t v = 0; v < nv; ++v) g->start[v + 1] = g->start[v] + cnt[v];
@@ -214,17 +214,17 @@ static void relax(dgg_state *g, double *dist, uint32_t v, double d, double max_d
 {
     if (d < dist[v] && d <= max_d) {
         dist[v] = d;
-        gs_iheap_push_or_decrease(&g->heap, v, d);
+        gs__iheap_push_or_decrease(&g->heap, v, d);
     }
 }
 
 static int dgg_solve(void *state, const gs_source *src, uint32_t n_src, double max_d, double *dist,
-                     gs_solve_stats *stats, gs_error *err)
+                     gs__solve_stats *stats, gs_error *err)
 {
     dgg_state *g = state;
-    const gs_topo *t = g->t;
+    const gs__topo *t = g->t;
     for (uint32_t v = 0; v < t->nv; ++v) dist[v] = INFINITY;
-    gs_iheap_clear(&g->heap);
+    gs__iheap_clear(&g->heap);
     for (uint32_t i = 0; i < n_src; ++i) {
         if (src[i].face == GS_NONE) {
             relax(g, dist, src[i].vertex, 0, max_d);
@@ -234,7 +234,7 @@ static int dgg_solve(void *state, const gs_source *src, uint32_t n_src, double m
         if (!g->ex) {
             gs_solver_options o;
             gs_solver_options_default(&o);
-            int rc = gs_exact_ops.create(t, &o, &g->ex, err);
+            int rc = gs__exact_ops.create(t, &o, &g->ex, err);
             if (rc) return rc;
             g->exd = gs__malloc(t->nv ? t->nv : 1, sizeof *g->exd);
             if (!g->exd) return gs__fail(err, GS_ENOMEM, "out of memory in the dgg solver");
@@ -261,7 +261,7 @@ static int dgg_solve(void *state, const gs_source *src, uint32_t n_src, double m
     uint64_t pops = 0;
     while (g->heap.n) {
         double d;
-        uint32_t v = gs_iheap_pop(&g->heap, &d);
+        uint32_t v = gs__iheap_pop(&g->heap, &d);
         ++pops;
         for (uint64_t k = g->start[v]; k < g->start[v + 1]; ++k) relax(g, dist, g->e[k].to, d + g->e[k].w, max_d);
     }
@@ -284,8 +284,8 @@ static int dgg_clone(const void *state, void **out, gs_error *err)
 {
     const dgg_state *src = state;
     dgg_state *g = gs__calloc(1, sizeof *g);
-    if (!g || gs_iheap_init(&g->heap, src->t->nv)) {
-        if (g) gs_iheap_free(&g->heap);
+    if (!g || gs__iheap_init(&g->heap, src->t->nv)) {
+        if (g) gs__iheap_free(&g->heap);
         free(g);
         return gs__fail(err, GS_ENOMEM, "out of memory creating a dgg solver");
     }
@@ -299,4 +299,4 @@ static int dgg_clone(const void *state, void **out, gs_error *err)
     return GS_OK;
 }
 
-const gs_method_ops gs_dgg_ops = {"dgg", dgg_create, dgg_destroy, dgg_solve, NULL, dgg_clone};
+const gs__method_ops gs__dgg_ops = {"dgg", dgg_create, dgg_destroy, dgg_solve, NULL, dgg_clone};

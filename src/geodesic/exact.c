@@ -64,7 +64,7 @@ typedef struct ex_win {
 } ex_win;
 
 typedef struct ex_state {
-    const gs_topo *t;
+    const gs__topo *t;
     uint32_t nv, nf;
     double *hl, *hc, *hs; /* per half-edge: length, cos and sin of the corner */
     uint8_t *pseudo;      /* per vertex: geodesics may bend here             */
@@ -78,10 +78,10 @@ typedef struct ex_state {
     double *fired;        /* per vertex: distance it last emitted windows at */
     ex_win *win;          /* window pool                                     */
     uint32_t n_win, cap_win, free_win;
-    gs_iheap fheap, vheap;
+    gs__iheap fheap, vheap;
     /* what the last solve's vertex distances came from (path.c backtracks
-     * through it; gs_exact_trace in geodesic_internal.h) */
-    gs_exact_trace tr;
+     * through it; gs__exact_trace in geodesic_internal.h) */
+    gs__exact_trace tr;
     uint32_t src_cap;
     uint32_t tface; /* face of the target point of the next solves, or GS_NONE */
     /* local solves (gs__exact_solve_local): what the last one touched */
@@ -122,12 +122,12 @@ static void ex_destroy(void *state)
     free(s->tr.sxy);
     free(s->tr.dist);
     free(s->tr.src);
-    gs_iheap_free(&s->fheap);
-    gs_iheap_free(&s->vheap);
+    gs__iheap_free(&s->fheap);
+    gs__iheap_free(&s->vheap);
     free(s);
 }
 
-static int ex_create(const gs_topo *t, const gs_solver_options *opt, void **state, gs_error *err)
+static int ex_create(const gs__topo *t, const gs_solver_options *opt, void **state, gs_error *err)
 {
     (void)opt;
     ex_state *s = gs__calloc(1, sizeof *s);
@@ -157,8 +157,8 @@ static int ex_create(const gs_topo *t, const gs_solver_options *opt, void **stat
     s->tface = GS_NONE;
     s->cap_win = 1024;
     s->win = gs__malloc(s->cap_win, sizeof *s->win);
-    int hf = gs_iheap_init(&s->fheap, t->nf);
-    int hv = gs_iheap_init(&s->vheap, t->nv);
+    int hf = gs__iheap_init(&s->fheap, t->nf);
+    int hv = gs__iheap_init(&s->vheap, t->nv);
     if (!s->hl || !s->hc || !s->hs || !s->pseudo || !s->head || !s->fired || !s->win || hf ||
         hv || !s->off || !s->fan || !s->ftot || !s->fclosed || !s->in_c || !s->in_a || !s->tr.kind ||
         !s->tr.ref || !s->tr.tag || !s->tr.sxy || !s->tr.dist) {
@@ -182,7 +182,7 @@ static int ex_create(const gs_topo *t, const gs_solver_options *opt, void **stat
         for (;;) { /* clockwise to the first corner */
             uint32_t tw = t->opp[x];
             if (tw == GS_NONE) break;
-            x = gs_next(tw);
+            x = gs__next(tw);
             if (x == h0) {
                 closed = 1;
                 break;
@@ -195,7 +195,7 @@ static int ex_create(const gs_topo *t, const gs_solver_options *opt, void **stat
             s->off[x] = acc;
             s->fan[x] = start;
             acc += t->angle[x];
-            uint32_t tw = t->opp[gs_prev(x)];
+            uint32_t tw = t->opp[gs__prev(x)];
             if (tw == GS_NONE || tw == start) break;
             x = tw;
         }
@@ -214,7 +214,7 @@ static int ex_create(const gs_topo *t, const gs_solver_options *opt, void **stat
  * the corner's first edge (for pseudo-sources, which only need to emit
  * windows into the directions that path cannot reach straight). The path's
  * last straight piece is recorded for backtracking: kind and ref as in
- * gs_exact_trace, (sx, sy) the window's source, tag its point source. */
+ * gs__exact_trace, (sx, sy) the window's source, tag its point source. */
 static inline void ex_update_vertex(ex_state *s, uint32_t v, double val, uint32_t c, double a,
                                     uint8_t kind, uint32_t ref, double sx, double sy, uint32_t tag)
 {
@@ -229,7 +229,7 @@ static inline void ex_update_vertex(ex_state *s, uint32_t v, double val, uint32_
         if (s->pseudo[v]) {
             s->in_c[v] = c;
             s->in_a[v] = a;
-            if (val <= s->max_d) gs_iheap_push_or_decrease(&s->vheap, v, val);
+            if (val <= s->max_d) gs__iheap_push_or_decrease(&s->vheap, v, val);
         }
     }
 }
@@ -328,13 +328,13 @@ static uint32_t ex_alloc(ex_state *s)
 static void ex_push(ex_state *s, uint32_t h, double b0, double b1, double sx, double sy,
                     double sigma, uint32_t tag)
 {
-    const gs_topo *t = s->t;
+    const gs__topo *t = s->t;
     double len = s->hl[h];
     if (sy > 0) sy = 0;
     if (b0 < 0) b0 = 0;
     if (b1 > len) b1 = len;
     if (!(b0 <= b1)) return;
-    if (!ex_trim(sx, sy, sigma, len, s->d[t->tri[h]], s->d[t->tri[gs_next(h)]], &b0, &b1))
+    if (!ex_trim(sx, sy, sigma, len, s->d[t->tri[h]], s->d[t->tri[gs__next(h)]], &b0, &b1))
         return;
     double dx = sx < b0 ? b0 - sx : (sx > b1 ? sx - b1 : 0);
     double dmin = sigma + sqrt(dx * dx + sy * sy);
@@ -355,7 +355,7 @@ static void ex_push(ex_state *s, uint32_t h, double b0, double b1, double sx, do
         s->th[s->nth++] = h;
     }
     s->created++;
-    gs_iheap_push_or_decrease(&s->fheap, h / 3, dmin);
+    gs__iheap_push_or_decrease(&s->fheap, h / 3, dmin);
 }
 
 /* ---- sources ------------------------------------------------------------- */
@@ -367,11 +367,11 @@ static void ex_push(ex_state *s, uint32_t h, double b0, double b1, double sx, do
  * inside the star of v. Sources (no incoming path) emit everything. */
 static void ex_fire_vertex(ex_state *s, uint32_t v)
 {
-    const gs_topo *t = s->t;
+    const gs__topo *t = s->t;
     double dv = s->d[v];
     s->fired[v] = dv;
     for (uint32_t k = t->vc_start[v]; k < t->vc_start[v + 1]; ++k) {
-        uint32_t c = t->vc[k], cn = gs_next(c), cp = gs_prev(c);
+        uint32_t c = t->vc[k], cn = gs__next(c), cp = gs__prev(c);
         ex_update_vertex(s, t->tri[cn], dv + s->hl[c], cn, t->angle[cn], GS_EXTR_EDGE, c, 0, 0, GS_NONE);
         ex_update_vertex(s, t->tri[cp], dv + s->hl[cp], cp, 0.0, GS_EXTR_EDGE, c, 0, 0, GS_NONE);
     }
@@ -386,7 +386,7 @@ static void ex_fire_vertex(ex_state *s, uint32_t v)
     }
     for (uint32_t k = t->vc_start[v]; k < t->vc_start[v + 1]; ++k) {
         uint32_t c = t->vc[k];
-        uint32_t ho = gs_next(c), tw = t->opp[ho];
+        uint32_t ho = gs__next(c), tw = t->opp[ho];
         if (tw == GS_NONE) continue;
         double a = t->angle[c], lo = 0, hi = a;
         if (s->fan[c] == fin) {
@@ -444,11 +444,11 @@ static void ex_fire_vertex(ex_state *s, uint32_t v)
  * emits a window into the face across it (rays from the point). */
 static void ex_fire_point(ex_state *s, const gs_source *src, uint32_t isrc)
 {
-    const gs_topo *t = s->t;
+    const gs__topo *t = s->t;
     uint32_t f = src->face;
     for (int i = 0; i < 3; ++i) {
         uint32_t h = 3 * f + (uint32_t)i;
-        double len = s->hl[h], lac = s->hl[gs_prev(h)];
+        double len = s->hl[h], lac = s->hl[gs__prev(h)];
         double cx = lac * s->hc[h], cy = lac * s->hs[h];
         double w1 = src->bary[(i + 1) % 3], w2 = src->bary[(i + 2) % 3];
         double px = w1 * len + w2 * cx, py = w2 * cy;
@@ -468,9 +468,9 @@ static void ex_fire_point(ex_state *s, const gs_source *src, uint32_t isrc)
  * h: let the windows from wi on entering that face offer it their distance. */
 static void ex_target_windows(ex_state *s, uint32_t h, uint32_t wi)
 {
-    gs_exact_target *q = &s->tr.target;
+    gs__exact_target *q = &s->tr.target;
     uint32_t i = h % 3;
-    double len = s->hl[h], lac = s->hl[gs_prev(h)];
+    double len = s->hl[h], lac = s->hl[gs__prev(h)];
     double cx = lac * s->hc[h], cy = lac * s->hs[h];
     double w1 = q->bary[(i + 1) % 3], w2 = q->bary[(i + 2) % 3];
     double qx = w1 * len + w2 * cx, qy = w2 * cy;
@@ -494,7 +494,7 @@ static void ex_target_windows(ex_state *s, uint32_t h, uint32_t wi)
 
 static void ex_process_face(ex_state *s, uint32_t f)
 {
-    const gs_topo *t = s->t;
+    const gs__topo *t = s->t;
     double *d = s->d;
     /* pass 1: let the pending windows update the opposite vertices first, so
      * that their children are trimmed against the best distances there.
@@ -504,7 +504,7 @@ static void ex_process_face(ex_state *s, uint32_t f)
         uint32_t h = 3 * f + (uint32_t)i;
         uint32_t wi = s->head[h];
         if (wi == GS_NONE) continue;
-        uint32_t hp = gs_prev(h), C = t->tri[hp];
+        uint32_t hp = gs__prev(h), C = t->tri[hp];
         double len = s->hl[h], lac = s->hl[hp];
         double cx = lac * s->hc[h], cy = lac * s->hs[h];
         double slack = COVER_REL * len;
@@ -530,7 +530,7 @@ static void ex_process_face(ex_state *s, uint32_t f)
         uint32_t wi = s->head[h];
         if (wi == GS_NONE) continue;
         s->head[h] = GS_NONE;
-        uint32_t hn = gs_next(h), hp = gs_prev(h);
+        uint32_t hn = gs__next(h), hp = gs__prev(h);
         uint32_t tl = t->opp[hp], tr = t->opp[hn]; /* twins of A->C side, C->B side */
         double lac = s->hl[hp], lbc = s->hl[hn];
         double ca = s->hc[h], sa = s->hs[h], cb = s->hc[hn], sb = s->hs[hn];
@@ -588,7 +588,7 @@ static void ex_process_face(ex_state *s, uint32_t f)
  * grow past the vertices' (an octahedron with one vertex moved to 4e9:
  * hours). Real meshes need far fewer windows per face (homer-60k: 59,
  * stanford-bunny: 47); past this many a solve fails instead. */
-static uint64_t ex_cap(const gs_topo *t)
+static uint64_t ex_cap(const gs__topo *t)
 {
     return EX_MAX_WINDOWS_BASE + EX_MAX_WINDOWS_PER_FACE * (uint64_t)t->nf;
 }
@@ -617,11 +617,11 @@ static void ex_run(ex_state *s, const gs_source *src, uint32_t n_src)
         double kv = have_v ? s->vheap.key[s->vheap.ids[0]] : INFINITY;
         if (kv <= kf) {
             if (kv > max_d) break;
-            uint32_t v = gs_iheap_pop(&s->vheap, NULL);
+            uint32_t v = gs__iheap_pop(&s->vheap, NULL);
             if (dist[v] < s->fired[v]) ex_fire_vertex(s, v);
         } else {
             if (kf > max_d) break;
-            uint32_t f = gs_iheap_pop(&s->fheap, NULL);
+            uint32_t f = gs__iheap_pop(&s->fheap, NULL);
             ex_process_face(s, f);
         }
     }
@@ -631,7 +631,7 @@ int gs__exact_solve_local(void *state, const gs_source *src, double max_d, doubl
                           const uint32_t **touched, uint32_t *n_touched, gs_error *err)
 {
     ex_state *s = state;
-    const gs_topo *t = s->t;
+    const gs__topo *t = s->t;
     size_t nh = 3 * (size_t)t->nf;
     if (!s->tv) {
         s->tv = gs__malloc(t->nv ? t->nv : 1, sizeof *s->tv);
@@ -671,8 +671,8 @@ int gs__exact_solve_local(void *state, const gs_source *src, double max_d, doubl
     s->created = s->propagated = 0;
     s->n_win = 0;
     s->free_win = GS_NONE;
-    gs_iheap_clear(&s->fheap);
-    gs_iheap_clear(&s->vheap);
+    gs__iheap_clear(&s->fheap);
+    gs__iheap_clear(&s->vheap);
     ex_run(s, src, 1);
     s->d = NULL;
     *touched = s->tv;
@@ -687,7 +687,7 @@ int gs__exact_solve_local(void *state, const gs_source *src, double max_d, doubl
 int gs__exact_straight(const void *state, uint32_t source_vertex, uint32_t u, double du)
 {
     const ex_state *s = state;
-    const gs_topo *t = s->t;
+    const gs__topo *t = s->t;
     switch (s->tr.kind[u]) {
     case GS_EXTR_NONE: return 1;
     case GS_EXTR_POINT: return 1;
@@ -695,7 +695,7 @@ int gs__exact_straight(const void *state, uint32_t source_vertex, uint32_t u, do
     default: break;
     }
     uint32_t h = s->tr.ref[u];
-    double lac = s->hl[gs_prev(h)];
+    double lac = s->hl[gs__prev(h)];
     double cx = lac * s->hc[h], cy = lac * s->hs[h];
     double ex = cx - s->tr.sxy[2 * (size_t)u], ey = cy - s->tr.sxy[2 * (size_t)u + 1];
     double sigma = du - sqrt(ex * ex + ey * ey);
@@ -703,10 +703,10 @@ int gs__exact_straight(const void *state, uint32_t source_vertex, uint32_t u, do
 }
 
 static int ex_solve(void *state, const gs_source *src, uint32_t n_src, double max_d,
-                    double *dist, gs_solve_stats *stats, gs_error *err)
+                    double *dist, gs__solve_stats *stats, gs_error *err)
 {
     ex_state *s = state;
-    const gs_topo *t = s->t;
+    const gs__topo *t = s->t;
     size_t nh = 3 * (size_t)t->nf;
     s->d = dist;
     s->max_d = max_d;
@@ -733,8 +733,8 @@ static int ex_solve(void *state, const gs_source *src, uint32_t n_src, double ma
     memcpy(s->tr.src, src, n_src * sizeof *src);
     s->tr.n_src = n_src;
     for (size_t h = 0; h < nh; ++h) s->head[h] = GS_NONE;
-    gs_iheap_clear(&s->fheap);
-    gs_iheap_clear(&s->vheap);
+    gs__iheap_clear(&s->fheap);
+    gs__iheap_clear(&s->vheap);
 
     uint32_t *tv = s->tv;
     uint8_t *hmark = s->hmark;
@@ -757,7 +757,7 @@ static int ex_solve(void *state, const gs_source *src, uint32_t n_src, double ma
     return GS_OK;
 }
 
-const gs_method_ops gs_exact_ops = {"exact", ex_create, ex_destroy, ex_solve, NULL, NULL};
+const gs__method_ops gs__exact_ops = {"exact", ex_create, ex_destroy, ex_solve, NULL, NULL};
 
 void gs__exact_set_target(void *state, const gs_source *target)
 {
@@ -771,7 +771,7 @@ void gs__exact_set_target(void *state, const gs_source *target)
     }
 }
 
-const gs_exact_trace *gs__exact_get_trace(const void *state)
+const gs__exact_trace *gs__exact_get_trace(const void *state)
 {
     const ex_state *s = state;
     return s->tr.valid ? &s->tr : NULL;

@@ -61,8 +61,8 @@
 #endif
 
 typedef struct fmm_state {
-    const gs_topo *t;
-    gs_iheap heap;
+    const gs__topo *t;
+    gs__iheap heap;
     uint8_t *alive;    /* nv: 1 once accepted                                */
     uint32_t *label;   /* nv: index of the source whose front set dist[v]   */
     /* obtuse corners: virtual vertex and planar lengths (per corner h)      */
@@ -102,26 +102,26 @@ static int place(const double p[2], const double q[2], double r1, double r2, dou
 }
 
 /* Unfolding search for the obtuse corner hc (see the file comment). */
-static uint32_t find_virtual(const gs_topo *t, uint32_t hc, double out_len[3])
+static uint32_t find_virtual(const gs__topo *t, uint32_t hc, double out_len[3])
 {
     const double half_pi = 0.5 * M_PI;
     double theta = t->angle[hc];
     uint32_t c = t->tri[hc];
     double a_pos[2] = {t->len[hc], 0.0};
-    double lb = t->len[gs_prev(hc)];
+    double lb = t->len[gs__prev(hc)];
     double b_pos[2] = {lb * cos(theta), lb * sin(theta)};
     double lo = theta - half_pi, hi = half_pi; /* the acute section */
     /* current edge e runs from P to Q (directions phi_p < phi_q) */
-    uint32_t e = gs_next(hc);
+    uint32_t e = gs__next(hc);
     double p[2] = {a_pos[0], a_pos[1]}, q[2] = {b_pos[0], b_pos[1]};
     double phi_p = 0.0, phi_q = theta;
     for (int k = 0; k < MAX_UNFOLD; ++k) {
         uint32_t tw = t->opp[e];
         if (tw == GS_NONE) return GS_NONE;
-        if (t->tri[tw] != t->tri[gs_next(e)] || t->tri[gs_next(tw)] != t->tri[e]) return GS_NONE;
-        uint32_t d = t->tri[gs_prev(tw)];
+        if (t->tri[tw] != t->tri[gs__next(e)] || t->tri[gs__next(tw)] != t->tri[e]) return GS_NONE;
+        uint32_t d = t->tri[gs__prev(tw)];
         double dp[2];
-        if (!place(p, q, t->len[gs_next(tw)], t->len[gs_prev(tw)], dp)) return GS_NONE;
+        if (!place(p, q, t->len[gs__next(tw)], t->len[gs__prev(tw)], dp)) return GS_NONE;
         double phi = atan2(dp[1], dp[0]);
         if (!(phi > phi_p && phi < phi_q)) return GS_NONE; /* strip not convex */
         if (d == c) return GS_NONE;
@@ -133,16 +133,16 @@ static uint32_t find_virtual(const gs_topo *t, uint32_t hc, double out_len[3])
             out_len[1] = sqrt(ax * ax + ay * ay);
             out_len[2] = sqrt(bx * bx + by * by);
             if (!(r > 0) || !(out_len[1] > 0) || !(out_len[2] > 0)) return GS_NONE;
-            if (d == t->tri[gs_next(hc)] || d == t->tri[gs_prev(hc)]) return GS_NONE;
+            if (d == t->tri[gs__next(hc)] || d == t->tri[gs__prev(hc)]) return GS_NONE;
             return d;
         }
         if (phi < lo) { /* the section lies between D and Q: cross D->Q */
-            e = gs_prev(tw);
+            e = gs__prev(tw);
             p[0] = dp[0];
             p[1] = dp[1];
             phi_p = phi;
         } else { /* between P and D: cross P->D */
-            e = gs_next(tw);
+            e = gs__next(tw);
             q[0] = dp[0];
             q[1] = dp[1];
             phi_q = phi;
@@ -199,25 +199,25 @@ static void fmm_destroy(void *state)
 {
     fmm_state *s = state;
     if (!s) return;
-    gs_iheap_free(&s->heap);
+    gs__iheap_free(&s->heap);
     free(s->alive);
     free(s->label);
     free(s->virt);
     free(s->vlen);
     free(s->rv_start);
     free(s->rv);
-    if (s->exact) gs_exact_ops.destroy(s->exact);
+    if (s->exact) gs__exact_ops.destroy(s->exact);
     free(s->edist);
     free(s);
 }
 
-static int fmm_create(const gs_topo *t, const gs_solver_options *opt, void **state, gs_error *err)
+static int fmm_create(const gs__topo *t, const gs_solver_options *opt, void **state, gs_error *err)
 {
     fmm_state *s = calloc(1, sizeof *s);
     if (!s) return gs__fail(err, GS_ENOMEM, "out of memory creating a fast-marching solver");
     s->t = t;
     size_t nc = 3 * (size_t)t->nf;
-    int bad = gs_iheap_init(&s->heap, t->nv);
+    int bad = gs__iheap_init(&s->heap, t->nv);
     s->alive = calloc(t->nv ? t->nv : 1, 1);
     s->label = calloc(t->nv ? t->nv : 1, sizeof *s->label);
     s->virt = malloc((nc ? nc : 1) * sizeof *s->virt);
@@ -265,7 +265,7 @@ static void relax(fmm_state *s, double *dist, uint32_t v, double d, double max_d
     if (d < dist[v] && d <= max_d) {
         dist[v] = d;
         s->label[v] = lab;
-        gs_iheap_push_or_decrease(&s->heap, v, d);
+        gs__iheap_push_or_decrease(&s->heap, v, d);
     }
 }
 
@@ -274,8 +274,8 @@ static void relax(fmm_state *s, double *dist, uint32_t v, double d, double max_d
  * two fronts in one update has no meaning and can underestimate. */
 static void update_corner(fmm_state *s, double *dist, uint32_t hc, double max_d)
 {
-    const gs_topo *t = s->t;
-    uint32_t c = t->tri[hc], a = t->tri[gs_next(hc)], b = t->tri[gs_prev(hc)];
+    const gs__topo *t = s->t;
+    uint32_t c = t->tri[hc], a = t->tri[gs__next(hc)], b = t->tri[gs__prev(hc)];
     const uint32_t *lab = s->label;
     double best = INFINITY;
     uint32_t best_lab = 0;
@@ -288,7 +288,7 @@ static void update_corner(fmm_state *s, double *dist, uint32_t hc, double max_d)
                 if (d < best) best = d;
             }
             if (s->alive[b] && lab[b] == lab[w]) {
-                double d = tri_update(dist[w], dist[b], vl[2], vl[0], t->len[gs_prev(hc)]);
+                double d = tri_update(dist[w], dist[b], vl[2], vl[0], t->len[gs__prev(hc)]);
                 if (d < best) best = d;
             }
             double d = dist[w] + vl[0]; /* edge update along the virtual edge */
@@ -296,7 +296,7 @@ static void update_corner(fmm_state *s, double *dist, uint32_t hc, double max_d)
             best_lab = lab[w];
         }
     } else if (s->alive[a] && s->alive[b] && lab[a] == lab[b]) {
-        double d = tri_update(dist[a], dist[b], t->len[gs_next(hc)], t->len[hc], t->len[gs_prev(hc)]);
+        double d = tri_update(dist[a], dist[b], t->len[gs__next(hc)], t->len[hc], t->len[gs__prev(hc)]);
         if (d < best) best = d;
         best_lab = lab[a];
     }
@@ -304,30 +304,30 @@ static void update_corner(fmm_state *s, double *dist, uint32_t hc, double max_d)
 }
 
 static int fmm_solve(void *state, const gs_source *src, uint32_t n_src, double max_d,
-                     double *dist, gs_solve_stats *stats, gs_error *err)
+                     double *dist, gs__solve_stats *stats, gs_error *err)
 {
     (void)err;
     fmm_state *s = state;
-    const gs_topo *t = s->t;
+    const gs__topo *t = s->t;
     for (uint32_t v = 0; v < t->nv; ++v) dist[v] = INFINITY;
     memset(s->alive, 0, t->nv);
-    gs_iheap_clear(&s->heap);
+    gs__iheap_clear(&s->heap);
     for (uint32_t i = 0; i < n_src; ++i) {
         uint32_t sv[3];
         double sd[3];
-        uint32_t ns = gs_source_seeds(t, &src[i], sv, sd);
+        uint32_t ns = gs__source_seeds(t, &src[i], sv, sd);
         for (uint32_t k = 0; k < ns; ++k) relax(s, dist, sv[k], sd[k], max_d, i);
     }
     if (s->init_radius > 0) {
         if (!s->exact) {
-            int rc = gs_exact_ops.create(t, NULL, &s->exact, err);
+            int rc = gs__exact_ops.create(t, NULL, &s->exact, err);
             if (rc) return rc;
             s->edist = malloc((t->nv ? t->nv : 1) * sizeof *s->edist);
             if (!s->edist) return gs__fail(err, GS_ENOMEM, "out of memory");
         }
         double r = s->init_radius < max_d ? s->init_radius : max_d;
-        gs_solve_stats es = {0, 0}; /* the march's own statistics only */
-        int rc = gs_exact_ops.solve(s->exact, src, n_src, r, s->edist, &es, err);
+        gs__solve_stats es = {0, 0}; /* the march's own statistics only */
+        int rc = gs__exact_ops.solve(s->exact, src, n_src, r, s->edist, &es, err);
         if (rc) return rc;
         for (uint32_t v = 0; v < t->nv; ++v) {
             if (!(s->edist[v] <= r)) continue;
@@ -337,25 +337,25 @@ static int fmm_solve(void *state, const gs_source *src, uint32_t n_src, double m
                 const double *q = t->xyz + 3 * (size_t)v;
                 for (uint32_t i = 0; i < n_src; ++i) {
                     if (src[i].face == GS_NONE) memcpy(p, t->xyz + 3 * (size_t)src[i].vertex, sizeof p);
-                    else gs_source_position(t, &src[i], p);
+                    else gs__source_position(t, &src[i], p);
                     double dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2], e = dx * dx + dy * dy + dz * dz;
                     if (e < best) best = e, lab = i;
                 }
             }
             dist[v] = s->edist[v];
             s->label[v] = lab;
-            gs_iheap_push_or_decrease(&s->heap, v, dist[v]);
+            gs__iheap_push_or_decrease(&s->heap, v, dist[v]);
             s->alive[v] = 2;
         }
     }
     while (s->heap.n) {
         double d;
-        uint32_t x = gs_iheap_pop(&s->heap, &d);
+        uint32_t x = gs__iheap_pop(&s->heap, &d);
         s->alive[x] = 1;
         stats->windows_propagated++;
         for (uint32_t k = t->vc_start[x]; k < t->vc_start[x + 1]; ++k) {
             uint32_t h = t->vc[k];
-            uint32_t hn = gs_next(h), hp = gs_prev(h);
+            uint32_t hn = gs__next(h), hp = gs__prev(h);
             uint32_t y = t->tri[hn], z = t->tri[hp];
             if (!s->alive[y]) {
                 relax(s, dist, y, d + t->len[h], max_d, s->label[x]);
@@ -378,7 +378,7 @@ static int fmm_solve(void *state, const gs_source *src, uint32_t n_src, double m
             if (src[i].face == GS_NONE)
                 memcpy(pos[i], t->xyz + 3 * (size_t)src[i].vertex, sizeof pos[i]);
             else
-                gs_source_position(t, &src[i], pos[i]);
+                gs__source_position(t, &src[i], pos[i]);
         }
         for (uint32_t v = 0; v < t->nv; ++v) {
             if (!(dist[v] < INFINITY)) continue;
@@ -396,4 +396,4 @@ static int fmm_solve(void *state, const gs_source *src, uint32_t n_src, double m
     return GS_OK;
 }
 
-const gs_method_ops gs_fmm_ops = {"fmm", fmm_create, fmm_destroy, fmm_solve, NULL, NULL};
+const gs__method_ops gs__fmm_ops = {"fmm", fmm_create, fmm_destroy, fmm_solve, NULL, NULL};

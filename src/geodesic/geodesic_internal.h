@@ -7,40 +7,40 @@
 
 #include "../mesh/mesh_internal.h"
 
-typedef struct gs_solve_stats {
+typedef struct gs__solve_stats {
     uint64_t windows_created;
     uint64_t windows_propagated;
-} gs_solve_stats;
+} gs__solve_stats;
 
 /* Sources handed to a method are validated: vertex < nv, or face < nf with
  * bary >= 0 summing to exactly 1 (renormalised). A surface point that lies
  * on a vertex (bary = e_i) is passed as that vertex. */
-typedef struct gs_method_ops {
+typedef struct gs__method_ops {
     const char *name;
     /* allocate per-patch state; *state receives it */
-    int (*create)(const gs_topo *t, const gs_solver_options *opt, void **state, gs_error *err);
+    int (*create)(const gs__topo *t, const gs_solver_options *opt, void **state, gs_error *err);
     void (*destroy)(void *state);
     /* fill dist[0..nv) ; max_distance is +INFINITY when unbounded */
     int (*solve)(void *state, const gs_source *src, uint32_t n_src, double max_distance,
-                 double *dist, gs_solve_stats *stats, gs_error *err);
+                 double *dist, gs__solve_stats *stats, gs_error *err);
     /* optional (NULL: n single solves): one field per source, dist row i
      * (nv doubles) for source i; for methods that solve several at once
      * faster (the heat method's batched linear solves) */
     int (*solve_each)(void *state, const gs_source *src, uint32_t n_src, double *dist,
-                      gs_solve_stats *stats, gs_error *err);
+                      gs__solve_stats *stats, gs_error *err);
     /* optional (NULL: create anew): state for another thread that gives the
      * same fields and shares what it can read-only with `state`, which
      * must outlive it (the heat method's factorisations) */
     int (*clone)(const void *state, void **out, gs_error *err);
-} gs_method_ops;
+} gs__method_ops;
 
-extern const gs_method_ops gs_exact_ops; /* exact.c  */
-extern const gs_method_ops gs_graph_ops; /* graph.c  */
-extern const gs_method_ops gs_fmm_ops;   /* fmm.c    */
-extern const gs_method_ops gs_heat_ops;  /* heat.c   */
-extern const gs_method_ops gs_dgg_ops;   /* dgg.c    */
+extern const gs__method_ops gs__exact_ops; /* exact.c  */
+extern const gs__method_ops gs__graph_ops; /* graph.c  */
+extern const gs__method_ops gs__fmm_ops;   /* fmm.c    */
+extern const gs__method_ops gs__heat_ops;  /* heat.c   */
+extern const gs__method_ops gs__dgg_ops;   /* dgg.c    */
 
-/* Exact solver state (gs_exact_ops): one bounded solve from one source
+/* Exact solver state (gs__exact_ops): one bounded solve from one source
  * (normalised) whose cost is proportional to the region it reaches, not to
  * the patch (for dgg.c's many local runs). dist: nv doubles, all +INFINITY
  * on entry; on return the vertices listed in *touched (n_touched of them,
@@ -76,12 +76,12 @@ int gs__solver_solve_each(gs_solver *solver, const gs_source *sources, uint32_t 
 int gs__solver_clone(const gs_solver *src, gs_solver **out, gs_error *err);
 
 /* Position of a source point: p = sum_i bary[i] * corner_i. */
-void gs_source_position(const gs_topo *t, const gs_source *s, double p[3]);
+void gs__source_position(const gs__topo *t, const gs_source *s, double p[3]);
 
 /* The vertices a front-propagating method starts from: the source vertex at
  * distance 0, or the three corners of a source point's face at their
  * straight-line distance to it. Returns the count (1 or 3). */
-uint32_t gs_source_seeds(const gs_topo *t, const gs_source *s, uint32_t v[3], double d[3]);
+uint32_t gs__source_seeds(const gs__topo *t, const gs_source *s, uint32_t v[3], double d[3]);
 
 /* ---- exact paths (exact.c records, path.c backtracks) -------------------- */
 
@@ -97,15 +97,15 @@ uint32_t gs_source_seeds(const gs_topo *t, const gs_source *s, uint32_t v[3], do
 enum { GS_EXTR_NONE = 0, GS_EXTR_EDGE = 1, GS_EXTR_WINDOW = 2, GS_EXTR_POINT = 3 };
 
 /* The best window found for one surface point (gs__exact_set_target). */
-typedef struct gs_exact_target {
+typedef struct gs__exact_target {
     uint32_t face;   /* GS_NONE: none set */
     double bary[3];
     double dist;     /* +INFINITY when no window entering the face covers it */
     uint32_t h, tag; /* as ref and tag of a WINDOW record */
     double sx, sy;
-} gs_exact_target;
+} gs__exact_target;
 
-typedef struct gs_exact_trace {
+typedef struct gs__exact_trace {
     uint8_t *kind;
     uint32_t *ref, *tag;
     double *sxy;
@@ -114,17 +114,17 @@ typedef struct gs_exact_trace {
     gs_source *src;  /* the last solve's (normalised) sources */
     uint32_t n_src;
     int valid;       /* a solve completed */
-    gs_exact_target target;
-} gs_exact_trace;
+    gs__exact_target target;
+} gs__exact_trace;
 
 /* Exact solver state: make the next solves also find the distance of a
  * surface point (its best window), or stop (target NULL or a vertex). */
 void gs__exact_set_target(void *state, const gs_source *target);
 /* The records of the last successful solve, NULL if there was none. */
-const gs_exact_trace *gs__exact_get_trace(const void *state);
+const gs__exact_trace *gs__exact_get_trace(const void *state);
 /* path.c: the path from the last solve's sources to target (normalised;
  * a surface point only if it was the solve's gs__exact_set_target). */
-int gs__exact_trace_path(const gs_topo *t, const gs_exact_trace *tr, const gs_source *target, gs_path **out,
+int gs__exact_trace_path(const gs__topo *t, const gs__exact_trace *tr, const gs_source *target, gs_path **out,
                          gs_error *err);
 
 #endif

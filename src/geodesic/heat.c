@@ -12,11 +12,11 @@
 
 /* Solve a system of factor_system: b on the free vertices of map, 0 on the
  * fixed ones; u (nv) receives the solution, 0 on the fixed vertices. */
-static int heat_flow(heat_state *s, gs_sparse_factor *F, const uint32_t *map, const double *rhs,
+static int heat_flow(heat_state *s, gs__sparse_factor *F, const uint32_t *map, const double *rhs,
                      double *u, gs_error *err)
 {
     for (uint32_t v = 0; v < s->nv; ++v) s->x[v] = map[v] != GS_NONE ? rhs[v] : 0.0;
-    int rc = gs_sparse_factor_solve(F, s->x, s->x, err);
+    int rc = gs__sparse_factor_solve(F, s->x, s->x, err);
     if (rc) return rc;
     for (uint32_t v = 0; v < s->nv; ++v) u[v] = map[v] != GS_NONE ? s->x[v] : 0.0;
     return GS_OK;
@@ -89,9 +89,9 @@ static void divergence(const heat_state *s, const double *A, const double *B, ui
 static int exact_start(heat_state *s, const gs_source *src, uint32_t n_src, const double *A,
                        const double *B, uint32_t k, uint32_t c, double *div, gs_error *err)
 {
-    const gs_topo *t = s->t;
+    const gs__topo *t = s->t;
     if (!s->exact) {
-        int rc = gs_exact_ops.create(t, NULL, &s->exact, err);
+        int rc = gs__exact_ops.create(t, NULL, &s->exact, err);
         if (rc) return rc;
         s->edist = gs__malloc(s->nv ? s->nv : 1, sizeof *s->edist);
         s->fmark = gs__calloc(s->nf ? s->nf : 1, sizeof *s->fmark);
@@ -99,8 +99,8 @@ static int exact_start(heat_state *s, const gs_source *src, uint32_t n_src, cons
             return gs__fail(err, GS_ENOMEM, "out of memory for the heat method's start ball");
     }
     double r = s->r_ball;
-    gs_solve_stats es = {0, 0};
-    int rc = gs_exact_ops.solve(s->exact, src, n_src, r, s->edist, &es, err);
+    gs__solve_stats es = {0, 0};
+    int rc = gs__exact_ops.solve(s->exact, src, n_src, r, s->edist, &es, err);
     if (rc) return rc;
     if (++s->stamp == 0) { /* wrapped: clear the marks */
         memset(s->fmark, 0, s->nf * sizeof *s->fmark);
@@ -165,7 +165,7 @@ static void transpose(const double *in, double *out, size_t nv, uint32_t k, int 
 static void shift_components(heat_state *s, const double *phi, const gs_source *src, uint32_t n_src,
                              const uint32_t *bv, const double *be, uint32_t nb, double *dist)
 {
-    const gs_topo *t = s->t;
+    const gs__topo *t = s->t;
     uint32_t nv = s->nv;
     double *sum = s->csum, *cnt = s->csum + s->n_comp;
     for (uint32_t c = 0; c < s->n_comp; ++c) s->cmin[c] = INFINITY, sum[c] = cnt[c] = 0;
@@ -202,10 +202,10 @@ static void shift_components(heat_state *s, const double *phi, const gs_source *
 }
 
 static int solve_one(heat_state *state, const gs_source *src, uint32_t n_src, double *dist,
-                     gs_solve_stats *stats, gs_error *err)
+                     gs__solve_stats *stats, gs_error *err)
 {
     heat_state *s = state;
-    const gs_topo *t = s->t;
+    const gs__topo *t = s->t;
     uint32_t nv = s->nv;
     /* delta: the sum of every source's unit impulse */
     memset(s->b, 0, nv * sizeof *s->b);
@@ -243,13 +243,13 @@ static int solve_one(heat_state *state, const gs_source *src, uint32_t n_src, do
 
 /* k systems of factor_system at once: out (nv x k, column-major) = the
  * solutions for the right-hand sides rhs (same layout; may alias out). */
-static int heat_flow_many(heat_state *s, gs_sparse_factor *F, const uint32_t *map, const double *rhs,
+static int heat_flow_many(heat_state *s, gs__sparse_factor *F, const uint32_t *map, const double *rhs,
                           double *out, uint32_t k, gs_error *err)
 {
     size_t nv = s->nv;
     for (uint32_t c = 0; c < k; ++c)
         for (size_t v = 0; v < nv; ++v) out[c * nv + v] = map[v] != GS_NONE ? rhs[c * nv + v] : 0.0;
-    int rc = gs_sparse_factor_solve_many(F, out, out, k, err);
+    int rc = gs__sparse_factor_solve_many(F, out, out, k, err);
     if (rc) return rc;
     for (uint32_t c = 0; c < k; ++c)
         for (size_t v = 0; v < nv; ++v)
@@ -261,10 +261,10 @@ static int heat_flow_many(heat_state *s, gs_sparse_factor *F, const uint32_t *ma
  * steps as heat_solve, each linear system solved for a batch of sources at
  * once. Equal to n single solves up to rounding. */
 static int solve_each(heat_state *state, const gs_source *src, uint32_t n_src, double *dist,
-                      gs_solve_stats *stats, gs_error *err)
+                      gs__solve_stats *stats, gs_error *err)
 {
     heat_state *s = state;
-    const gs_topo *t = s->t;
+    const gs__topo *t = s->t;
     size_t nv = s->nv;
     uint32_t want = n_src < HEAT_BATCH ? n_src : HEAT_BATCH;
     if (want > s->kcap) {
@@ -330,7 +330,7 @@ static int solve_each(heat_state *state, const gs_source *src, uint32_t n_src, d
 
 
 static int heat_solve(void *state, const gs_source *src, uint32_t n_src, double max_d,
-                      double *dist, gs_solve_stats *stats, gs_error *err)
+                      double *dist, gs__solve_stats *stats, gs_error *err)
 {
     (void)max_d;
     heat_state *s = state;
@@ -342,7 +342,7 @@ static int heat_solve(void *state, const gs_source *src, uint32_t n_src, double 
 }
 
 static int heat_solve_each(void *state, const gs_source *src, uint32_t n_src, double *dist,
-                           gs_solve_stats *stats, gs_error *err)
+                           gs__solve_stats *stats, gs_error *err)
 {
     heat_state *s = state;
     if (!s->refine) return solve_each(s, src, n_src, dist, stats, err);
@@ -364,5 +364,5 @@ static int heat_solve_each(void *state, const gs_source *src, uint32_t n_src, do
     return rc;
 }
 
-const gs_method_ops gs_heat_ops = {"heat", gs__heat_create, gs__heat_destroy, heat_solve,
+const gs__method_ops gs__heat_ops = {"heat", gs__heat_create, gs__heat_destroy, heat_solve,
                                  heat_solve_each, gs__heat_clone};

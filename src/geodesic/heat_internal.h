@@ -99,14 +99,14 @@ typedef struct heat_state {
      * factorisations it shares read-only; its own: the factor views, work
      * arrays, start-ball solver and batch buffers. NULL: the original */
     const struct heat_state *base;
-    const gs_topo *t;   /* the mesh solved on: the patch's, or refined_t    */
+    const gs__topo *t;   /* the mesh solved on: the patch's, or refined_t    */
     /* refined solve (heat_refine > 0): the patch's topology t0 (nv0
      * vertices), subdivided `refine` times into refined_t (own arrays); the
      * fields are solved on refined_t (its first nv0 vertices are t0's) into
      * rdist (rcap rows of nv), sources mapped into rsrc */
-    const gs_topo *t0;
+    const gs__topo *t0;
     uint32_t nv0, refine;
-    gs_topo refined_t;
+    gs__topo refined_t;
     double *rxyz, *rdist;
     uint32_t *rtri, rcap, rsrc_cap;
     gs_source *rsrc;
@@ -129,8 +129,8 @@ typedef struct heat_state {
     uint32_t *map_n;    /* heat, Neumann: every referenced vertex           */
     uint32_t *map_d;    /* heat, Dirichlet: referenced interior vertices    */
     uint32_t *map_p;    /* Poisson: referenced, minus one pin per component */
-    gs_sparse_factor *heat_n, *heat_d, *poisson;
-    gs_sparse_factor *heat_n2, *heat_d2; /* the same at time 4t            */
+    gs__sparse_factor *heat_n, *heat_d, *poisson;
+    gs__sparse_factor *heat_n2, *heat_d2; /* the same at time 4t            */
     /* intrinsic faces around each vertex (CSR), for the start ball */
     uint32_t *vf_start, *vf;
     /* work arrays (nv each) */
@@ -155,8 +155,8 @@ typedef struct heat_state {
 /* Radius of the start ball, in mean edge lengths. */
 #define HEAT_EXACT_START 4.0
 
-/* heat_setup.c: the method's create, destroy and clone (gs_method_ops). */
-int gs__heat_create(const gs_topo *t, const gs_solver_options *opt, void **state, gs_error *err);
+/* heat_setup.c: the method's create, destroy and clone (gs__method_ops). */
+int gs__heat_create(const gs__topo *t, const gs_solver_options *opt, void **state, gs_error *err);
 void gs__heat_destroy(void *state);
 int gs__heat_clone(const void *state, void **out, gs_error *err);
 /* Map n sources of the patch to the refined mesh (into s->rsrc, grown as

@@ -32,8 +32,8 @@ static double cot_opposite(double a, double b, double c)
 static double edge_cot_sum(const heat_state *s, uint32_t h)
 {
     uint32_t g = s->iopp[h];
-    double a = cot_opposite(s->ilen[h], s->ilen[gs_next(h)], s->ilen[gs_prev(h)]);
-    double b = cot_opposite(s->ilen[g], s->ilen[gs_next(g)], s->ilen[gs_prev(g)]);
+    double a = cot_opposite(s->ilen[h], s->ilen[gs__next(h)], s->ilen[gs__prev(h)]);
+    double b = cot_opposite(s->ilen[g], s->ilen[gs__next(g)], s->ilen[gs__prev(g)]);
     return a + b;
 }
 
@@ -51,7 +51,7 @@ static int flip_edge(heat_state *s, uint32_t h)
     uint32_t g = s->iopp[h];
     uint32_t f1 = h / 3, f2 = g / 3;
     if (f1 == f2) return 0;
-    uint32_t nh = gs_next(h), ph = gs_prev(h), ng = gs_next(g), pg = gs_prev(g);
+    uint32_t nh = gs__next(h), ph = gs__prev(h), ng = gs__next(g), pg = gs__prev(g);
     uint32_t a = s->itri[h], b = s->itri[nh], c = s->itri[ph], d = s->itri[pg];
     if (c == d) return 0;
     uint32_t o_nh = s->iopp[nh], o_ph = s->iopp[ph], o_ng = s->iopp[ng], o_pg = s->iopp[pg];
@@ -81,7 +81,7 @@ static int flip_edge(heat_state *s, uint32_t h)
 
 static int make_intrinsic_delaunay(heat_state *s, gs_error *err)
 {
-    const gs_topo *t = s->t;
+    const gs__topo *t = s->t;
     size_t nh = 3 * (size_t)s->nf;
     memcpy(s->itri, t->tri, nh * sizeof *s->itri);
     memcpy(s->iopp, t->opp, nh * sizeof *s->iopp);
@@ -119,7 +119,7 @@ static int make_intrinsic_delaunay(heat_state *s, gs_error *err)
         if (!flip_edge(s, h)) continue;
         s->n_flips++;
         uint32_t g = s->iopp[h];
-        uint32_t around[4] = {gs_next(h), gs_prev(h), gs_next(g), gs_prev(g)};
+        uint32_t around[4] = {gs__next(h), gs__prev(h), gs__next(g), gs__prev(g)};
         for (int k = 0; k < 4; ++k) {
             uint32_t e = around[k];
             if (s->iopp[e] == GS_NONE) continue;
@@ -166,8 +166,8 @@ static void build_geometry(heat_state *s)
  * identity (x_v = b_v = 0), its couplings kept as explicit zeros. So every
  * system of a patch has the same sparsity pattern, and the fill-reducing
  * analysis of the first one (like == NULL) is reused by the others. */
-static gs_sparse_factor *factor_system(const heat_state *s, const uint32_t *map, double a,
-                                       double c, const gs_sparse_factor *like, gs_error *err)
+static gs__sparse_factor *factor_system(const heat_state *s, const uint32_t *map, double a,
+                                       double c, const gs__sparse_factor *like, gs_error *err)
 {
     size_t cap = (size_t)s->nv + 3 * (size_t)s->nf * 3;
     uint32_t *ti = gs__malloc(cap, sizeof *ti), *tj = gs__malloc(cap, sizeof *tj);
@@ -185,7 +185,7 @@ static gs_sparse_factor *factor_system(const heat_state *s, const uint32_t *map,
     /* every half-edge h: weight cot(angle opposite h) / 2 */
     for (size_t h = 0; h < 3 * (size_t)s->nf; ++h) {
         double w = 0.5 * s->cot[3 * (h / 3) + (h % 3 + 2) % 3] * c;
-        uint32_t i = s->itri[h], j = s->itri[gs_next((uint32_t)h)];
+        uint32_t i = s->itri[h], j = s->itri[gs__next((uint32_t)h)];
         int fi = map[i] != GS_NONE, fj = map[j] != GS_NONE;
         if (i == j) continue;
         if (fi) ti[k] = tj[k] = i, tx[k++] = w;
@@ -194,7 +194,7 @@ static gs_sparse_factor *factor_system(const heat_state *s, const uint32_t *map,
         tj[k] = i > j ? j : i;
         tx[k++] = fi && fj ? -w : 0.0;
     }
-    gs_sparse_factor *F = gs_sparse_factor_create(s->nv, k, ti, tj, tx, like, err);
+    gs__sparse_factor *F = gs__sparse_factor_create(s->nv, k, ti, tj, tx, like, err);
     free(ti), free(tj), free(tx);
     return F;
 }
@@ -230,12 +230,12 @@ static void build_divergence_geometry(heat_state *s)
 /* What a clone owns (and the original too). */
 static void free_own(heat_state *s)
 {
-    gs_sparse_factor_free(s->heat_n);
-    gs_sparse_factor_free(s->heat_d);
-    gs_sparse_factor_free(s->poisson);
-    gs_sparse_factor_free(s->heat_n2);
-    gs_sparse_factor_free(s->heat_d2);
-    if (s->exact) gs_exact_ops.destroy(s->exact);
+    gs__sparse_factor_free(s->heat_n);
+    gs__sparse_factor_free(s->heat_d);
+    gs__sparse_factor_free(s->poisson);
+    gs__sparse_factor_free(s->heat_n2);
+    gs__sparse_factor_free(s->heat_d2);
+    if (s->exact) gs__exact_ops.destroy(s->exact);
     free(s->edist), free(s->fmark);
     free(s->ball_v), free(s->ball_d), free(s->csum);
     free(s->b), free(s->x), free(s->u), free(s->w), free(s->div), free(s->phi), free(s->cmin);
@@ -268,28 +268,28 @@ void gs__heat_destroy(void *state)
         free(s->vf_start), free(s->vf);
         free(s->itri), free(s->iopp), free(s->ilen), free(s->cot), free(s->area), free(s->dgeo);
         free(s->mass), free(s->comp), free(s->map_n), free(s->map_d), free(s->map_p);
-        if (s->refine) gs_topo_free(&s->refined_t);
+        if (s->refine) gs__topo_free(&s->refined_t);
         free(s->rxyz), free(s->rtri);
     }
     free(s);
 }
 
 /* Subdivide t0 `levels` times into s->refined_t (arrays rxyz, rtri). */
-static int refine_patch(heat_state *s, const gs_topo *t0, uint32_t levels, gs_error *err)
+static int refine_patch(heat_state *s, const gs__topo *t0, uint32_t levels, gs_error *err)
 {
-    const gs_topo *cur = t0;
+    const gs__topo *cur = t0;
     for (uint32_t l = 0; l < levels; ++l) {
         double *xyz;
         uint32_t *tri, nv, nf;
         int rc = gs__subdivide_arrays(cur, &nv, &xyz, &nf, &tri, err);
         if (l > 0) {
-            gs_topo_free(&s->refined_t);
+            gs__topo_free(&s->refined_t);
             free(s->rxyz), free(s->rtri);
             s->rxyz = NULL, s->rtri = NULL;
         }
         if (rc) return rc;
         s->rxyz = xyz, s->rtri = tri;
-        rc = gs_topo_build(&s->refined_t, nv, xyz, nf, tri, GS_TOPO_ALLOW_NONMANIFOLD_VERTICES, NULL, err);
+        rc = gs__topo_build(&s->refined_t, nv, xyz, nf, tri, GS_TOPO_ALLOW_NONMANIFOLD_VERTICES, NULL, err);
         if (rc) {
             free(s->rxyz), free(s->rtri);
             s->rxyz = NULL, s->rtri = NULL;
@@ -328,7 +328,7 @@ static gs_source refine_source(const heat_state *s, const gs_source *in)
     return gs_source_point(f, b0, b1, b2);
 }
 
-int gs__heat_create(const gs_topo *t, const gs_solver_options *opt, void **state, gs_error *err)
+int gs__heat_create(const gs__topo *t, const gs_solver_options *opt, void **state, gs_error *err)
 {
     heat_state *s = calloc(1, sizeof *s);
     if (!s) return gs__fail(err, GS_ENOMEM, "out of memory creating a heat solver");
@@ -415,7 +415,7 @@ int gs__heat_create(const gs_topo *t, const gs_solver_options *opt, void **state
     for (size_t h = 0; h < nh; ++h)
         if (s->iopp[h] == GS_NONE) {
             boundary[s->itri[h]] = 1;
-            boundary[s->itri[gs_next((uint32_t)h)]] = 1;
+            boundary[s->itri[gs__next((uint32_t)h)]] = 1;
         }
     uint8_t *used = boundary + s->nv;
     memset(used, 0, s->nv);
@@ -494,10 +494,10 @@ int gs__heat_clone(const void *state, void **out, gs_error *err)
         gs__heat_destroy(s);
         return gs__fail(err, GS_ENOMEM, "out of memory cloning a heat solver");
     }
-    gs_sparse_factor *const *from[5] = {&src->heat_n, &src->heat_d, &src->poisson, &src->heat_n2, &src->heat_d2};
-    gs_sparse_factor **to[5] = {&s->heat_n, &s->heat_d, &s->poisson, &s->heat_n2, &s->heat_d2};
+    gs__sparse_factor *const *from[5] = {&src->heat_n, &src->heat_d, &src->poisson, &src->heat_n2, &src->heat_d2};
+    gs__sparse_factor **to[5] = {&s->heat_n, &s->heat_d, &s->poisson, &s->heat_n2, &s->heat_d2};
     for (int i = 0; i < 5; ++i)
-        if (*from[i] && !(*to[i] = gs_sparse_factor_share(*from[i], err))) {
+        if (*from[i] && !(*to[i] = gs__sparse_factor_share(*from[i], err))) {
             gs__heat_destroy(s);
             return err && err->status ? err->status : GS_ENOMEM;
         }

@@ -1,6 +1,6 @@
 /* path.c - exact geodesic paths: backtracking through what the exact solver
  * (exact.c) recorded for every vertex, the last straight piece of its
- * shortest path (gs_exact_trace).
+ * shortest path (gs__exact_trace).
  *
  * From a vertex v the record says where that piece starts: a neighbour along
  * an edge, the point source of v's own face, or the unfolded position S of a
@@ -62,8 +62,8 @@ typedef struct pt {
 } pt;
 
 typedef struct tracer {
-    const gs_topo *t;
-    const gs_exact_trace *tr;
+    const gs__topo *t;
+    const gs__exact_trace *tr;
     pt *p;
     size_t n, cap;
     uint64_t steps, max_steps;
@@ -123,7 +123,7 @@ typedef struct line {
 
 static double side(const line *l, v2 p) { return l->d.x * (p.y - l->q0.y) - l->d.y * (p.x - l->q0.x); }
 
-static double face_size(const gs_topo *t, uint32_t g)
+static double face_size(const gs__topo *t, uint32_t g)
 {
     double a = t->len[3 * g], b = t->len[3 * g + 1], e = t->len[3 * g + 2];
     return fmax(a, fmax(b, e));
@@ -147,7 +147,7 @@ static int inside(const v2 *P, v2 S, double tol)
  * GS_NONE when it reached the point source (appended too). */
 static int walk(tracer *c, v2 q0, uint32_t h, v2 S, uint32_t tag, uint32_t *next)
 {
-    const gs_topo *t = c->t;
+    const gs__topo *t = c->t;
     const gs_source *ps = tag != GS_NONE ? &c->tr->src[tag] : NULL;
     line l;
     l.q0 = q0;
@@ -166,7 +166,7 @@ static int walk(tracer *c, v2 q0, uint32_t h, v2 S, uint32_t tag, uint32_t *next
     double oA = side(&l, PA), oB = side(&l, PB);
     /* the first edge: the line may run through one of its ends */
     if (fabs(oA) <= tol || fabs(oB) <= tol || (oA > 0) == (oB > 0)) {
-        uint32_t v = fabs(oA) <= fabs(oB) ? t->tri[e] : t->tri[gs_next(e)];
+        uint32_t v = fabs(oA) <= fabs(oB) ? t->tri[e] : t->tri[gs__next(e)];
         *next = v;
         return add_vertex(c, v, g);
     }
@@ -175,12 +175,12 @@ static int walk(tracer *c, v2 q0, uint32_t h, v2 S, uint32_t tag, uint32_t *next
             return gs__fail(c->err, GS_EINTERNAL, "path: the walk did not end (lost at face %u)", g);
         uint32_t tw = t->opp[e];
         if (tw == GS_NONE) { /* rounding ran it into the boundary next to a vertex */
-            uint32_t v = fabs(oA) <= fabs(oB) ? t->tri[e] : t->tri[gs_next(e)];
+            uint32_t v = fabs(oA) <= fabs(oB) ? t->tri[e] : t->tri[gs__next(e)];
             *next = v;
             return add_vertex(c, v, g);
         }
         double tt = oA / (oA - oB);
-        pt x = {PT_EDGE, t->tri[e], t->tri[gs_next(e)], tt, {0, 0, 0}, GS_NONE};
+        pt x = {PT_EDGE, t->tri[e], t->tri[gs__next(e)], tt, {0, 0, 0}, GS_NONE};
         int rc = add(c, x, g);
         if (rc) return rc;
         v2 X = {PA.x + tt * (PB.x - PA.x), PA.y + tt * (PB.y - PA.y)};
@@ -193,7 +193,7 @@ static int walk(tracer *c, v2 q0, uint32_t h, v2 S, uint32_t tag, uint32_t *next
         double ux = PA.x - PB.x, uy = PA.y - PB.y, un = hypot(ux, uy);
         ux /= un;
         uy /= un;
-        double lc = t->len[gs_prev(tw)], ca = cos(t->angle[tw]), sa = sin(t->angle[tw]);
+        double lc = t->len[gs__prev(tw)], ca = cos(t->angle[tw]), sa = sin(t->angle[tw]);
         v2 PC = {PB.x + lc * (ca * ux - sa * uy), PB.y + lc * (ca * uy + sa * ux)};
         if (ps && g == ps->face) {
             v2 P[3];
@@ -207,19 +207,19 @@ static int walk(tracer *c, v2 q0, uint32_t h, v2 S, uint32_t tag, uint32_t *next
         }
         double oC = side(&l, PC);
         if (fabs(oC) <= tol) {
-            uint32_t v = t->tri[gs_prev(tw)];
+            uint32_t v = t->tri[gs__prev(tw)];
             *next = v;
             return add_vertex(c, v, g);
         }
         /* new entry edge: A' = PB (oB), B' = PA (oA) */
         if ((oC > 0) == (oB > 0)) { /* C with A': leave by B' -> C */
-            e = gs_next(tw);
+            e = gs__next(tw);
             v2 nA = PA;
             double noA = oA;
             PA = nA, oA = noA;
             PB = PC, oB = oC;
         } else { /* leave by C -> A' */
-            e = gs_prev(tw);
+            e = gs__prev(tw);
             v2 nB = PB;
             double noB = oB;
             PA = PC, oA = oC;
@@ -231,8 +231,8 @@ static int walk(tracer *c, v2 q0, uint32_t h, v2 S, uint32_t tag, uint32_t *next
 /* Backtrack from vertex v (already appended) to a source. */
 static int from_vertex(tracer *c, uint32_t v)
 {
-    const gs_topo *t = c->t;
-    const gs_exact_trace *tr = c->tr;
+    const gs__topo *t = c->t;
+    const gs__exact_trace *tr = c->tr;
     for (uint64_t guard = 0;; ++guard) {
         if (guard > (uint64_t)t->nv + 8)
             return gs__fail(c->err, GS_EINTERNAL, "path: the backtrack did not end (at vertex %u)", v);
@@ -250,7 +250,7 @@ static int from_vertex(tracer *c, uint32_t v)
         }
         case GS_EXTR_POINT: return add_source_point(c, &tr->src[tr->ref[v]]);
         case GS_EXTR_WINDOW: {
-            uint32_t h = tr->ref[v], hp = gs_prev(h), nx;
+            uint32_t h = tr->ref[v], hp = gs__prev(h), nx;
             double lac = t->len[hp];
             v2 q0 = {lac * cos(t->angle[h]), lac * sin(t->angle[h])};
             v2 S = {tr->sxy[2 * (size_t)v], tr->sxy[2 * (size_t)v + 1]};
@@ -267,7 +267,7 @@ static int from_vertex(tracer *c, uint32_t v)
 
 /* ---- the result ----------------------------------------------------------- */
 
-static void position(const gs_topo *t, const pt *q, double out[3])
+static void position(const gs__topo *t, const pt *q, double out[3])
 {
     const double *x = t->xyz;
     if (q->type == PT_VERTEX) {
@@ -283,7 +283,7 @@ static void position(const gs_topo *t, const pt *q, double out[3])
     }
 }
 
-static int bary_in(const gs_topo *t, const pt *q, uint32_t g, double b[3])
+static int bary_in(const gs__topo *t, const pt *q, uint32_t g, double b[3])
 {
     const uint32_t *c = t->tri + 3 * (size_t)g;
     b[0] = b[1] = b[2] = 0;
@@ -312,7 +312,7 @@ static int bary_in(const gs_topo *t, const pt *q, uint32_t g, double b[3])
  * arrives). */
 static int finish(tracer *c, gs_path **out)
 {
-    const gs_topo *t = c->t;
+    const gs__topo *t = c->t;
     gs_path *p = gs__calloc(1, sizeof *p);
     size_t n = c->n;
     if (p && n) {
@@ -352,7 +352,7 @@ static int finish(tracer *c, gs_path **out)
 
 /* ---- entry points (solver.c hands over the exact state) ------------------- */
 
-int gs__exact_trace_path(const gs_topo *t, const gs_exact_trace *tr, const gs_source *target, gs_path **out,
+int gs__exact_trace_path(const gs__topo *t, const gs__exact_trace *tr, const gs_source *target, gs_path **out,
                          gs_error *err)
 {
     tracer c = {t, tr, NULL, 0, 0, 0, 8 * (uint64_t)t->nf + 1024, err};
@@ -400,7 +400,7 @@ int gs__exact_trace_path(const gs_topo *t, const gs_exact_trace *tr, const gs_so
                 if (!rc) rc = from_vertex(&c, v);
             } else if (how == 3) {
                 uint32_t h = tr->target.h, i = h % 3, nx;
-                double len = t->len[h], lac = t->len[gs_prev(h)];
+                double len = t->len[h], lac = t->len[gs__prev(h)];
                 double w1 = target->bary[(i + 1) % 3], w2 = target->bary[(i + 2) % 3];
                 v2 q0 = {w1 * len + w2 * lac * cos(t->angle[h]), w2 * lac * sin(t->angle[h])};
                 v2 S = {tr->target.sx, tr->target.sy};

@@ -8,30 +8,30 @@
 
 struct gs_solver {
     const gs_patch *patch;
-    const gs_method_ops *ops;
+    const gs__method_ops *ops;
     void *state;
     gs_source *src; /* normalised copy of the sources */
     uint32_t src_cap;
-    gs_solve_stats stats;
+    gs__solve_stats stats;
     double seconds;
     gs_solver_options opt; /* as created (gs__solver_clone)               */
 };
 
-static const gs_method_ops *ops_of(gs_method m)
+static const gs__method_ops *ops_of(gs_method m)
 {
     switch (m) {
-    case GS_METHOD_EXACT: return &gs_exact_ops;
-    case GS_METHOD_GRAPH: return &gs_graph_ops;
-    case GS_METHOD_FMM: return &gs_fmm_ops;
-    case GS_METHOD_HEAT: return &gs_heat_ops;
-    case GS_METHOD_DGG: return &gs_dgg_ops;
+    case GS_METHOD_EXACT: return &gs__exact_ops;
+    case GS_METHOD_GRAPH: return &gs__graph_ops;
+    case GS_METHOD_FMM: return &gs__fmm_ops;
+    case GS_METHOD_HEAT: return &gs__heat_ops;
+    case GS_METHOD_DGG: return &gs__dgg_ops;
     default: return NULL;
     }
 }
 
 const char *gs_method_name(gs_method m)
 {
-    const gs_method_ops *o = ops_of(m);
+    const gs__method_ops *o = ops_of(m);
     return o ? o->name : NULL;
 }
 
@@ -60,7 +60,7 @@ gs_source gs_source_point(uint32_t f, double b0, double b1, double b2)
     return s;
 }
 
-void gs_source_position(const gs_topo *t, const gs_source *s, double p[3])
+void gs__source_position(const gs__topo *t, const gs_source *s, double p[3])
 {
     if (s->face == GS_NONE) {
         memcpy(p, t->xyz + 3 * (size_t)s->vertex, 3 * sizeof(double));
@@ -72,14 +72,14 @@ void gs_source_position(const gs_topo *t, const gs_source *s, double p[3])
                s->bary[2] * t->xyz[3 * (size_t)c[2] + k];
 }
 
-uint32_t gs_source_seeds(const gs_topo *t, const gs_source *s, uint32_t v[3], double d[3])
+uint32_t gs__source_seeds(const gs__topo *t, const gs_source *s, uint32_t v[3], double d[3])
 {
     if (s->face == GS_NONE) {
         v[0] = s->vertex, d[0] = 0.0;
         return 1;
     }
     double p[3];
-    gs_source_position(t, s, p);
+    gs__source_position(t, s, p);
     for (int k = 0; k < 3; ++k) {
         v[k] = t->tri[3 * (size_t)s->face + k];
         const double *q = t->xyz + 3 * (size_t)v[k];
@@ -116,7 +116,7 @@ int gs_solver_create_ex(const gs_patch *patch, gs_method method, const gs_solver
     if (!out) return gs__fail(err, GS_EARG, "gs_solver_create: out is NULL");
     *out = NULL;
     if (!patch) return gs__fail(err, GS_EARG, "gs_solver_create: patch is NULL");
-    const gs_method_ops *ops = ops_of(method);
+    const gs__method_ops *ops = ops_of(method);
     if (!ops) return gs__fail(err, GS_EARG, "gs_solver_create: unknown method %d", (int)method);
     gs_solver_options o;
     gs_solver_options_default(&o);
@@ -175,7 +175,7 @@ void gs_solver_free(gs_solver *s)
     free(s);
 }
 
-static int normalise_source(const gs_topo *t, const gs_source *in, uint32_t i, gs_source *o,
+static int normalise_source(const gs__topo *t, const gs_source *in, uint32_t i, gs_source *o,
                             gs_error *err)
 {
     if (in->face == GS_NONE) {
@@ -224,7 +224,7 @@ int gs_solver_solve(gs_solver *s, const gs_source *sources, uint32_t n, double m
         return gs__fail(err, GS_EARG, "gs_solver_solve: max_distance %g is invalid",
                         max_distance);
     if (max_distance == 0) max_distance = INFINITY;
-    const gs_topo *t = s->patch->topo;
+    const gs__topo *t = s->patch->topo;
     if (n > s->src_cap) {
         gs_source *ns = gs__realloc(s->src, n, sizeof *ns);
         if (!ns) return gs__fail(err, GS_ENOMEM, "out of memory");
@@ -259,7 +259,7 @@ int gs__solver_solve_each(gs_solver *s, const gs_source *sources, uint32_t n, do
         s->src = ns;
         s->src_cap = n;
     }
-    const gs_topo *t = s->patch->topo;
+    const gs__topo *t = s->patch->topo;
     for (uint32_t i = 0; i < n; ++i) {
         int rc = normalise_source(t, &sources[i], i, &s->src[i], err);
         if (rc) return rc;
@@ -297,11 +297,11 @@ int gs_solver_trace(gs_solver *s, const gs_source *target, gs_path **out, gs_err
     if (!out) return gs__fail(err, GS_EARG, "gs_solver_trace: out is NULL");
     *out = NULL;
     if (!s || !target) return gs__fail(err, GS_EARG, "gs_solver_trace: NULL argument");
-    if (s->ops != &gs_exact_ops)
+    if (s->ops != &gs__exact_ops)
         return gs__fail(err, GS_EARG, "gs_solver_trace: paths need the exact method (this solver is %s)",
                         s->ops->name);
-    const gs_topo *t = s->patch->topo;
-    const gs_exact_trace *tr = gs__exact_get_trace(s->state);
+    const gs__topo *t = s->patch->topo;
+    const gs__exact_trace *tr = gs__exact_get_trace(s->state);
     if (!tr) return gs__fail(err, GS_EARG, "gs_solver_trace: no exact field solved yet");
     gs_source q;
     gs_error e2 = {0};
@@ -322,10 +322,10 @@ int gs_solver_path(gs_solver *s, const gs_source *source, const gs_source *targe
     if (!out) return gs__fail(err, GS_EARG, "gs_solver_path: out is NULL");
     *out = NULL;
     if (!s || !source || !target) return gs__fail(err, GS_EARG, "gs_solver_path: NULL argument");
-    if (s->ops != &gs_exact_ops)
+    if (s->ops != &gs__exact_ops)
         return gs__fail(err, GS_EARG, "gs_solver_path: paths need the exact method (this solver is %s)",
                         s->ops->name);
-    const gs_topo *t = s->patch->topo;
+    const gs__topo *t = s->patch->topo;
     gs_source q;
     gs_error e2 = {0};
     int rc = normalise_source(t, target, 0, &q, &e2);
@@ -342,7 +342,7 @@ int gs_solver_path(gs_solver *s, const gs_source *source, const gs_source *targe
 
 int gs__solver_dgg_info(const gs_solver *s, double *seconds, uint64_t *edges, uint64_t *bytes, gs_error *err)
 {
-    if (!s || s->ops != &gs_dgg_ops) return gs__fail(err, GS_EARG, "gs__solver_dgg_info: not a dgg solver");
+    if (!s || s->ops != &gs__dgg_ops) return gs__fail(err, GS_EARG, "gs__solver_dgg_info: not a dgg solver");
     gs__dgg_info(s->state, seconds, edges, bytes);
     return GS_OK;
 }

@@ -7,7 +7,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-int gs_atomic_open(gs_atomic_file *af, const char *path, gs_error *err)
+int gs__atomic_open(gs__atomic_file *af, const char *path, gs_error *err)
 {
     memset(af, 0, sizeof *af);
     /* the rename would replace whatever the path names: a device, a pipe or
@@ -20,7 +20,7 @@ int gs_atomic_open(gs_atomic_file *af, const char *path, gs_error *err)
     af->final_path = gs__malloc(n + 1, 1);
     af->tmp_path = gs__malloc(n + 12, 1);
     if (!af->final_path || !af->tmp_path) {
-        gs_atomic_abort(af);
+        gs__atomic_abort(af);
         return gs__fail(err, GS_ENOMEM, "%s: out of memory", path);
     }
     memcpy(af->final_path, path, n + 1);
@@ -31,7 +31,7 @@ int gs_atomic_open(gs_atomic_file *af, const char *path, gs_error *err)
         int e = errno;
         free(af->tmp_path);
         af->tmp_path = NULL;
-        gs_atomic_abort(af);
+        gs__atomic_abort(af);
         return gs__fail(err, GS_EIO, "%s: cannot create a temporary file: %s", path, strerror(e));
     }
     /* mkstemp creates the file 0600: give it the mode of the file it
@@ -41,13 +41,13 @@ int gs_atomic_open(gs_atomic_file *af, const char *path, gs_error *err)
     af->fp = fdopen(fd, "wb");
     if (!af->fp) {
         close(fd);
-        gs_atomic_abort(af);
+        gs__atomic_abort(af);
         return gs__fail(err, GS_EIO, "%s: cannot open for writing", path);
     }
     return GS_OK;
 }
 
-void gs_atomic_abort(gs_atomic_file *af)
+void gs__atomic_abort(gs__atomic_file *af)
 {
     if (af->fp) fclose(af->fp);
     if (af->tmp_path) remove(af->tmp_path);
@@ -56,7 +56,7 @@ void gs_atomic_abort(gs_atomic_file *af)
     memset(af, 0, sizeof *af);
 }
 
-int gs_atomic_commit(gs_atomic_file *af, gs_error *err)
+int gs__atomic_commit(gs__atomic_file *af, gs_error *err)
 {
     int bad = fflush(af->fp) != 0 || ferror(af->fp);
     bad |= fclose(af->fp) != 0;
@@ -64,7 +64,7 @@ int gs_atomic_commit(gs_atomic_file *af, gs_error *err)
     if (bad || rename(af->tmp_path, af->final_path) != 0) {
         int e = errno;
         int rc = gs__fail(err, GS_EIO, "%s: cannot write: %s", af->final_path, strerror(e));
-        gs_atomic_abort(af);
+        gs__atomic_abort(af);
         return rc;
     }
     free(af->tmp_path);

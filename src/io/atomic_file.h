@@ -7,18 +7,18 @@
 #include "../core/internal.h"
 #include <stdio.h>
 
-typedef struct gs_atomic_file {
+typedef struct gs__atomic_file {
     FILE *fp;
     char *final_path;
     char *tmp_path;
-} gs_atomic_file;
+} gs__atomic_file;
 
 /* Create "<path>.tmp.XXXXXX" and open it for writing. GS_EIO when path
  * exists and is not a regular file (device, pipe, folder: never replaced). */
-int gs_atomic_open(gs_atomic_file *af, const char *path, gs_error *err);
+int gs__atomic_open(gs__atomic_file *af, const char *path, gs_error *err);
 /* Flush, close and rename to the final path (on failure: remove the temp). */
-int gs_atomic_commit(gs_atomic_file *af, gs_error *err);
+int gs__atomic_commit(gs__atomic_file *af, gs_error *err);
 /* Close and remove the temporary file. */
-void gs_atomic_abort(gs_atomic_file *af);
+void gs__atomic_abort(gs__atomic_file *af);
 
 #endif

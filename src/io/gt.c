@@ -131,12 +131,12 @@ int gs_gt_write(const char *path, uint32_t n, uint32_t k, const uint32_t *source
         if (sources[j] >= n)
             return gs__fail(err, GS_EARG, "gs_gt_write: source %u is vertex %u, out of range (%u)",
                             j, sources[j], n);
-    gs_atomic_file af;
-    int rc = gs_atomic_open(&af, path, err);
+    gs__atomic_file af;
+    int rc = gs__atomic_open(&af, path, err);
     if (rc) return rc;
     unsigned char head[16], *rec = gs__malloc(4 + 8 * (size_t)n, 1);
     if (!rec) {
-        gs_atomic_abort(&af);
+        gs__atomic_abort(&af);
         return gs__fail(err, GS_ENOMEM, "%s: out of memory", path);
     }
     memcpy(head, gt_magic, 8);
@@ -150,8 +150,8 @@ int gs_gt_write(const char *path, uint32_t n, uint32_t k, const uint32_t *source
     }
     free(rec);
     if (!ok) {
-        gs_atomic_abort(&af);
+        gs__atomic_abort(&af);
         return gs__fail(err, GS_EIO, "%s: write error: %s", path, strerror(errno));
     }
-    return gs_atomic_commit(&af, err);
+    return gs__atomic_commit(&af, err);
 }

@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-struct gs_sparse_factor {
+struct gs__sparse_factor {
     uint32_t n;
     int started;         /* cholmod_l_start was called on c              */
     cholmod_common c;    /* one common per factor or view: its workspace */
@@ -21,7 +21,7 @@ struct gs_sparse_factor {
     cholmod_dense *X, *Y, *E; /* solve2 workspace, reused across solves */
 };
 
-void gs_sparse_factor_free(gs_sparse_factor *f)
+void gs__sparse_factor_free(gs__sparse_factor *f)
 {
     if (!f) return;
     if (f->started) {
@@ -36,20 +36,20 @@ void gs_sparse_factor_free(gs_sparse_factor *f)
     free(f);
 }
 
-uint32_t gs_sparse_factor_size(const gs_sparse_factor *f) { return f ? f->n : 0; }
+uint32_t gs__sparse_factor_size(const gs__sparse_factor *f) { return f ? f->n : 0; }
 
-static gs_sparse_factor *fail(gs_sparse_factor *f, gs_error *err, int status, const char *what)
+static gs__sparse_factor *fail(gs__sparse_factor *f, gs_error *err, int status, const char *what)
 {
     gs__fail(err, status, "sparse factorisation: %s", what);
-    gs_sparse_factor_free(f);
+    gs__sparse_factor_free(f);
     return NULL;
 }
 
-gs_sparse_factor *gs_sparse_factor_create(uint32_t n, size_t nnz, const uint32_t *ti,
+gs__sparse_factor *gs__sparse_factor_create(uint32_t n, size_t nnz, const uint32_t *ti,
                                           const uint32_t *tj, const double *tx,
-                                          const gs_sparse_factor *like, gs_error *err)
+                                          const gs__sparse_factor *like, gs_error *err)
 {
-    gs_sparse_factor *f = calloc(1, sizeof *f);
+    gs__sparse_factor *f = calloc(1, sizeof *f);
     if (!f) return fail(NULL, err, GS_ENOMEM, "out of memory");
     f->n = n;
     if (like && like->n != n) return fail(f, err, GS_EARG, "pattern of another size");
@@ -90,7 +90,7 @@ gs_sparse_factor *gs_sparse_factor_create(uint32_t n, size_t nnz, const uint32_t
          * factored their patch moved 26-63 functions per build. Analyses
          * take turns with the partitioner's METIS calls (src/partition/
          * split.c, the same critical section). */
-#pragma omp critical(gs_metis)
+#pragma omp critical(gs__metis)
         f->L = cholmod_l_analyze(A, &f->c);
     }
     if (!f->L) {
@@ -110,9 +110,9 @@ gs_sparse_factor *gs_sparse_factor_create(uint32_t n, size_t nnz, const uint32_t
     return f;
 }
 
-gs_sparse_factor *gs_sparse_factor_share(const gs_sparse_factor *f, gs_error *err)
+gs__sparse_factor *gs__sparse_factor_share(const gs__sparse_factor *f, gs_error *err)
 {
-    gs_sparse_factor *v = calloc(1, sizeof *v);
+    gs__sparse_factor *v = calloc(1, sizeof *v);
     if (!v) return fail(NULL, err, GS_ENOMEM, "out of memory");
     v->n = f->n;
     v->view = 1;
@@ -126,7 +126,7 @@ gs_sparse_factor *gs_sparse_factor_share(const gs_sparse_factor *f, gs_error *er
     return v;
 }
 
-int gs_sparse_factor_solve(gs_sparse_factor *f, const double *b, double *x, gs_error *err)
+int gs__sparse_factor_solve(gs__sparse_factor *f, const double *b, double *x, gs_error *err)
 {
     if (f->n == 0) return GS_OK;
     memcpy(f->B->x, b, sizeof(double) * f->n);
@@ -138,10 +138,10 @@ int gs_sparse_factor_solve(gs_sparse_factor *f, const double *b, double *x, gs_e
     return GS_OK;
 }
 
-int gs_sparse_factor_solve_many(gs_sparse_factor *f, const double *b, double *x, uint32_t k, gs_error *err)
+int gs__sparse_factor_solve_many(gs__sparse_factor *f, const double *b, double *x, uint32_t k, gs_error *err)
 {
     if (f->n == 0 || k == 0) return GS_OK;
-    if (k == 1) return gs_sparse_factor_solve(f, b, x, err);
+    if (k == 1) return gs__sparse_factor_solve(f, b, x, err);
     if (!f->Bk || f->Bk->ncol != k) {
         cholmod_l_free_dense(&f->Bk, &f->c);
         f->Bk = cholmod_l_allocate_dense(f->n, k, f->n, CHOLMOD_REAL, &f->c);

@@ -10,7 +10,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-typedef struct gs_sparse_factor gs_sparse_factor;
+typedef struct gs__sparse_factor gs__sparse_factor;
 
 /* Factor the n x n symmetric matrix given by nnz triplets (ti[k], tj[k],
  * tx[k]) of its lower triangle (ti[k] >= tj[k] < n); duplicates are summed,
@@ -20,29 +20,29 @@ typedef struct gs_sparse_factor gs_sparse_factor;
  * analysis are reused (the expensive part for large meshes). Returns NULL
  * on failure with err set: GS_ENOMEM, GS_EARG (bad triplet or like of
  * another size), GS_EINTERNAL (not positive definite). */
-gs_sparse_factor *gs_sparse_factor_create(uint32_t n, size_t nnz, const uint32_t *ti,
+gs__sparse_factor *gs__sparse_factor_create(uint32_t n, size_t nnz, const uint32_t *ti,
                                           const uint32_t *tj, const double *tx,
-                                          const gs_sparse_factor *like, gs_error *err);
+                                          const gs__sparse_factor *like, gs_error *err);
 
 /* A view of f: its factor, shared and read-only, with a workspace of its
  * own, so that several threads can solve with one factorisation at once
  * (one thread per view, or per factor). f must outlive its views; freeing a
  * view leaves f's factor alone. NULL on failure with err set (GS_ENOMEM). */
-gs_sparse_factor *gs_sparse_factor_share(const gs_sparse_factor *f, gs_error *err);
+gs__sparse_factor *gs__sparse_factor_share(const gs__sparse_factor *f, gs_error *err);
 
 /* Solve A x = b (b and x: n doubles; they may alias). Allocation-free after
  * the first call. */
-int gs_sparse_factor_solve(gs_sparse_factor *f, const double *b, double *x, gs_error *err);
+int gs__sparse_factor_solve(gs__sparse_factor *f, const double *b, double *x, gs_error *err);
 
 /* Solve A X = B for k right-hand sides at once (b and x: n x k doubles,
  * column-major, column j at j*n; they may alias). Much faster per column
  * than k single solves (blocked triangular solves). The workspace is kept
  * for the next call with the same k. */
-int gs_sparse_factor_solve_many(gs_sparse_factor *f, const double *b, double *x, uint32_t k, gs_error *err);
+int gs__sparse_factor_solve_many(gs__sparse_factor *f, const double *b, double *x, uint32_t k, gs_error *err);
 
-uint32_t gs_sparse_factor_size(const gs_sparse_factor *f);
+uint32_t gs__sparse_factor_size(const gs__sparse_factor *f);
 
 /* Free a factor; NULL is allowed. */
-void gs_sparse_factor_free(gs_sparse_factor *f);
+void gs__sparse_factor_free(gs__sparse_factor *f);
 
 #endif

@@ -722,5 +722,5 @@ int gs_mesh_generate(const char *spec, gs_mesh **out, gs_error *err)
         free(g.tri);
         return rc;
     }
-    return gs_mesh_adopt(g.xyz, g.nv, g.tri, g.nf, NULL, out, err);
+    return gs__mesh_adopt(g.xyz, g.nv, g.tri, g.nf, NULL, out, err);
 }

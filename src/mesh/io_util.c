@@ -76,14 +76,14 @@ int gs__read_file(const char *path, char **data, size_t *size, gs_error *err)
 
 /* ---- lines and tokens -------------------------------------------------- */
 
-void gs__lines_init(gs_lines *c, char *data, size_t size)
+void gs__lines_init(gs__lines *c, char *data, size_t size)
 {
     c->p = data;
     c->end = data + size;
     c->line = 0;
 }
 
-int gs__lines_next(gs_lines *c, char **line)
+int gs__lines_next(gs__lines *c, char **line)
 {
     if (c->p >= c->end) return 0;
     char *s = c->p, *q = s;
@@ -160,14 +160,14 @@ int gs__parse_i64(const char *tok, char stop, int64_t *out)
 
 /* ---- the triangle soup ------------------------------------------------- */
 
-void gs__soup_init(gs_soup *s, const char *file, const char *unit)
+void gs__soup_init(gs__soup *s, const char *file, const char *unit)
 {
     memset(s, 0, sizeof *s);
     s->file = file;
     s->unit = unit;
 }
 
-void gs__soup_free(gs_soup *s)
+void gs__soup_free(gs__soup *s)
 {
     free(s->xyz);
     free(s->tri);
@@ -183,7 +183,7 @@ void gs__soup_free(gs_soup *s)
 #define GS_MAX_TRI ((UINT32_MAX - 1) / 3)
 #define GS_MAX_VERT (UINT32_MAX - 1)
 
-static int grow_vertices(gs_soup *s, uint64_t need, gs_error *err)
+static int grow_vertices(gs__soup *s, uint64_t need, gs_error *err)
 {
     if (need > GS_MAX_VERT)
         return gs__fail(err, GS_ELIMIT, "%s: more than %u vertices is more than geosep supports",
@@ -200,7 +200,7 @@ static int grow_vertices(gs_soup *s, uint64_t need, gs_error *err)
     return GS_OK;
 }
 
-static int grow_faces(gs_soup *s, uint64_t need, gs_error *err)
+static int grow_faces(gs__soup *s, uint64_t need, gs_error *err)
 {
     if (need > GS_MAX_TRI)
         return gs__fail(err, GS_ELIMIT, "%s: more than %u triangles is more than geosep supports",
@@ -219,13 +219,13 @@ static int grow_faces(gs_soup *s, uint64_t need, gs_error *err)
     return GS_OK;
 }
 
-int gs__soup_reserve(gs_soup *s, uint64_t nv, uint64_t nf, gs_error *err)
+int gs__soup_reserve(gs__soup *s, uint64_t nv, uint64_t nf, gs_error *err)
 {
     int rc = grow_vertices(s, (uint64_t)s->nv + nv, err);
     return rc ? rc : grow_faces(s, (uint64_t)s->nf + nf, err);
 }
 
-int gs__soup_add_vertex(gs_soup *s, double x, double y, double z, gs_error *err)
+int gs__soup_add_vertex(gs__soup *s, double x, double y, double z, gs_error *err)
 {
     if (s->nv >= s->cap_v) {
         int rc = grow_vertices(s, (uint64_t)s->nv + 1, err);
@@ -238,7 +238,7 @@ int gs__soup_add_vertex(gs_soup *s, double x, double y, double z, gs_error *err)
     return GS_OK;
 }
 
-int gs__soup_add_tri(gs_soup *s, uint32_t a, uint32_t b, uint32_t c, uint32_t where,
+int gs__soup_add_tri(gs__soup *s, uint32_t a, uint32_t b, uint32_t c, uint32_t where,
                      gs_error *err)
 {
     if (s->nf >= s->cap_f) {
@@ -253,7 +253,7 @@ int gs__soup_add_tri(gs_soup *s, uint32_t a, uint32_t b, uint32_t c, uint32_t wh
     return GS_OK;
 }
 
-int gs__fan_add(gs_fan *f, gs_soup *s, uint32_t v, uint32_t where, gs_error *err)
+int gs__fan_add(gs__fan *f, gs__soup *s, uint32_t v, uint32_t where, gs_error *err)
 {
     int rc = GS_OK;
     if (f->n == 0)

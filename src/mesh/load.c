@@ -81,7 +81,7 @@ static gs_mesh_format sniff(const char *data, size_t size)
 }
 
 static int run_reader(gs_mesh_format f, const char *path, char *data, size_t size,
-                      gs_soup *s, gs_error *err)
+                      gs__soup *s, gs_error *err)
 {
     switch (f) {
     case GS_FORMAT_OBJ: return gs__read_obj(path, data, size, s, err);
@@ -95,13 +95,13 @@ static int run_reader(gs_mesh_format f, const char *path, char *data, size_t siz
                     "content is not recognised)", path);
 }
 
-static int build(gs_soup *s, gs_mesh **out, gs_error *err)
+static int build(gs__soup *s, gs_mesh **out, gs_error *err)
 {
     uint32_t *lines = s->face_line;
     s->face_line = NULL;
-    gs_origin origin = {s->file, lines, s->unit};
-    int rc = gs_mesh_adopt(s->xyz, s->nv, s->tri, s->nf, &origin, out, err);
-    s->xyz = NULL; /* adopted (or freed) by gs_mesh_adopt */
+    gs__origin origin = {s->file, lines, s->unit};
+    int rc = gs__mesh_adopt(s->xyz, s->nv, s->tri, s->nf, &origin, out, err);
+    s->xyz = NULL; /* adopted (or freed) by gs__mesh_adopt */
     s->tri = NULL;
     free(lines);
     return rc;
@@ -110,7 +110,7 @@ static int build(gs_soup *s, gs_mesh **out, gs_error *err)
 /* The reading after the bytes are in memory: data holds size bytes and a
  * '\0' after them (the readers may modify it); frees data. */
 static int load_soup_data(const char *path, gs_mesh_format format, char *data, size_t size,
-                          gs_soup *s, gs_error *err)
+                          gs__soup *s, gs_error *err)
 {
     if (size == 0) {
         free(data);
@@ -128,7 +128,7 @@ static int load_soup_data(const char *path, gs_mesh_format format, char *data, s
     return rc;
 }
 
-int gs__load_soup(const char *path, gs_mesh_format format, gs_soup *s, gs_error *err)
+int gs__load_soup(const char *path, gs_mesh_format format, gs__soup *s, gs_error *err)
 {
     gs__soup_init(s, path, NULL);
     if ((int)format < GS_FORMAT_AUTO || format > GS_FORMAT_STL)
@@ -141,7 +141,7 @@ int gs__load_soup(const char *path, gs_mesh_format format, gs_soup *s, gs_error 
 }
 
 int gs__load_soup_memory(const char *name, const void *bytes, size_t size, gs_mesh_format format,
-                         gs_soup *s, gs_error *err)
+                         gs__soup *s, gs_error *err)
 {
     gs__soup_init(s, name, NULL);
     if ((int)format < GS_FORMAT_AUTO || format > GS_FORMAT_STL)
@@ -159,7 +159,7 @@ int gs__mesh_load_memory(const char *name, const void *data, size_t size, gs_mes
                          gs_mesh **out, gs_error *err)
 {
     *out = NULL;
-    gs_soup s;
+    gs__soup s;
     int rc = gs__load_soup_memory(name, data, size, format, &s, err);
     if (rc == GS_OK) rc = build(&s, out, err);
     gs__soup_free(&s);
@@ -173,7 +173,7 @@ int gs_mesh_load(const char *path, gs_mesh_format format, gs_mesh **out, gs_erro
     if (!path) return gs__fail(err, GS_EARG, "gs_mesh_load: path is NULL");
     if ((int)format < GS_FORMAT_AUTO || format > GS_FORMAT_STL)
         return gs__fail(err, GS_EARG, "gs_mesh_load: unknown format %d", (int)format);
-    gs_soup s;
+    gs__soup s;
     int rc = gs__load_soup(path, format, &s, err);
     if (rc == GS_OK) rc = build(&s, out, err);
     gs__soup_free(&s);

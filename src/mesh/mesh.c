@@ -9,7 +9,7 @@
 void gs_mesh_free(gs_mesh *m)
 {
     if (!m) return;
-    gs_topo_free(&m->topo);
+    gs__topo_free(&m->topo);
     free(m->xyz);
     free(m->tri);
     free(m);
@@ -32,7 +32,7 @@ static uint32_t uf_find(uint32_t *p, uint32_t x)
 /* Components, boundary loops and genus, from the connectivity. */
 static int compute_report(gs_mesh *m, gs_error *err)
 {
-    const gs_topo *t = &m->topo;
+    const gs__topo *t = &m->topo;
     gs_mesh_report *r = &m->report;
     memset(r, 0, sizeof *r);
     r->n_vertices = m->nv;
@@ -65,7 +65,7 @@ static int compute_report(gs_mesh *m, gs_error *err)
         uint32_t x = (uint32_t)h;
         while (!seen[x]) {
             seen[x] = 1;
-            uint32_t v = m->tri[gs_next(x)], nx = GS_NONE;
+            uint32_t v = m->tri[gs__next(x)], nx = GS_NONE;
             for (uint32_t k = t->vc_start[v]; k < t->vc_start[v + 1]; ++k) {
                 uint32_t c = t->vc[k];
                 if (t->opp[c] == GS_NONE && !seen[c]) {
@@ -118,8 +118,8 @@ static int compute_report(gs_mesh *m, gs_error *err)
     return GS_OK;
 }
 
-int gs_mesh_adopt(double *xyz, uint32_t nv, uint32_t *tri, uint32_t nf,
-                  const gs_origin *origin, gs_mesh **out, gs_error *err)
+int gs__mesh_adopt(double *xyz, uint32_t nv, uint32_t *tri, uint32_t nf,
+                  const gs__origin *origin, gs_mesh **out, gs_error *err)
 {
     *out = NULL;
     gs_mesh *m = gs__calloc(1, sizeof *m);
@@ -132,7 +132,7 @@ int gs_mesh_adopt(double *xyz, uint32_t nv, uint32_t *tri, uint32_t nf,
     m->tri = tri;
     m->nv = nv;
     m->nf = nf;
-    int rc = gs_topo_build(&m->topo, nv, xyz, nf, tri, 0, origin, err);
+    int rc = gs__topo_build(&m->topo, nv, xyz, nf, tri, 0, origin, err);
     if (rc == GS_OK) rc = compute_report(m, err);
     if (rc) {
         gs_mesh_free(m);
@@ -164,7 +164,7 @@ int gs_mesh_create(const double *xyz, uint32_t nv, const uint32_t *tri, uint32_t
     }
     if (nv) memcpy(x, xyz, 3 * (size_t)nv * sizeof *x);
     if (nf) memcpy(f, tri, 3 * (size_t)nf * sizeof *f);
-    return gs_mesh_adopt(x, nv, f, nf, NULL, out, err);
+    return gs__mesh_adopt(x, nv, f, nf, NULL, out, err);
 }
 
 int gs_mesh_get_report(const gs_mesh *m, gs_mesh_report *report, gs_error *err)

@@ -1,15 +1,15 @@
 /* mesh_internal.h - the internal layout of meshes and patches: flat arrays of
- * positions and faces plus a corner/half-edge connectivity (gs_topo) that all
+ * positions and faces plus a corner/half-edge connectivity (gs__topo) that all
  * distance solvers run on. Not part of the public API. */
 #ifndef GS_MESH_INTERNAL_H
 #define GS_MESH_INTERNAL_H
 
 #include "../core/internal.h"
 
-/* Half-edge h = 3*f + i of face f runs from tri[h] to tri[gs_next(h)]; it is
+/* Half-edge h = 3*f + i of face f runs from tri[h] to tri[gs__next(h)]; it is
  * also "corner h", the corner of face f at vertex tri[h]. */
-static inline uint32_t gs_next(uint32_t h) { return (h % 3 == 2) ? h - 2 : h + 1; }
-static inline uint32_t gs_prev(uint32_t h) { return (h % 3 == 0) ? h + 2 : h - 1; }
+static inline uint32_t gs__next(uint32_t h) { return (h % 3 == 2) ? h - 2 : h + 1; }
+static inline uint32_t gs__prev(uint32_t h) { return (h % 3 == 0) ? h + 2 : h - 1; }
 
 enum {
     GS_V_BOUNDARY = 1,    /* on a boundary edge (or a bow-tie vertex)       */
@@ -19,7 +19,7 @@ enum {
 };
 
 /* Connectivity and intrinsic geometry of a triangle mesh or patch. */
-typedef struct gs_topo {
+typedef struct gs__topo {
     uint32_t nv, nf;
     const double *xyz;   /* 3*nv positions (borrowed)                        */
     const uint32_t *tri; /* 3*nf corner vertices (borrowed)                  */
@@ -31,24 +31,24 @@ typedef struct gs_topo {
     double *vangle;      /* nv: total angle at each vertex                   */
     uint8_t *vflag;      /* nv: GS_V_* flags                                 */
     uint32_t n_edges;
-} gs_topo;
+} gs__topo;
 
 /* Where the faces came from, for error messages: the file name and, for
  * every face, the line (text files) or element number (binary files) that
  * defined it. Both pointers may be NULL. */
-typedef struct gs_origin {
+typedef struct gs__origin {
     const char *file;
     const uint32_t *face_line; /* nf entries, or NULL                      */
     const char *unit;          /* "line" or "face"; NULL means "face"       */
-} gs_origin;
+} gs__origin;
 
 enum { GS_TOPO_ALLOW_NONMANIFOLD_VERTICES = 1 };
 
 /* Validate and build connectivity. On failure *t is left empty (freed). */
-int gs_topo_build(gs_topo *t, uint32_t nv, const double *xyz, uint32_t nf,
-                  const uint32_t *tri, unsigned flags, const gs_origin *origin,
+int gs__topo_build(gs__topo *t, uint32_t nv, const double *xyz, uint32_t nf,
+                  const uint32_t *tri, unsigned flags, const gs__origin *origin,
                   gs_error *err);
-void gs_topo_free(gs_topo *t);
+void gs__topo_free(gs__topo *t);
 
 /* The validation's zero-area test of triangle (p, q, r): 0 if it has area,
  * 2 if its corners are at one point, 1 if they are collinear (its height is
@@ -60,21 +60,21 @@ int gs__tri_zero_area(const double *p, const double *q, const double *r);
  * (c0, m0, m2), (m0, c1, m1), (m2, m1, c2), (m0, m1, m2), c the corners of
  * f and m_i the midpoint of its half-edge 3f+i. *xyz_out (3 * *nv_out) and
  * *tri_out (3 * *nf_out) are malloc'ed, the caller frees them. */
-int gs__subdivide_arrays(const gs_topo *t, uint32_t *nv_out, double **xyz_out, uint32_t *nf_out,
+int gs__subdivide_arrays(const gs__topo *t, uint32_t *nv_out, double **xyz_out, uint32_t *nf_out,
                          uint32_t **tri_out, gs_error *err);
 
 struct gs_mesh {
     uint32_t nv, nf;
     double *xyz;
     uint32_t *tri;
-    gs_topo topo;
+    gs__topo topo;
     gs_mesh_report report;
 };
 
 /* Take ownership of xyz/tri (malloc'ed) and build a mesh; on failure both
  * arrays are freed. origin may be NULL. */
-int gs_mesh_adopt(double *xyz, uint32_t nv, uint32_t *tri, uint32_t nf,
-                  const gs_origin *origin, gs_mesh **out, gs_error *err);
+int gs__mesh_adopt(double *xyz, uint32_t nv, uint32_t *tri, uint32_t nf,
+                  const gs__origin *origin, gs_mesh **out, gs_error *err);
 
 struct gs_patch {
     const gs_mesh *mesh;
@@ -84,8 +84,8 @@ struct gs_patch {
     uint32_t *tri;
     uint32_t *vmap;     /* local -> mesh vertex, increasing (NULL if identity) */
     uint32_t *fmap;     /* local -> mesh face (NULL if identity)            */
-    gs_topo topo_own;   /* owned connectivity (unused if identity)          */
-    const gs_topo *topo;/* the connectivity solvers use                     */
+    gs__topo topo_own;   /* owned connectivity (unused if identity)          */
+    const gs__topo *topo;/* the connectivity solvers use                     */
 };
 
 #endif

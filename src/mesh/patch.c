@@ -8,7 +8,7 @@
 void gs_patch_free(gs_patch *p)
 {
     if (!p) return;
-    if (!p->identity) gs_topo_free(&p->topo_own);
+    if (!p->identity) gs__topo_free(&p->topo_own);
     free(p->xyz);
     free(p->tri);
     free(p->vmap);
@@ -83,7 +83,7 @@ int gs_patch_create(const gs_mesh *mesh, const uint32_t *faces, uint32_t n_faces
         memcpy(p->xyz + 3 * (size_t)v, mesh->xyz + 3 * (size_t)p->vmap[v], 3 * sizeof(double));
     for (size_t i = 0; i < nc; ++i)
         p->tri[i] = gs_patch_vertex_from_mesh(p, mesh->tri[3 * (size_t)faces[i / 3] + i % 3]);
-    rc = gs_topo_build(&p->topo_own, nv, p->xyz, n_faces, p->tri,
+    rc = gs__topo_build(&p->topo_own, nv, p->xyz, n_faces, p->tri,
                        GS_TOPO_ALLOW_NONMANIFOLD_VERTICES, NULL, err);
     p->topo = &p->topo_own;
 done:

@@ -6,7 +6,7 @@
 #include <math.h>
 #include <string.h>
 
-static int parse_vertex(const char *file, uint32_t line, char *rest, gs_soup *s,
+static int parse_vertex(const char *file, uint32_t line, char *rest, gs__soup *s,
                         gs_error *err)
 {
     double c[3];
@@ -54,10 +54,10 @@ static int parse_corner(const char *file, uint32_t line, const char *t, uint32_t
     return GS_OK;
 }
 
-static int parse_face(const char *file, uint32_t line, char *rest, gs_soup *s,
+static int parse_face(const char *file, uint32_t line, char *rest, gs__soup *s,
                       gs_error *err)
 {
-    gs_fan fan;
+    gs__fan fan;
     gs__fan_start(&fan);
     char *t;
     while ((t = gs__tok(&rest)) != NULL) {
@@ -72,7 +72,7 @@ static int parse_face(const char *file, uint32_t line, char *rest, gs_soup *s,
     return GS_OK;
 }
 
-static int check_ranges(const gs_soup *s, gs_error *err)
+static int check_ranges(const gs__soup *s, gs_error *err)
 {
     for (size_t k = 0; k < 3 * (size_t)s->nf; ++k)
         if (s->tri[k] >= s->nv)
@@ -82,7 +82,7 @@ static int check_ranges(const gs_soup *s, gs_error *err)
     return GS_OK;
 }
 
-static int parse_line(const char *file, uint32_t line, char *text, gs_soup *s,
+static int parse_line(const char *file, uint32_t line, char *text, gs__soup *s,
                       gs_error *err)
 {
     gs__strip_comment(text);
@@ -98,10 +98,10 @@ static int parse_line(const char *file, uint32_t line, char *text, gs_soup *s,
     return is_v ? parse_vertex(file, line, rest, s, err) : parse_face(file, line, rest, s, err);
 }
 
-int gs__read_obj(const char *file, char *data, size_t size, gs_soup *s, gs_error *err)
+int gs__read_obj(const char *file, char *data, size_t size, gs__soup *s, gs_error *err)
 {
     gs__soup_init(s, file, "line");
-    gs_lines c;
+    gs__lines c;
     gs__lines_init(&c, data, size);
     char *text;
     int r;

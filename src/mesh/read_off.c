@@ -8,8 +8,8 @@
 
 typedef struct off_reader {
     const char *file;
-    gs_lines c;
-    gs_soup *s;
+    gs__lines c;
+    gs__soup *s;
     gs_error *err;
 } off_reader;
 
@@ -107,7 +107,7 @@ static int read_face(off_reader *r, uint32_t i, uint32_t nv)
     if (gs__parse_i64(t, 0, &n) || n < 3)
         return gs__fail(r->err, GS_EPARSE, "%s:%u: face %u: vertex count '%.40s' (at least 3 "
                         "needed)", r->file, r->c.line, i, t);
-    gs_fan fan;
+    gs__fan fan;
     gs__fan_start(&fan);
     for (int64_t j = 0; j < n; ++j) {
         t = gs__tok(&line);
@@ -126,7 +126,7 @@ static int read_face(off_reader *r, uint32_t i, uint32_t nv)
     return GS_OK; /* colour values may follow */
 }
 
-int gs__read_off(const char *file, char *data, size_t size, gs_soup *s, gs_error *err)
+int gs__read_off(const char *file, char *data, size_t size, gs__soup *s, gs_error *err)
 {
     gs__soup_init(s, file, "line");
     off_reader r = {file, {0}, s, err};

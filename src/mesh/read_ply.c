@@ -48,12 +48,12 @@ typedef struct ply_elem {
 typedef struct ply_reader {
     const char *file;
     gs_error *err;
-    gs_soup *s;
+    gs__soup *s;
     int format;
     ply_elem *el;
     uint32_t ne, cap;
     uint32_t nv;
-    gs_lines c;                     /* header, then ascii data */
+    gs__lines c;                     /* header, then ascii data */
     const unsigned char *p, *end;   /* binary data */
     char *rest;                     /* ascii: rest of the current line */
     const ply_elem *cur;
@@ -384,7 +384,7 @@ static int read_list(ply_reader *r, const ply_prop *p)
                      (long long)n);
     if (p->role == R_INDICES && n < 3)
         return dfail(r, GS_EMESH, "face has %lld vertices (at least 3 needed)", (long long)n);
-    gs_fan fan;
+    gs__fan fan;
     gs__fan_start(&fan);
     uint32_t at = r->format == F_ASCII ? r->c.line : (uint32_t)r->row;
     for (int64_t k = 0; k < n; ++k) {
@@ -451,7 +451,7 @@ static int read_body(ply_reader *r)
     return GS_OK;
 }
 
-int gs__read_ply(const char *file, char *data, size_t size, gs_soup *s, gs_error *err)
+int gs__read_ply(const char *file, char *data, size_t size, gs__soup *s, gs_error *err)
 {
     gs__soup_init(s, file, "line");
     ply_reader r;

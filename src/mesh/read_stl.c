@@ -27,7 +27,7 @@ static uint64_t hash3(const double *p)
     return h;
 }
 
-static size_t probe(const weld *w, const gs_soup *s, const double *p)
+static size_t probe(const weld *w, const gs__soup *s, const double *p)
 {
     size_t i = (size_t)hash3(p) & w->mask;
     while (w->slot[i] != GS_NONE && memcmp(s->xyz + 3 * (size_t)w->slot[i], p, 3 * sizeof *p))
@@ -44,7 +44,7 @@ static int weld_alloc(weld *w, size_t cap, const char *file, gs_error *err)
     return GS_OK;
 }
 
-static int weld_grow(weld *w, const gs_soup *s, gs_error *err)
+static int weld_grow(weld *w, const gs__soup *s, gs_error *err)
 {
     weld bigger;
     if ((w->mask + 1) > SIZE_MAX / 4) return gs__fail(err, GS_ENOMEM, "%s: too many vertices", s->file);
@@ -57,7 +57,7 @@ static int weld_grow(weld *w, const gs_soup *s, gs_error *err)
 }
 
 /* The id of position p (x, y, z finite), adding it if new. */
-static int weld_vertex(weld *w, gs_soup *s, const double *p, uint32_t *id, gs_error *err)
+static int weld_vertex(weld *w, gs__soup *s, const double *p, uint32_t *id, gs_error *err)
 {
     double q[3] = {p[0] + 0.0, p[1] + 0.0, p[2] + 0.0}; /* -0.0 -> +0.0 */
     size_t i = probe(w, s, q);
@@ -87,7 +87,7 @@ int gs__stl_is_binary(const char *data, size_t size)
     return 84 + 50 * n == (uint64_t)size;
 }
 
-static int binary_triangle(const unsigned char *t, uint32_t i, weld *w, gs_soup *s,
+static int binary_triangle(const unsigned char *t, uint32_t i, weld *w, gs__soup *s,
                            gs_error *err)
 {
     uint32_t id[3];
@@ -108,7 +108,7 @@ static int binary_triangle(const unsigned char *t, uint32_t i, weld *w, gs_soup 
     return gs__soup_add_tri(s, id[0], id[1], id[2], i, err);
 }
 
-static int read_binary(const unsigned char *d, gs_soup *s, gs_error *err)
+static int read_binary(const unsigned char *d, gs__soup *s, gs_error *err)
 {
     uint32_t n = le32(d + 80);
     int rc = gs__soup_reserve(s, 0, n, err);
@@ -208,7 +208,7 @@ static int read_point(stl_text *t, const char *what, double *p)
     return GS_OK;
 }
 
-static int read_facet(stl_text *t, weld *w, gs_soup *s)
+static int read_facet(stl_text *t, weld *w, gs__soup *s)
 {
     uint32_t at = t->tok_line; /* of the 'facet' keyword */
     double p[3];
@@ -216,7 +216,7 @@ static int read_facet(stl_text *t, weld *w, gs_soup *s)
     if (rc == GS_OK) rc = read_point(t, "normal", p);
     if (rc == GS_OK) rc = expect(t, "outer", NULL);
     if (rc == GS_OK) rc = expect(t, "loop", NULL);
-    gs_fan fan;
+    gs__fan fan;
     gs__fan_start(&fan);
     char *tok = NULL;
     while (rc == GS_OK && (rc = expect(t, NULL, &tok)) == GS_OK && tok && eq_ci(tok, "vertex")) {
@@ -235,7 +235,7 @@ static int read_facet(stl_text *t, weld *w, gs_soup *s)
     return expect(t, "endfacet", NULL);
 }
 
-static int read_solids(stl_text *t, weld *w, gs_soup *s)
+static int read_solids(stl_text *t, weld *w, gs__soup *s)
 {
     int rc = expect(t, "solid", NULL);
     skip_line(t);
@@ -261,7 +261,7 @@ static int read_solids(stl_text *t, weld *w, gs_soup *s)
     return rc;
 }
 
-static int read_ascii(char *data, size_t size, gs_soup *s, gs_error *err)
+static int read_ascii(char *data, size_t size, gs__soup *s, gs_error *err)
 {
     stl_text t = {data, data + size, 1, 1, s->file, err};
     weld w = {NULL, 0};
@@ -282,7 +282,7 @@ static int starts_with_solid(const char *d, size_t size)
     return eq_ci(w, "solid");
 }
 
-int gs__read_stl(const char *file, char *data, size_t size, gs_soup *s, gs_error *err)
+int gs__read_stl(const char *file, char *data, size_t size, gs__soup *s, gs_error *err)
 {
     gs__soup_init(s, file, "triangle");
     if (gs__stl_is_binary(data, size)) return read_binary((const unsigned char *)data, s, err);

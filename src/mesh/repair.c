@@ -431,7 +431,7 @@ static int compact(rp *s)
 }
 
 static uint32_t hv(const rp *s, uint32_t h) { return s->tri[h]; }
-static uint32_t hnext(uint32_t h) { return gs_next(h); }
+static uint32_t hnext(uint32_t h) { return gs__next(h); }
 
 /* Score of gluing half-edges a and b: opposite directions first, then the
  * alignment of the faces' normals (made comparable). */
@@ -719,7 +719,7 @@ static uint32_t separate(rp *s, const ids *d, ekey *e)
                     skip_one = 0;
                     continue;
                 }
-                uint32_t p = gs_prev(h);
+                uint32_t p = gs__prev(h);
                 if (s->opp[h] != GS_NONE || s->opp[p] != GS_NONE) {
                     note(s, GS_REPAIR_SHEET_CUT, s->orig[h / 3], s->tri[h], s->tri[hnext(h)], GS_NONE);
                     cuts++;
@@ -981,9 +981,9 @@ static int run(const double *xyz, uint32_t nv, const uint32_t *tri, uint32_t nf,
         for (uint32_t v = 0; v < d.nv_out; ++v)
             memcpy(x + 3 * (size_t)v, xyz + 3 * (size_t)r->vertex_origin[v], 3 * sizeof *x);
         for (uint32_t f = 0; lines && f < s.F; ++f) lines[f] = face_line[s.orig[f]];
-        gs_origin origin = {file, lines, unit};
+        gs__origin origin = {file, lines, unit};
         gs_error e2 = {0};
-        rc = gs_mesh_adopt(x, d.nv_out, d.out_tri, s.F, &origin, out, &e2);
+        rc = gs__mesh_adopt(x, d.nv_out, d.out_tri, s.F, &origin, out, &e2);
         d.out_tri = NULL; /* adopted (or freed) */
         free(lines);
         if (rc)
@@ -1010,7 +1010,7 @@ int gs_mesh_repair_file(const char *path, gs_mesh_format format, gs_mesh **out, 
     *out = NULL;
     if (info) *info = NULL;
     if (!path) return gs__fail(err, GS_EARG, "gs_mesh_repair_file: path is NULL");
-    gs_soup s;
+    gs__soup s;
     int rc = gs__load_soup(path, format, &s, err);
     if (rc) return rc;
     rc = run(s.xyz, s.nv, s.tri, s.nf, path, 1, s.face_line, s.unit ? s.unit : "line", out, info, err);
@@ -1023,7 +1023,7 @@ int gs__mesh_repair_memory(const char *name, const void *data, size_t size, gs_m
 {
     *out = NULL;
     if (info) *info = NULL;
-    gs_soup s;
+    gs__soup s;
     int rc = gs__load_soup_memory(name, data, size, format, &s, err);
     if (rc) return rc;
     rc = run(s.xyz, s.nv, s.tri, s.nf, name, 1, s.face_line, s.unit ? s.unit : "line", out, info, err);

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-int gs__subdivide_arrays(const gs_topo *t, uint32_t *nv_out, double **xyz_out, uint32_t *nf_out,
+int gs__subdivide_arrays(const gs__topo *t, uint32_t *nv_out, double **xyz_out, uint32_t *nf_out,
                          uint32_t **tri_out, gs_error *err)
 {
     *xyz_out = NULL, *tri_out = NULL, *nv_out = *nf_out = 0;
@@ -30,7 +30,7 @@ int gs__subdivide_arrays(const gs_topo *t, uint32_t *nv_out, double **xyz_out, u
     for (size_t h = 0; h < nh; ++h) mid[h] = GS_NONE;
     for (size_t h = 0; h < nh; ++h) {
         if (mid[h] != GS_NONE) continue;
-        const double *a = t->xyz + 3 * (size_t)t->tri[h], *b = t->xyz + 3 * (size_t)t->tri[gs_next((uint32_t)h)];
+        const double *a = t->xyz + 3 * (size_t)t->tri[h], *b = t->xyz + 3 * (size_t)t->tri[gs__next((uint32_t)h)];
         for (int k = 0; k < 3; ++k) xyz[3 * (size_t)next + k] = 0.5 * (a[k] + b[k]);
         mid[h] = next;
         if (t->opp[h] != GS_NONE) mid[t->opp[h]] = next;
@@ -55,5 +55,5 @@ int gs_mesh_subdivide(const gs_mesh *m, gs_mesh **out, gs_error *err)
     uint32_t *tri, nv, nf;
     int rc = gs__subdivide_arrays(&m->topo, &nv, &xyz, &nf, &tri, err);
     if (rc) return rc;
-    return gs_mesh_adopt(xyz, nv, tri, nf, NULL, out, err);
+    return gs__mesh_adopt(xyz, nv, tri, nf, NULL, out, err);
 }

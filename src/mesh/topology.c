@@ -8,13 +8,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *unit_name(const gs_origin *o)
+static const char *unit_name(const gs__origin *o)
 {
     return (o && o->unit) ? o->unit : "face";
 }
 
 /* "file: line 12" or "file: face 7" (1-based for lines, 0-based faces). */
-static void where(char *buf, size_t n, const gs_origin *o, uint32_t f)
+static void where(char *buf, size_t n, const gs__origin *o, uint32_t f)
 {
     const char *file = (o && o->file) ? o->file : "mesh";
     if (o && o->face_line)
@@ -23,7 +23,7 @@ static void where(char *buf, size_t n, const gs_origin *o, uint32_t f)
         snprintf(buf, n, "%s: face %u", file, f);
 }
 
-void gs_topo_free(gs_topo *t)
+void gs__topo_free(gs__topo *t)
 {
     if (!t) return;
     free(t->opp);
@@ -75,7 +75,7 @@ int gs__tri_zero_area(const double *p, const double *q, const double *r)
     return l2 == 0 ? 2 : 1;
 }
 
-static int check_faces(const gs_topo *t, const gs_origin *o, gs_error *err)
+static int check_faces(const gs__topo *t, const gs__origin *o, gs_error *err)
 {
     char w[600];
     for (uint32_t f = 0; f < t->nf; ++f) {
@@ -124,7 +124,7 @@ static int check_faces(const gs_topo *t, const gs_origin *o, gs_error *err)
 }
 
 /* Find twins by bucketing half-edges under their smaller endpoint. */
-static int link_twins(gs_topo *t, const gs_origin *o, gs_error *err)
+static int link_twins(gs__topo *t, const gs__origin *o, gs_error *err)
 {
     char w[600];
     size_t nh = 3 * (size_t)t->nf;
@@ -136,7 +136,7 @@ static int link_twins(gs_topo *t, const gs_origin *o, gs_error *err)
         return gs__fail(err, GS_ENOMEM, "out of memory building edges");
     }
     for (size_t h = 0; h < nh; ++h) {
-        uint32_t a = t->tri[h], b = t->tri[gs_next((uint32_t)h)];
+        uint32_t a = t->tri[h], b = t->tri[gs__next((uint32_t)h)];
         start[(a < b ? a : b) + 1]++;
     }
     for (uint32_t v = 0; v < t->nv; ++v) start[v + 1] += start[v];
@@ -149,7 +149,7 @@ static int link_twins(gs_topo *t, const gs_origin *o, gs_error *err)
         }
         memcpy(fill, start, ((size_t)t->nv + 1) * sizeof *fill);
         for (size_t h = 0; h < nh; ++h) {
-            uint32_t a = t->tri[h], b = t->tri[gs_next((uint32_t)h)];
+            uint32_t a = t->tri[h], b = t->tri[gs__next((uint32_t)h)];
             uint32_t lo = a < b ? a : b, hi = a < b ? b : a;
             e[fill[lo]++] = (edge_entry){hi, (uint32_t)h};
         }
@@ -178,7 +178,7 @@ static int link_twins(gs_topo *t, const gs_origin *o, gs_error *err)
                     rc = gs__fail(err, GS_EMESH,
                                   "%s: inconsistent orientation: edge %u-%u is used in the "
                                   "same direction by faces %u and %u%s",
-                                  w, t->tri[h0], t->tri[gs_next(h0)], h0 / 3, h1 / 3,
+                                  w, t->tri[h0], t->tri[gs__next(h0)], h0 / 3, h1 / 3,
                                   " (duplicate or flipped face)");
                     break;
                 }
@@ -195,7 +195,7 @@ static int link_twins(gs_topo *t, const gs_origin *o, gs_error *err)
 }
 
 /* Corners around each vertex (CSR), fans, flags, angles. */
-static int build_vertex_data(gs_topo *t, unsigned flags, const gs_origin *o,
+static int build_vertex_data(gs__topo *t, unsigned flags, const gs__origin *o,
                              gs_error *err)
 {
     char w[600];
@@ -223,7 +223,7 @@ static int build_vertex_data(gs_topo *t, unsigned flags, const gs_origin *o,
         for (uint32_t k = s; k < end; ++k) {
             uint32_t c = t->vc[k];
             total += t->angle[c];
-            if (t->opp[c] == GS_NONE || t->opp[gs_prev(c)] == GS_NONE) fl |= GS_V_BOUNDARY;
+            if (t->opp[c] == GS_NONE || t->opp[gs__prev(c)] == GS_NONE) fl |= GS_V_BOUNDARY;
             if (seen[c]) continue;
             /* walk the fan of c both ways, marking its corners */
             fans++;
@@ -232,13 +232,13 @@ static int build_vertex_data(gs_topo *t, unsigned flags, const gs_origin *o,
             for (;;) { /* clockwise: across the outgoing edge */
                 uint32_t tw = t->opp[x];
                 if (tw == GS_NONE) break;
-                x = gs_next(tw);
+                x = gs__next(tw);
                 if (seen[x]) break;
                 seen[x] = 1;
             }
             x = c;
             for (;;) { /* counter-clockwise: across the incoming edge */
-                uint32_t tw = t->opp[gs_prev(x)];
+                uint32_t tw = t->opp[gs__prev(x)];
                 if (tw == GS_NONE) break;
                 x = tw;
                 if (seen[x]) break;
@@ -263,8 +263,8 @@ static int build_vertex_data(gs_topo *t, unsigned flags, const gs_origin *o,
     return rc;
 }
 
-int gs_topo_build(gs_topo *t, uint32_t nv, const double *xyz, uint32_t nf,
-                  const uint32_t *tri, unsigned flags, const gs_origin *origin,
+int gs__topo_build(gs__topo *t, uint32_t nv, const double *xyz, uint32_t nf,
+                  const uint32_t *tri, unsigned flags, const gs__origin *origin,
                   gs_error *err)
 {
     memset(t, 0, sizeof *t);
@@ -294,14 +294,14 @@ int gs_topo_build(gs_topo *t, uint32_t nv, const double *xyz, uint32_t nf,
     t->vflag = gs__calloc(nv, 1);
     if (!t->opp || !t->len || !t->angle || !t->vc_start || !t->vc || !t->vangle ||
         !t->vflag) {
-        gs_topo_free(t);
+        gs__topo_free(t);
         return gs__fail(err, GS_ENOMEM, "out of memory building connectivity");
     }
     for (size_t h = 0; h < nh; ++h) {
         t->opp[h] = GS_NONE;
         const double *p = xyz + 3 * (size_t)tri[h];
-        const double *q = xyz + 3 * (size_t)tri[gs_next((uint32_t)h)];
-        const double *r = xyz + 3 * (size_t)tri[gs_prev((uint32_t)h)];
+        const double *q = xyz + 3 * (size_t)tri[gs__next((uint32_t)h)];
+        const double *r = xyz + 3 * (size_t)tri[gs__prev((uint32_t)h)];
         double dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
         t->len[h] = sqrt(dx * dx + dy * dy + dz * dz);
         t->angle[h] = corner_angle(p, q, r);
@@ -309,7 +309,7 @@ int gs_topo_build(gs_topo *t, uint32_t nv, const double *xyz, uint32_t nf,
     rc = link_twins(t, origin, err);
     if (rc == GS_OK) rc = build_vertex_data(t, flags, origin, err);
     if (rc) {
-        gs_topo_free(t);
+        gs__topo_free(t);
         t->nv = nv;
         t->nf = nf;
     }

@@ -30,13 +30,13 @@ static int write_body(FILE *f, const gs_mesh *m)
 int gs_mesh_save_obj(const gs_mesh *mesh, const char *path, gs_error *err)
 {
     if (!mesh || !path) return gs__fail(err, GS_EARG, "gs_mesh_save_obj: NULL argument");
-    gs_atomic_file af;
-    int rc = gs_atomic_open(&af, path, err);
+    gs__atomic_file af;
+    int rc = gs__atomic_open(&af, path, err);
     if (rc) return rc;
     if (write_body(af.fp, mesh) != 0) {
         int e = errno;
-        gs_atomic_abort(&af);
+        gs__atomic_abort(&af);
         return gs__fail(err, GS_EIO, "%s: cannot write: %s", path, strerror(e ? e : EIO));
     }
-    return gs_atomic_commit(&af, err);
+    return gs__atomic_commit(&af, err);
 }

@@ -100,7 +100,7 @@ int gs__part_reserve(void **p, size_t *cap, size_t need, size_t size)
 
 /* The two cut slots (edges k -> k+1 joining the sides) of a local face;
  * returns 0 if the face is not crossed. */
-static int cut_slots(const gs_part_node *nd, uint32_t lf, uint32_t k[2])
+static int cut_slots(const gs__part_node *nd, uint32_t lf, uint32_t k[2])
 {
     const uint32_t *c = nd->mesh->tri + 3 * (size_t)nd->faces[lf];
     uint32_t n = 0;
@@ -111,7 +111,7 @@ static int cut_slots(const gs_part_node *nd, uint32_t lf, uint32_t k[2])
 
 /* The local face across slot k of local face lf, GS_NONE on the boundary of
  * P(N); *entry receives the slot of the shared edge in that face. */
-static uint32_t across(const gs_part_node *nd, uint32_t lf, uint32_t k, uint32_t *entry)
+static uint32_t across(const gs__part_node *nd, uint32_t lf, uint32_t k, uint32_t *entry)
 {
     uint32_t o = nd->mesh->topo.opp[3 * nd->faces[lf] + k];
     if (o == GS_NONE || nd->floc[o / 3] == GS_NONE) return GS_NONE;
@@ -119,10 +119,10 @@ static uint32_t across(const gs_part_node *nd, uint32_t lf, uint32_t k, uint32_t
     return nd->floc[o / 3];
 }
 
-static portal make_portal(const gs_part_node *nd, uint32_t lf, uint32_t k, int last)
+static portal make_portal(const gs__part_node *nd, uint32_t lf, uint32_t k, int last)
 {
     uint32_t h = 3 * nd->faces[lf] + k;
-    uint32_t u = nd->mesh->tri[h], v = nd->mesh->tri[gs_next(h)];
+    uint32_t u = nd->mesh->tri[h], v = nd->mesh->tri[gs__next(h)];
     portal p = {u, v, last ? GS_NONE : nd->faces[lf]};
     if (nd->side[nd->vloc[u]]) {
         p.va = v;
@@ -133,7 +133,7 @@ static portal make_portal(const gs_part_node *nd, uint32_t lf, uint32_t k, int l
 
 /* Walk from local face lf0, entered through slot k0, until the boundary
  * (path) or back at lf0 (loop). Fills w->p, w->np. */
-static int walk(const gs_part_node *nd, uint8_t *visited, uint32_t lf0, uint32_t k0,
+static int walk(const gs__part_node *nd, uint8_t *visited, uint32_t lf0, uint32_t k0,
                 int closed, curve_work *w)
 {
     uint32_t lf = lf0, k = k0;
@@ -161,7 +161,7 @@ static int walk(const gs_part_node *nd, uint8_t *visited, uint32_t lf0, uint32_t
 
 /* ---- geometry helpers -------------------------------------------------- */
 
-static const double *vpos(const gs_part_node *nd, uint32_t v) { return nd->mesh->xyz + 3 * (size_t)v; }
+static const double *vpos(const gs__part_node *nd, uint32_t v) { return nd->mesh->xyz + 3 * (size_t)v; }
 
 static double dist3(const double *a, const double *b)
 {
@@ -181,7 +181,7 @@ static double clamp_t(double t)
 }
 
 /* 3D point of crossing i at w->t[i] into w->x. */
-static void crossing_point(const gs_part_node *nd, curve_work *w, uint32_t i)
+static void crossing_point(const gs__part_node *nd, curve_work *w, uint32_t i)
 {
     const double *a = vpos(nd, w->p[i].va), *b = vpos(nd, w->p[i].vb);
     for (int d = 0; d < 3; ++d) w->x[3 * i + d] = a[d] + w->t[i] * (b[d] - a[d]);
@@ -191,7 +191,7 @@ static void crossing_point(const gs_part_node *nd, curve_work *w, uint32_t i)
 static uint32_t n_pieces(const curve_work *w) { return w->closed ? w->np : w->np - 1; }
 
 /* Arc lengths w->s[0..pieces] of the polyline through w->x; returns total. */
-static double arc_lengths(const gs_part_node *nd, curve_work *w)
+static double arc_lengths(const gs__part_node *nd, curve_work *w)
 {
     uint32_t np = w->np, ns = n_pieces(w);
     for (uint32_t i = 0; i < np; ++i) crossing_point(nd, w, i);
@@ -237,7 +237,7 @@ static uint32_t point_at(const curve_work *w, double s, double q[3], double *lam
 
 /* Unfold the strip of crossings j = 0..k (curve indices (a + j) mod np)
  * into the plane: side-0 ends to the left of the direction of travel. */
-static void unfold(const gs_part_node *nd, curve_work *w, uint32_t a, uint32_t k)
+static void unfold(const gs__part_node *nd, curve_work *w, uint32_t a, uint32_t k)
 {
     uint32_t np = w->np;
     const portal *p0 = &w->p[a];
@@ -318,7 +318,7 @@ static double line_param(const curve_work *w, uint32_t j, const double *P, const
 
 /* Straighten the curve between the anchors at crossings a and a + k
  * (their t are fixed): t of the crossings in between. */
-static void pull_taut(const gs_part_node *nd, curve_work *w, uint32_t a, uint32_t k)
+static void pull_taut(const gs__part_node *nd, curve_work *w, uint32_t a, uint32_t k)
 {
     uint32_t np = w->np;
     if (k < 2) return;
@@ -352,7 +352,7 @@ static uint32_t nearest_crossing(const curve_work *w, double s)
 
 /* Anchors (paper: path ends and middle; three points around a loop) and
  * the taut curve between them. */
-static void straighten(const gs_part_node *nd, curve_work *w)
+static void straighten(const gs__part_node *nd, curve_work *w)
 {
     uint32_t np = w->np;
     for (uint32_t i = 0; i < np; ++i) w->t[i] = 0.5;
@@ -383,7 +383,7 @@ static void straighten(const gs_part_node *nd, curve_work *w)
 
 /* A few rounds of a [1 2 1]/4 filter over +-h of arc length, each point
  * projected back onto its crossed edge (paper: filter and project). */
-static void smooth(const gs_part_node *nd, curve_work *w, uint32_t iters, double h)
+static void smooth(const gs__part_node *nd, curve_work *w, uint32_t iters, double h)
 {
     uint32_t np = w->np;
     for (uint32_t it = 0; it < iters; ++it) {
@@ -409,8 +409,8 @@ static void smooth(const gs_part_node *nd, curve_work *w, uint32_t iters, double
 }
 
 /* Barycentric coordinates in face f of (1-lambda)*X_i + lambda*X_{i+1}. */
-static void sample_bary(const gs_part_node *nd, const curve_work *w, uint32_t i, double lambda,
-                        gs_sep_sample *out)
+static void sample_bary(const gs__part_node *nd, const curve_work *w, uint32_t i, double lambda,
+                        gs__sep_sample *out)
 {
     const portal *p = &w->p[i], *q = &w->p[(i + 1) % w->np];
     const uint32_t *c = nd->mesh->tri + 3 * (size_t)p->face;
@@ -468,7 +468,7 @@ static double closest_on_triangle(const double *p, const double *a, const double
     return d;
 }
 
-static void sample_point(const gs_part_node *nd, const gs_sep_sample *sm, double q[3])
+static void sample_point(const gs__part_node *nd, const gs__sep_sample *sm, double q[3])
 {
     const uint32_t *c = nd->mesh->tri + 3 * (size_t)sm->face;
     for (int i = 0; i < 3; ++i)
@@ -476,7 +476,7 @@ static void sample_point(const gs_part_node *nd, const gs_sep_sample *sm, double
 }
 
 /* Whether local face f of P(N) is crossed by the cut (corners on both sides). */
-static int crossed(const gs_part_node *nd, uint32_t f)
+static int crossed(const gs__part_node *nd, uint32_t f)
 {
     const uint32_t *c = nd->mesh->tri + 3 * (size_t)f;
     uint8_t a = nd->side[nd->vloc[c[0]]], b = nd->side[nd->vloc[c[1]]], d = nd->side[nd->vloc[c[2]]];
@@ -487,9 +487,9 @@ static int crossed(const gs_part_node *nd, uint32_t f)
  * around the corners of its current face: filtered samples smooth the curve
  * inside the strip of crossed faces and never drift past it (a pair of
  * neighbours on either side must not see the separator move away). */
-static void project_sample(const gs_part_node *nd, const double *p, gs_sep_sample *sm)
+static void project_sample(const gs__part_node *nd, const double *p, gs__sep_sample *sm)
 {
-    const gs_topo *t = &nd->mesh->topo;
+    const gs__topo *t = &nd->mesh->topo;
     const uint32_t *c0 = nd->mesh->tri + 3 * (size_t)sm->face;
     uint32_t corners[3] = {c0[0], c0[1], c0[2]};
     double best = INFINITY;
@@ -509,7 +509,7 @@ static void project_sample(const gs_part_node *nd, const double *p, gs_sep_sampl
 
 /* Arc lengths of the samples' polyline (pts must hold their positions);
  * returns the total, with the closing segment for a loop. */
-static double sample_lengths(gs_sep_sample *sm, const double *pts, uint32_t n, int closed)
+static double sample_lengths(gs__sep_sample *sm, const double *pts, uint32_t n, int closed)
 {
     double s = 0;
     for (uint32_t k = 0; k < n; ++k) {
@@ -522,8 +522,8 @@ static double sample_lengths(gs_sep_sample *sm, const double *pts, uint32_t n, i
 /* Put the n samples back at regular arc length along their own polyline,
  * each projected onto the surface near the sample it comes from. old/pts
  * are scratch for n samples / 3n doubles. */
-static void resample_regular(const gs_part_node *nd, gs_sep_sample *sm, uint32_t n, int closed,
-                             gs_sep_sample *old, double *pts)
+static void resample_regular(const gs__part_node *nd, gs__sep_sample *sm, uint32_t n, int closed,
+                             gs__sep_sample *old, double *pts)
 {
     memcpy(old, sm, n * sizeof *old);
     for (uint32_t k = 0; k < n; ++k) sample_point(nd, &old[k], pts + 3 * k);
@@ -545,11 +545,11 @@ static void resample_regular(const gs_part_node *nd, gs_sep_sample *sm, uint32_t
  * the samples (a path's ends stay on the boundary), each filtered point
  * projected back onto the surface; then the samples are put back at
  * regular arc length and their arc lengths recomputed. */
-static int filter_samples(const gs_part_node *nd, gs_sep_sample *sm, uint32_t n, int closed,
+static int filter_samples(const gs__part_node *nd, gs__sep_sample *sm, uint32_t n, int closed,
                           uint32_t iters, double *len)
 {
     double *pts = gs__malloc(3 * (size_t)n, sizeof *pts);
-    gs_sep_sample *old = gs__malloc(n, sizeof *old);
+    gs__sep_sample *old = gs__malloc(n, sizeof *old);
     if (!pts || !old) {
         free(pts);
         free(old);
@@ -575,8 +575,8 @@ static int filter_samples(const gs_part_node *nd, gs_sep_sample *sm, uint32_t n,
 }
 
 /* Regular samples along the final curve, its crossings and its record. */
-static int emit(const gs_part_node *nd, curve_work *w, double spacing, uint32_t filter_iters,
-                uint32_t min_samples, gs_part_out *out)
+static int emit(const gs__part_node *nd, curve_work *w, double spacing, uint32_t filter_iters,
+                uint32_t min_samples, gs__part_out *out)
 {
     double len = arc_lengths(nd, w);
     double r = spacing > 0 ? len / spacing : 0;
@@ -590,12 +590,12 @@ static int emit(const gs_part_node *nd, curve_work *w, double spacing, uint32_t 
         gs__part_reserve((void **)&out->curves, &out->cap_curves, out->n_curves + 1,
                          sizeof *out->curves))
         return GS_ENOMEM;
-    gs_sep_curve *cv = &out->curves[out->n_curves++];
-    *cv = (gs_sep_curve){nd->id, (uint32_t)w->closed, (uint32_t)out->n_samples, n, len,
+    gs__sep_curve *cv = &out->curves[out->n_curves++];
+    *cv = (gs__sep_curve){nd->id, (uint32_t)w->closed, (uint32_t)out->n_samples, n, len,
                          (uint32_t)out->n_cross, w->np};
     double step = len / (w->closed ? n : n - 1);
     for (uint32_t j = 0; j < n; ++j) {
-        gs_sep_sample *sm = &out->samples[out->n_samples++];
+        gs__sep_sample *sm = &out->samples[out->n_samples++];
         double q[3], lambda, s = (!w->closed && j == n - 1) ? len : j * step;
         uint32_t i = point_at(w, s, q, &lambda);
         sample_bary(nd, w, i, lambda, sm);
@@ -606,12 +606,12 @@ static int emit(const gs_part_node *nd, curve_work *w, double spacing, uint32_t 
         return GS_ENOMEM;
     for (uint32_t i = 0; i < w->np; ++i)
         out->cross[out->n_cross++] =
-            (gs_sep_cross){w->p[i].face, {w->p[i].va, w->p[i].vb}, w->t[i]};
+            (gs__sep_cross){w->p[i].face, {w->p[i].va, w->p[i].vb}, w->t[i]};
     return GS_OK;
 }
 
 /* Crossings at the zero level of nd->phi (linear along each edge). */
-static void level_crossings(const gs_part_node *nd, curve_work *w)
+static void level_crossings(const gs__part_node *nd, curve_work *w)
 {
     for (uint32_t i = 0; i < w->np; ++i) {
         double a = nd->phi[nd->vloc[w->p[i].va]], b = nd->phi[nd->vloc[w->p[i].vb]];
@@ -620,8 +620,8 @@ static void level_crossings(const gs_part_node *nd, curve_work *w)
     }
 }
 
-static int finish_curve(const gs_part_node *nd, const gs_tree_options *opt, double mean_edge,
-                        curve_work *w, gs_part_out *out)
+static int finish_curve(const gs__part_node *nd, const gs__tree_options *opt, double mean_edge,
+                        curve_work *w, gs__part_out *out)
 {
     if (nd->phi_valid)
         level_crossings(nd, w);
@@ -633,8 +633,8 @@ static int finish_curve(const gs_part_node *nd, const gs_tree_options *opt, doub
 
 /* Paths first (from a crossed face with a cut edge on the boundary), then
  * loops from the crossed faces left. */
-static int chain_all(const gs_part_node *nd, const gs_tree_options *opt, double mean_edge,
-                     uint8_t *visited, curve_work *w, gs_part_out *out)
+static int chain_all(const gs__part_node *nd, const gs__tree_options *opt, double mean_edge,
+                     uint8_t *visited, curve_work *w, gs__part_out *out)
 {
     for (int closed = 0; closed < 2; ++closed)
         for (uint32_t lf = 0; lf < nd->nf; ++lf) {
@@ -650,8 +650,8 @@ static int chain_all(const gs_part_node *nd, const gs_tree_options *opt, double 
     return GS_OK;
 }
 
-int gs__part_curves(const gs_part_node *nd, const gs_tree_options *opt, double mean_edge,
-                    gs_part_out *out, gs_error *err)
+int gs__part_curves(const gs__part_node *nd, const gs__tree_options *opt, double mean_edge,
+                    gs__part_out *out, gs_error *err)
 {
     curve_work w = {0};
     uint8_t *visited = calloc(nd->nf ? nd->nf : 1, 1);

@@ -11,7 +11,7 @@
  * does not own). vloc/floc are mesh-sized maps that hold local ids for the
  * vertices and faces of this node only (GS_NONE elsewhere), so every step
  * costs time proportional to the node's size. */
-typedef struct gs_part_node {
+typedef struct gs__part_node {
     const gs_mesh *mesh;
     uint32_t id;            /* tree node id                                   */
     uint32_t no, nl, nf;    /* owned vertices, local vertices, faces of P(N)  */
@@ -23,17 +23,17 @@ typedef struct gs_part_node {
     double *phi;            /* nl: the smoothed side function minus its cut  */
                             /*   level (side = phi > 0), or NULL              */
     int phi_valid;          /* phi holds that function for the current sides */
-} gs_part_node;
+} gs__part_node;
 
 /* Growable output arrays of the curve builder. */
-typedef struct gs_part_out {
-    gs_sep_curve *curves;
+typedef struct gs__part_out {
+    gs__sep_curve *curves;
     size_t n_curves, cap_curves;
-    gs_sep_sample *samples;
+    gs__sep_sample *samples;
     size_t n_samples, cap_samples;
-    gs_sep_cross *cross;
+    gs__sep_cross *cross;
     size_t n_cross, cap_cross;
-} gs_part_out;
+} gs__part_out;
 
 /* Grow *p (elements of size `size`) so that it holds at least `need`. */
 int gs__part_reserve(void **p, size_t *cap, size_t need, size_t size);
@@ -43,7 +43,7 @@ int gs__part_reserve(void **p, size_t *cap, size_t need, size_t size);
  * possible, otherwise a METIS bisection. Both sides are non-empty (no >= 2).
  * Then every ghost vertex takes the side of the majority of its owned
  * neighbours. (split.c, the only file that includes metis.h) */
-int gs__part_sides(gs_part_node *nd, uint32_t seed, double mean_edge, gs_error *err);
+int gs__part_sides(gs__part_node *nd, uint32_t seed, double mean_edge, gs_error *err);
 
 /* Smooth separator (paper 4.1's aim, by a level set): diffuse the +-1 side
  * indicator of the METIS cut over the graph of P(N) for `iters` rounds of
@@ -52,24 +52,24 @@ int gs__part_sides(gs_part_node *nd, uint32_t seed, double mean_edge, gs_error *
  * holds the function minus the cut level, whose zero set (linear on each
  * face) is the separator. Keeps the METIS sides if the cut would empty a
  * side. (split.c) */
-int gs__part_level_set(gs_part_node *nd, uint32_t iters, gs_error *err);
+int gs__part_level_set(gs__part_node *nd, uint32_t iters, gs_error *err);
 
 /* Cut nd->phi at the level keeping the current share of side-1 owned
  * vertices (exact balance): phi minus that level, sides, phi_valid. Keeps
  * the sides if ties make that impossible. GS_ENOMEM only. (split.c) */
-int gs__part_cut_median(gs_part_node *nd);
+int gs__part_cut_median(gs__part_node *nd);
 
 /* Smooth separator as a level set of d_A^2 - d_B^2 (exact geodesic
  * distances from the owned vertices A, B nearest to the centroids of the two
  * sides): linear in flat regions, so its level sets are straight there.
  * Repeated `iters` times with the new sides' centres. (split.c) */
-int gs__part_bisector(gs_part_node *nd, uint32_t iters, gs_error *err);
+int gs__part_bisector(gs__part_node *nd, uint32_t iters, gs_error *err);
 
 /* The separator curves of a node whose sides are set: the faces of P(N)
  * with corners on both sides are chained into paths and loops; each one is
  * placed on the zero level of nd->phi (or, without it, pulled taut between
  * anchors inside its strip and smoothed) and resampled (curve.c). */
-int gs__part_curves(const gs_part_node *nd, const gs_tree_options *opt,
-                    double mean_edge, gs_part_out *out, gs_error *err);
+int gs__part_curves(const gs__part_node *nd, const gs__tree_options *opt,
+                    double mean_edge, gs__part_out *out, gs_error *err);
 
 #endif

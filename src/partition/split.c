@@ -30,8 +30,8 @@ static void graph_free(owned_graph *g)
  * centroid of the face across (the piece of a cut curve that crosses it). */
 static double dual_length(const gs_mesh *m, uint32_t h)
 {
-    const gs_topo *t = &m->topo;
-    uint32_t a = m->tri[h], b = m->tri[gs_next(h)];
+    const gs__topo *t = &m->topo;
+    uint32_t a = m->tri[h], b = m->tri[gs__next(h)];
     double mid[3], len = 0;
     for (int d = 0; d < 3; ++d) mid[d] = 0.5 * (m->xyz[3 * (size_t)a + d] + m->xyz[3 * (size_t)b + d]);
     uint32_t hs[2] = {h, t->opp[h]};
@@ -53,9 +53,9 @@ static double dual_length(const gs_mesh *m, uint32_t h)
  * minimum cut is the shortest curve in space, not the fewest edges (on a
  * steep height field the two differ a lot). All faces at an owned vertex
  * are in P(N), so h < opp(h) picks each mesh edge exactly once. */
-static int graph_build(const gs_part_node *nd, owned_graph *g, double mean_edge)
+static int graph_build(const gs__part_node *nd, owned_graph *g, double mean_edge)
 {
-    const gs_topo *t = &nd->mesh->topo;
+    const gs__topo *t = &nd->mesh->topo;
     double scale = 100.0 / (mean_edge > 0 ? mean_edge : 1.0); /* ~100 per edge */
     g->n = (idx_t)nd->no;
     g->xadj = calloc((size_t)nd->no + 1, sizeof *g->xadj);
@@ -67,7 +67,7 @@ static int graph_build(const gs_part_node *nd, owned_graph *g, double mean_edge)
             for (uint32_t k = 0; k < 3; ++k) {
                 uint32_t h = 3 * nd->faces[lf] + k;
                 if (t->opp[h] != GS_NONE && t->opp[h] < h) continue;
-                uint32_t a = nd->vloc[t->tri[h]], b = nd->vloc[t->tri[gs_next(h)]];
+                uint32_t a = nd->vloc[t->tri[h]], b = nd->vloc[t->tri[gs__next(h)]];
                 if (a >= nd->no || b >= nd->no) continue;
                 if (pass == 0) {
                     g->xadj[a + 1]++;
@@ -142,7 +142,7 @@ static int cmp_comp(const void *a, const void *b)
 
 /* Group components into two halves, largest first onto the lighter side.
  * Returns 1 (sides set) if the smaller half has at least a quarter. */
-static int split_by_components(gs_part_node *nd, const uint32_t *comp, uint32_t nc,
+static int split_by_components(gs__part_node *nd, const uint32_t *comp, uint32_t nc,
                                int *ok)
 {
     comp_size *cs = gs__malloc(nc, sizeof *cs);
@@ -170,7 +170,7 @@ static int split_by_components(gs_part_node *nd, const uint32_t *comp, uint32_t 
     return GS_OK;
 }
 
-static int split_by_metis(gs_part_node *nd, const owned_graph *g, uint32_t seed,
+static int split_by_metis(gs__part_node *nd, const owned_graph *g, uint32_t seed,
                           gs_error *err)
 {
     idx_t nv = g->n, ncon = 1, nparts = 2, objval = 0;
@@ -184,7 +184,7 @@ static int split_by_metis(gs_part_node *nd, const owned_graph *g, uint32_t seed,
     /* METIS keeps its random generator in global state (GKlib), seeded at
      * the start of each call: calls from the tree's threads take turns, so
      * each one's result depends on its seed only. */
-#pragma omp critical(gs_metis)
+#pragma omp critical(gs__metis)
     r = METIS_PartGraphRecursive(&nv, &ncon, g->xadj, g->adj, NULL, NULL, g->wgt, &nparts, NULL,
                                  NULL, options, &objval, part);
     if (r != METIS_OK) {
@@ -199,14 +199,14 @@ static int split_by_metis(gs_part_node *nd, const owned_graph *g, uint32_t seed,
 }
 
 /* Fallback when a cut leaves a side empty: halves of the BFS order. */
-static void split_by_order(gs_part_node *nd, const uint32_t *order)
+static void split_by_order(gs__part_node *nd, const uint32_t *order)
 {
     for (uint32_t i = 0; i < nd->no; ++i) nd->side[order[i]] = i >= nd->no / 2;
 }
 
 /* Each ghost vertex joins the side of most of its owned neighbours (every
  * face of P(N) has an owned corner, so each ghost has one). Ties: side 0. */
-static int ghost_sides(gs_part_node *nd)
+static int ghost_sides(gs__part_node *nd)
 {
     uint32_t ng = nd->nl - nd->no;
     if (ng == 0) return GS_OK;
@@ -226,7 +226,7 @@ static int ghost_sides(gs_part_node *nd)
     return GS_OK;
 }
 
-int gs__part_sides(gs_part_node *nd, uint32_t seed, double mean_edge, gs_error *err)
+int gs__part_sides(gs__part_node *nd, uint32_t seed, double mean_edge, gs_error *err)
 {
     owned_graph g = {0};
     uint32_t *comp = gs__malloc(nd->no, sizeof *comp);
@@ -274,10 +274,10 @@ static void local_graph_free(local_graph *g)
     free(g->w);
 }
 
-static int local_graph_build(const gs_part_node *nd, local_graph *g)
+static int local_graph_build(const gs__part_node *nd, local_graph *g)
 {
     const uint32_t *tri = nd->mesh->tri;
-    const gs_topo *t = &nd->mesh->topo;
+    const gs__topo *t = &nd->mesh->topo;
     size_t ne = 6 * (size_t)nd->nf;
     g->start = gs__calloc((size_t)nd->nl + 1, sizeof *g->start);
     g->nbr = gs__malloc(ne, sizeof *g->nbr);
@@ -294,7 +294,7 @@ static int local_graph_build(const gs_part_node *nd, local_graph *g)
     for (uint32_t lf = 0; lf < nd->nf; ++lf)
         for (int k = 0; k < 3; ++k) {
             uint32_t h = 3 * nd->faces[lf] + (uint32_t)k;
-            uint32_t a = nd->vloc[tri[h]], b = nd->vloc[tri[gs_next(h)]];
+            uint32_t a = nd->vloc[tri[h]], b = nd->vloc[tri[gs__next(h)]];
             double w = t->len[h] > 0 ? 1.0 / t->len[h] : 1.0;
             g->nbr[fill[a]] = b, g->w[fill[a]++] = w;
             g->nbr[fill[b]] = a, g->w[fill[b]++] = w;
@@ -308,7 +308,7 @@ static int local_graph_build(const gs_part_node *nd, local_graph *g)
  * level is clear of the values by 1e-9 of their range: a level set through
  * (numerically) tied values would zigzag around them. Sets every local side
  * and phi_valid; keeps the sides when there is no such level. */
-int gs__part_cut_median(gs_part_node *nd)
+int gs__part_cut_median(gs__part_node *nd)
 {
     double *phi = nd->phi, *sorted = gs__malloc(nd->no, sizeof *sorted);
     if (!sorted) return GS_ENOMEM;
@@ -338,7 +338,7 @@ int gs__part_cut_median(gs_part_node *nd)
     return GS_OK;
 }
 
-int gs__part_level_set(gs_part_node *nd, uint32_t iters, gs_error *err)
+int gs__part_level_set(gs__part_node *nd, uint32_t iters, gs_error *err)
 {
     if (!nd->phi || iters == 0) return GS_OK;
     local_graph g = {0};
@@ -373,7 +373,7 @@ done:
 
 /* The owned vertex of side s nearest (in space) to the centroid of the
  * owned vertices of side s; GS_NONE if the side is empty. */
-static uint32_t side_centre(const gs_part_node *nd, uint8_t s)
+static uint32_t side_centre(const gs__part_node *nd, uint8_t s)
 {
     double c[3] = {0, 0, 0};
     uint32_t n = 0, best = GS_NONE;
@@ -401,7 +401,7 @@ static uint32_t side_centre(const gs_part_node *nd, uint8_t s)
  * a smooth level set there (flat regions straight to the march's ~1%). */
 #define BISECTOR_EXACT_MAX 100000u
 
-int gs__part_bisector(gs_part_node *nd, uint32_t iters, gs_error *err)
+int gs__part_bisector(gs__part_node *nd, uint32_t iters, gs_error *err)
 {
     if (!nd->phi || iters == 0 || nd->no < 4) return GS_OK;
     gs_patch *p = NULL;

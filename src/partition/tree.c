@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-void gs_tree_options_default(gs_tree_options *o)
+void gs__tree_options_default(gs__tree_options *o)
 {
     if (!o) return;
     o->vmax = 30;
@@ -34,7 +34,7 @@ void gs_tree_options_default(gs_tree_options *o)
     o->progress_user = NULL;
 }
 
-void gs_tree_free(gs_tree *t)
+void gs__tree_free(gs__tree *t)
 {
     if (!t) return;
     free(t->nodes);
@@ -53,7 +53,7 @@ typedef struct cut_slot {
     uint8_t *side, *best_side;
     double *phi, *best_phi;
     size_t cap_side, cap_best_side, cap_phi, cap_best_phi;
-    gs_part_out out;
+    gs__part_out out;
     double best;
     uint32_t best_k, fail_k;
     int best_valid, rc;
@@ -73,10 +73,10 @@ static void cut_slot_free(cut_slot *s)
 
 typedef struct builder {
     const gs_mesh *mesh;
-    const gs_tree_options *opt;
-    gs_tree *t;
+    const gs__tree_options *opt;
+    gs__tree *t;
     size_t cap_nodes, cap_faces;
-    gs_part_out out;
+    gs__part_out out;
     double mean_edge;
     uint32_t *vloc, *floc;     /* mesh-sized maps, GS_NONE outside a node */
     uint32_t *lv, *lf, *tmp;   /* node scratch (grown as needed)          */
@@ -110,7 +110,7 @@ static void builder_free(builder *b)
 static int init_root(builder *b)
 {
     const gs_mesh *m = b->mesh;
-    gs_tree *t = b->t;
+    gs__tree *t = b->t;
     t->verts = gs__malloc(m->nv ? m->nv : 1, sizeof *t->verts);
     t->leaf_of_vertex = gs__malloc(m->nv ? m->nv : 1, sizeof *t->leaf_of_vertex);
     b->vloc = gs__malloc(m->nv ? m->nv : 1, sizeof *b->vloc);
@@ -128,16 +128,16 @@ static int init_root(builder *b)
         t->faces[f] = f;
     }
     t->n_face_refs = m->nf;
-    t->nodes[0] = (gs_tree_node){GS_NONE, {GS_NONE, GS_NONE}, 0, 0, m->nf, 0, t->n_verts,
+    t->nodes[0] = (gs__tree_node){GS_NONE, {GS_NONE, GS_NONE}, 0, 0, m->nf, 0, t->n_verts,
                                  0, 0, 0};
     t->n_nodes = 1;
     return GS_OK;
 }
 
 /* Local view of node id: owned vertices first, then ghosts. */
-static int load_node(builder *b, uint32_t id, gs_part_node *nd)
+static int load_node(builder *b, uint32_t id, gs__part_node *nd)
 {
-    const gs_tree_node *n = &b->t->nodes[id];
+    const gs__tree_node *n = &b->t->nodes[id];
     const uint32_t *tri = b->mesh->tri;
     size_t max_lv = (size_t)n->n_verts + 3 * (size_t)n->n_faces;
     if (RESERVE(b->lf, b->cap_lf, n->n_faces) || RESERVE(b->lv, b->cap_lv, max_lv))
@@ -160,19 +160,19 @@ static int load_node(builder *b, uint32_t id, gs_part_node *nd)
     }
     if (RESERVE(b->side, b->cap_side, nl ? nl : 1) || RESERVE(b->phi, b->cap_phi, nl ? nl : 1))
         return GS_ENOMEM;
-    *nd = (gs_part_node){b->mesh, id, n->n_verts, nl, n->n_faces, b->lv, b->lf,
+    *nd = (gs__part_node){b->mesh, id, n->n_verts, nl, n->n_faces, b->lv, b->lf,
                          b->vloc, b->floc, b->side, b->phi, 0};
     return GS_OK;
 }
 
-static void unload_node(builder *b, const gs_part_node *nd)
+static void unload_node(builder *b, const gs__part_node *nd)
 {
     for (uint32_t i = 0; i < nd->nl; ++i) b->vloc[nd->lv[i]] = GS_NONE;
     for (uint32_t i = 0; i < nd->nf; ++i) b->floc[nd->faces[i]] = GS_NONE;
 }
 
 /* Faces of P(N) with a corner owned on side s, appended to tree faces. */
-static uint32_t child_faces(builder *b, const gs_part_node *nd, uint8_t s)
+static uint32_t child_faces(builder *b, const gs__part_node *nd, uint8_t s)
 {
     uint32_t n = 0;
     for (uint32_t i = 0; i < nd->nf; ++i) {
@@ -189,14 +189,14 @@ static uint32_t child_faces(builder *b, const gs_part_node *nd, uint8_t s)
 }
 
 /* Reorder the node's vertex range (side 0 first) and add both children. */
-static int make_children(builder *b, uint32_t id, const gs_part_node *nd)
+static int make_children(builder *b, uint32_t id, const gs__part_node *nd)
 {
-    gs_tree *t = b->t;
+    gs__tree *t = b->t;
     if (RESERVE(t->nodes, b->cap_nodes, (size_t)t->n_nodes + 2) ||
         RESERVE(t->faces, b->cap_faces, t->n_face_refs + 2 * (size_t)nd->nf) ||
         RESERVE(b->tmp, b->cap_tmp, nd->no))
         return GS_ENOMEM;
-    gs_tree_node *n = &t->nodes[id];
+    gs__tree_node *n = &t->nodes[id];
     uint32_t *range = t->verts + n->vert_start, n0 = 0;
     for (uint8_t s = 0; s < 2; ++s)
         for (uint32_t i = 0; i < nd->no; ++i)
@@ -208,7 +208,7 @@ static int make_children(builder *b, uint32_t id, const gs_part_node *nd)
         uint32_t c = t->n_nodes++;
         size_t fs = t->n_face_refs;
         uint32_t nf = child_faces(b, nd, s);
-        t->nodes[c] = (gs_tree_node){id, {GS_NONE, GS_NONE}, n->depth + 1, (uint32_t)fs, nf,
+        t->nodes[c] = (gs__tree_node){id, {GS_NONE, GS_NONE}, n->depth + 1, (uint32_t)fs, nf,
                                      n->vert_start + (s ? n0 : 0), s ? nd->no - n0 : n0,
                                      0, 0, n->curve_prefix + n->n_curves};
         n->child[s] = c;
@@ -219,7 +219,7 @@ static int make_children(builder *b, uint32_t id, const gs_part_node *nd)
 /* One candidate cut of node nd: sides by METIS with `seed`, then the
  * diffusion level set, and with `bisector` the power bisector of its two
  * sides (split.c). */
-static int candidate_sides(builder *b, gs_part_node *nd, uint32_t seed, int bisector,
+static int candidate_sides(builder *b, gs__part_node *nd, uint32_t seed, int bisector,
                            gs_error *err)
 {
     nd->phi_valid = 0;
@@ -243,9 +243,9 @@ static int candidate_sides(builder *b, gs_part_node *nd, uint32_t seed, int bise
 #define FEW_CANDIDATES_ABOVE 200000u
 
 /* Candidate k (seed index k / nvar; the bisector variant first) in slot s. */
-static void try_candidate(builder *b, const gs_part_node *nd, uint32_t k, int nvar, cut_slot *s)
+static void try_candidate(builder *b, const gs__part_node *nd, uint32_t k, int nvar, cut_slot *s)
 {
-    gs_part_node c = *nd;
+    gs__part_node c = *nd;
     c.side = s->side;
     c.phi = s->phi;
     int bis = nvar == 2 ? 1 - (int)(k % 2) : 0;
@@ -271,7 +271,7 @@ static void try_candidate(builder *b, const gs_part_node *nd, uint32_t k, int nv
     }
 }
 
-static int choose_cut(builder *b, gs_part_node *nd, gs_error *err)
+static int choose_cut(builder *b, gs__part_node *nd, gs_error *err)
 {
     uint32_t nseeds = b->opt->cut_seeds ? b->opt->cut_seeds : 1;
     if (nd->nl > FEW_CANDIDATES_ABOVE) nseeds = 1;
@@ -335,7 +335,7 @@ static int choose_cut(builder *b, gs_part_node *nd, gs_error *err)
 
 static int split_node(builder *b, uint32_t id, gs_error *err)
 {
-    gs_part_node nd;
+    gs__part_node nd;
     b->t->nodes[id].curve_start = (uint32_t)b->out.n_curves;
     if (b->t->nodes[id].n_verts <= b->opt->vmax) return GS_OK;
     if (load_node(b, id, &nd)) return gs__fail(err, GS_ENOMEM, "out of memory building the tree");
@@ -349,12 +349,12 @@ static int split_node(builder *b, uint32_t id, gs_error *err)
     return rc;
 }
 
-static void finish_stats(gs_tree *t)
+static void finish_stats(gs__tree *t)
 {
     double sum = 0;
     uint32_t n_sep = 0;
     for (uint32_t i = 0; i < t->n_nodes; ++i) {
-        const gs_tree_node *n = &t->nodes[i];
+        const gs__tree_node *n = &t->nodes[i];
         n_sep += n->n_curves > 0;
         if (n->child[0] != GS_NONE) continue;
         t->n_leaves++;
@@ -370,7 +370,7 @@ static void finish_stats(gs_tree *t)
 /* Move the curve arrays into the tree and trim the growable ones. */
 static int take_output(builder *b)
 {
-    gs_tree *t = b->t;
+    gs__tree *t = b->t;
     if (b->out.n_samples > UINT32_MAX || b->out.n_cross > UINT32_MAX) return GS_ELIMIT;
     t->curves = b->out.curves;
     t->samples = b->out.samples;
@@ -388,28 +388,28 @@ static int take_output(builder *b)
     return GS_OK;
 }
 
-int gs_tree_build(const gs_mesh *mesh, const gs_tree_options *opt, gs_tree **out,
+int gs__tree_build(const gs_mesh *mesh, const gs__tree_options *opt, gs__tree **out,
                   gs_error *err)
 {
-    if (!out) return gs__fail(err, GS_EARG, "gs_tree_build: out is NULL");
+    if (!out) return gs__fail(err, GS_EARG, "gs__tree_build: out is NULL");
     *out = NULL;
-    gs_tree_options def;
-    gs_tree_options_default(&def);
+    gs__tree_options def;
+    gs__tree_options_default(&def);
     if (!opt) opt = &def;
-    if (!mesh) return gs__fail(err, GS_EARG, "gs_tree_build: mesh is NULL");
-    if (opt->vmax < 1) return gs__fail(err, GS_EARG, "gs_tree_build: vmax must be >= 1");
+    if (!mesh) return gs__fail(err, GS_EARG, "gs__tree_build: mesh is NULL");
+    if (opt->vmax < 1) return gs__fail(err, GS_EARG, "gs__tree_build: vmax must be >= 1");
     if (!(opt->level_bias > 0) || opt->level_bias > 1e6)
-        return gs__fail(err, GS_EARG, "gs_tree_build: level_bias %g out of range", opt->level_bias);
+        return gs__fail(err, GS_EARG, "gs__tree_build: level_bias %g out of range", opt->level_bias);
     if (!(opt->long_curve >= 0) || opt->long_curve > 1e6)
-        return gs__fail(err, GS_EARG, "gs_tree_build: long_curve %g out of range", opt->long_curve);
+        return gs__fail(err, GS_EARG, "gs__tree_build: long_curve %g out of range", opt->long_curve);
     if (opt->threads > 1024)
-        return gs__fail(err, GS_EARG, "gs_tree_build: threads %u out of range", opt->threads);
+        return gs__fail(err, GS_EARG, "gs__tree_build: threads %u out of range", opt->threads);
     if (opt->cut_seeds > 1024)
-        return gs__fail(err, GS_EARG, "gs_tree_build: cut_seeds %u out of range", opt->cut_seeds);
+        return gs__fail(err, GS_EARG, "gs__tree_build: cut_seeds %u out of range", opt->cut_seeds);
     if (opt->min_samples > (1u << 20))
-        return gs__fail(err, GS_EARG, "gs_tree_build: min_samples %u out of range", opt->min_samples);
+        return gs__fail(err, GS_EARG, "gs__tree_build: min_samples %u out of range", opt->min_samples);
     if (!(opt->sample_spacing > 0) || opt->sample_spacing > 1e6)
-        return gs__fail(err, GS_EARG, "gs_tree_build: sample_spacing %g out of range",
+        return gs__fail(err, GS_EARG, "gs__tree_build: sample_spacing %g out of range",
                         opt->sample_spacing);
     builder b = {.mesh = mesh, .opt = opt};
     b.mean_edge = mesh->report.mean_edge > 0 ? mesh->report.mean_edge : 1.0;
@@ -437,7 +437,7 @@ int gs_tree_build(const gs_mesh *mesh, const gs_tree_options *opt, gs_tree **out
     if (rc == GS_OK) finish_stats(b.t);
     builder_free(&b);
     if (rc) {
-        gs_tree_free(b.t);
+        gs__tree_free(b.t);
         return rc;
     }
     *out = b.t;

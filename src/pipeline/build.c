@@ -23,7 +23,7 @@ void gs_build_options_default(gs_build_options *o)
     o->method = GS_METHOD_EXACT;
     o->vmax = 30;
     o->mmax = 20; /* long top-level curves need more than 12 (paper 4.2) */
-    o->tol = 0.003; /* at the root, looser with depth (gs_fit_tol_at_depth); the certified fits (fit.h) need the slack: 0.002 cost bunny-5k 97 numbers per vertex */
+    o->tol = 0.003; /* at the root, looser with depth (gs__fit_tol_at_depth); the certified fits (fit.h) need the slack: 0.002 cost bunny-5k 97 numbers per vertex */
     o->threads = 0;
     o->vertex_sources = -1; /* by the method (see geosep.h) */
     o->sampled = 0;
@@ -41,13 +41,13 @@ void gs_build_options_default(gs_build_options *o)
  * ends). A distance function is fitted with degree <= mmax, so a long curve
  * gains nothing from thousands of samples, while each one costs a field
  * (or three corner fields) over the whole patch. */
-static void thin_samples(gs_tree *t, uint32_t cap)
+static void thin_samples(gs__tree *t, uint32_t cap)
 {
     for (uint32_t c = 0; c < t->n_curves && cap; ++c) {
-        gs_sep_curve *cv = &t->curves[c];
+        gs__sep_curve *cv = &t->curves[c];
         uint32_t n = cv->n_samples;
         if (n <= cap) continue;
-        gs_sep_sample *sm = t->samples + cv->sample_start;
+        gs__sep_sample *sm = t->samples + cv->sample_start;
         double step = cv->length / (cv->closed ? cap : cap - 1);
         uint32_t prev = 0;
         for (uint32_t k = 1; k < cap; ++k) {
@@ -75,20 +75,20 @@ static void thin_samples(gs_tree *t, uint32_t cap)
  * degree where one series over a long curve cannot follow the sharp dip of
  * a vertex near it. Renumbers the curves, the nodes' curve ranges and
  * prefixes. GS_ENOMEM leaves the tree as it was. */
-static int split_curves(gs_tree *t, uint32_t piece, gs_error *err)
+static int split_curves(gs__tree *t, uint32_t piece, gs_error *err)
 {
     if (!piece) return GS_OK;
     uint32_t nc = 0, ns = 0;
     for (uint32_t c = 0; c < t->n_curves; ++c) {
-        const gs_sep_curve *cv = &t->curves[c];
+        const gs__sep_curve *cv = &t->curves[c];
         uint32_t iv = cv->closed ? cv->n_samples : cv->n_samples - 1;
         uint32_t k = iv > piece ? (iv + piece - 1) / piece : 1;
         nc += k;
         ns += k == 1 ? cv->n_samples : iv + k;
     }
     if (nc == t->n_curves) return GS_OK;
-    gs_sep_curve *curves = gs__malloc(nc, sizeof *curves);
-    gs_sep_sample *samples = gs__malloc(ns, sizeof *samples);
+    gs__sep_curve *curves = gs__malloc(nc, sizeof *curves);
+    gs__sep_sample *samples = gs__malloc(ns, sizeof *samples);
     if (!curves || !samples) {
         free(curves);
         free(samples);
@@ -96,11 +96,11 @@ static int split_curves(gs_tree *t, uint32_t piece, gs_error *err)
     }
     uint32_t oc = 0, os = 0;
     for (uint32_t i = 0; i < t->n_nodes; ++i) {
-        gs_tree_node *nd = &t->nodes[i];
+        gs__tree_node *nd = &t->nodes[i];
         uint32_t first = oc;
         for (uint32_t c = nd->curve_start; c < nd->curve_start + nd->n_curves; ++c) {
-            const gs_sep_curve *cv = &t->curves[c];
-            const gs_sep_sample *sm = t->samples + cv->sample_start;
+            const gs__sep_curve *cv = &t->curves[c];
+            const gs__sep_sample *sm = t->samples + cv->sample_start;
             uint32_t n = cv->n_samples, iv = cv->closed ? n : n - 1;
             uint32_t k = iv > piece ? (iv + piece - 1) / piece : 1;
             if (k == 1) {
@@ -118,7 +118,7 @@ static int split_curves(gs_tree *t, uint32_t piece, gs_error *err)
                 curves[oc].sample_start = os;
                 curves[oc].n_samples = b - a + 1;
                 for (uint32_t j = a; j <= b; ++j) {
-                    gs_sep_sample x = sm[j % n];
+                    gs__sep_sample x = sm[j % n];
                     x.s = (j >= n ? x.s + cv->length : x.s) - s0;
                     samples[os++] = x;
                 }
@@ -130,7 +130,7 @@ static int split_curves(gs_tree *t, uint32_t piece, gs_error *err)
         nd->n_curves = oc - first;
     }
     for (uint32_t i = 0; i < t->n_nodes; ++i) {
-        gs_tree_node *nd = &t->nodes[i];
+        gs__tree_node *nd = &t->nodes[i];
         nd->curve_prefix = nd->parent == GS_NONE ? 0
                                                  : t->nodes[nd->parent].curve_prefix + t->nodes[nd->parent].n_curves;
     }
@@ -155,23 +155,23 @@ static void tree_progress(void *user, double frac)
 
 static int assemble(gs__builder *b, const gs__leaf_tables *lt, gs_db **out, gs_error *err)
 {
-    const gs_tree *t = b->tree;
-    gs_db_node *nodes = gs__malloc(t->n_nodes, sizeof *nodes);
-    gs_db_curve *curves = gs__malloc(t->n_curves, sizeof *curves);
+    const gs__tree *t = b->tree;
+    gs__db_node *nodes = gs__malloc(t->n_nodes, sizeof *nodes);
+    gs__db_curve *curves = gs__malloc(t->n_curves, sizeof *curves);
     if (!nodes || !curves) {
         free(nodes);
         free(curves);
         return gs__fail(err, GS_ENOMEM, "out of memory");
     }
     for (uint32_t i = 0; i < t->n_nodes; ++i) {
-        const gs_tree_node *n = &t->nodes[i];
-        nodes[i] = (gs_db_node){n->parent, n->depth, n->curve_start, n->n_curves, n->curve_prefix};
+        const gs__tree_node *n = &t->nodes[i];
+        nodes[i] = (gs__db_node){n->parent, n->depth, n->curve_start, n->n_curves, n->curve_prefix};
     }
     for (uint32_t i = 0; i < t->n_curves; ++i) {
-        const gs_sep_curve *c = &t->curves[i];
-        curves[i] = (gs_db_curve){c->node, c->closed, c->n_samples, c->length};
+        const gs__sep_curve *c = &t->curves[i];
+        curves[i] = (gs__db_curve){c->node, c->closed, c->n_samples, c->length};
     }
-    gs_db_content c;
+    gs__db_content c;
     memset(&c, 0, sizeof c);
     c.nv = b->mesh->nv;
     c.xyz = b->xyz_out;
@@ -300,8 +300,8 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
     b.nthreads = opt->threads ? opt->threads : (uint32_t)omp_get_max_threads();
     double t0 = gs__now();
 
-    gs_tree_options to;
-    gs_tree_options_default(&to);
+    gs__tree_options to;
+    gs__tree_options_default(&to);
     to.vmax = opt->vmax;
     to.seed = opt->seed;
     to.sample_spacing = opt->sample_spacing;
@@ -312,13 +312,13 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
     to.threads = b.nthreads;
     to.progress = tree_progress;
     to.progress_user = &b;
-    gs_tree *tree = NULL;
+    gs__tree *tree = NULL;
     gs__pipe_progress(&b, "tree", 0);
-    rc = gs_tree_build(mesh, &to, &tree, err);
+    rc = gs__tree_build(mesh, &to, &tree, err);
     if (rc) return rc;
     thin_samples(tree, opt->max_samples);
     if ((rc = split_curves(tree, GS_PIPE_PIECE, err))) {
-        gs_tree_free(tree);
+        gs__tree_free(tree);
         return rc;
     }
     b.tree = tree;
@@ -350,7 +350,7 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
      * then the small ones in parallel, one thread each. The result is the
      * same either way (chunks of sources do not depend on threads). */
     for (uint32_t i = 0; i < tree->n_nodes && rc == GS_OK; ++i) {
-        const gs_tree_node *nd = &tree->nodes[i];
+        const gs__tree_node *nd = &tree->nodes[i];
         if (nd->n_curves == 0 || (b.nthreads > 1 && nd->n_verts < GS_PIPE_SMALL_NODE)) continue;
         rc = gs__pipe_process_node(&b, i, b.nthreads, &t_fields, &t_fits, err);
         b.work_done += (double)nd->n_faces * nd->n_curves;
@@ -364,7 +364,7 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
             int my = GS_OK;
 #pragma omp for schedule(dynamic, 1)
             for (uint32_t i = 0; i < tree->n_nodes; ++i) {
-                const gs_tree_node *nd = &tree->nodes[i];
+                const gs__tree_node *nd = &tree->nodes[i];
                 if (my || nd->n_curves == 0 || nd->n_verts >= GS_PIPE_SMALL_NODE) continue;
                 my = gs__pipe_process_node(&b, i, 1, &sf, &sfit, &e);
                 double w;
@@ -416,6 +416,6 @@ done:
     free(b.arenas);
     free(b.funs);
     free(b.fun_start);
-    gs_tree_free(tree);
+    gs__tree_free(tree);
     return rc;
 }

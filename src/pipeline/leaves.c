@@ -63,7 +63,7 @@ static int grow(void **p, size_t *cap, size_t need, size_t size)
 /* Can face f meet the ball B(x, r) of some leaf vertex x? */
 static int face_near_leaf(const gs_mesh *m, uint32_t f, const uint32_t *lv, uint32_t n, const double *r)
 {
-    const gs_topo *t = &m->topo;
+    const gs__topo *t = &m->topo;
     const double *p[3];
     for (int i = 0; i < 3; ++i) p[i] = m->xyz + 3 * (size_t)m->tri[3 * (size_t)f + i];
     double e = fmax(t->len[3 * (size_t)f], fmax(t->len[3 * (size_t)f + 1], t->len[3 * (size_t)f + 2]));
@@ -85,7 +85,7 @@ static int face_near_leaf(const gs_mesh *m, uint32_t f, const uint32_t *lv, uint
 static uint32_t leaf_region(const gs_mesh *m, const uint32_t *lv, uint32_t n, const double *r, uint32_t stamp,
                             leaf_work *w)
 {
-    const gs_topo *t = &m->topo;
+    const gs__topo *t = &m->topo;
     size_t nf = 0;
     for (uint32_t k = 0; k < n; ++k)
         for (uint32_t c = t->vc_start[lv[k]]; c < t->vc_start[lv[k] + 1]; ++c) {
@@ -143,7 +143,7 @@ static int leaf_solve(const gs_patch *p, gs_method method, const gs_solver_optio
 static int leaf_table(gs__builder *b, uint32_t node, const uint32_t *lv, double *T, uint32_t stamp, leaf_work *w,
                       gs_error *err)
 {
-    const gs_tree_node *nd = &b->tree->nodes[node];
+    const gs__tree_node *nd = &b->tree->nodes[node];
     uint32_t n = nd->n_verts;
     /* exact fields whatever the build's method: the region below is bounded
      * by the leaf's own distances, which only exact fields make safe (fmm's
@@ -180,7 +180,7 @@ static int leaf_table(gs__builder *b, uint32_t node, const uint32_t *lv, double 
 
 int gs__pipe_leaf_tables(gs__builder *b, gs__leaf_tables *lt, gs_error *err)
 {
-    const gs_tree *t = b->tree;
+    const gs__tree *t = b->tree;
     uint32_t nn = t->n_nodes;
     memset(lt, 0, sizeof *lt);
     lt->vstart = gs__malloc((size_t)nn + 1, sizeof *lt->vstart);
@@ -194,7 +194,7 @@ int gs__pipe_leaf_tables(gs__builder *b, gs__leaf_tables *lt, gs_error *err)
     lt->vstart[0] = 0;
     lt->dstart[0] = 0;
     for (uint32_t i = 0; i < nn; ++i) {
-        const gs_tree_node *nd = &t->nodes[i];
+        const gs__tree_node *nd = &t->nodes[i];
         uint32_t n = nd->child[0] == GS_NONE ? nd->n_verts : 0;
         if (nd->child[0] == GS_NONE) leaves[n_leaves++] = i;
         lt->vstart[i + 1] = lt->vstart[i] + n;

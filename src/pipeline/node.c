@@ -40,7 +40,7 @@ static uint32_t local_face(const face_pos *fp, uint32_t n, uint32_t face)
 
 /* Everything one node needs while its fields and fits are computed. */
 typedef struct node_job {
-    const gs_tree_node *node;
+    const gs__tree_node *node;
     gs_patch *patch;
     uint32_t n_samples;       /* over all curves of the node              */
     uint32_t *sample_first;   /* per curve: first column                  */
@@ -79,9 +79,9 @@ static void job_free(node_job *j)
     memset(j, 0, sizeof *j);
 }
 
-static int job_prepare(gs__builder *b, const gs_tree_node *nd, uint32_t nthreads, node_job *j, gs_error *err)
+static int job_prepare(gs__builder *b, const gs__tree_node *nd, uint32_t nthreads, node_job *j, gs_error *err)
 {
-    const gs_tree *t = b->tree;
+    const gs__tree *t = b->tree;
     memset(j, 0, sizeof *j);
     j->node = nd;
     j->nthreads = nthreads;
@@ -113,9 +113,9 @@ static int job_prepare(gs__builder *b, const gs_tree_node *nd, uint32_t nthreads
         return gs__fail(err, GS_ENOMEM, "out of memory: %u vertices x %u samples", nd->n_verts, ns);
     }
     for (uint32_t c = 0; c < nd->n_curves; ++c) {
-        const gs_sep_curve *cv = &t->curves[nd->curve_start + c];
+        const gs__sep_curve *cv = &t->curves[nd->curve_start + c];
         for (uint32_t k = 0; k < cv->n_samples; ++k) {
-            const gs_sep_sample *s = &t->samples[cv->sample_start + k];
+            const gs__sep_sample *s = &t->samples[cv->sample_start + k];
             uint32_t lf = local_face(fp, nd->n_faces, s->face);
             if (lf == GS_NONE) {
                 free(fp);
@@ -251,7 +251,7 @@ typedef struct corner_block {
  * solved again), each block folded into D before the next one. */
 static int fields_from_vertices(gs__builder *b, node_job *j, gs_error *err)
 {
-    const gs_topo *pt = j->patch->topo;
+    const gs__topo *pt = j->patch->topo;
     uint32_t nown = j->node->n_verts, ns = j->n_samples;
     uint32_t blk = block_sources(b, nown, 3);
     if (blk > ns) blk = ns;
@@ -345,8 +345,8 @@ static int fields_from_vertices(gs__builder *b, node_job *j, gs_error *err)
 /* Fit every owned vertex's function for every curve of the node. */
 static int fit_node(gs__builder *b, node_job *j, uint32_t node_id, gs_error *err)
 {
-    const gs_tree *t = b->tree;
-    const gs_tree_node *nd = j->node;
+    const gs__tree *t = b->tree;
+    const gs__tree_node *nd = j->node;
     uint32_t ns = j->n_samples, nc = nd->n_curves;
     uint32_t cap_total = 0; /* coefficient room per vertex */
     for (uint32_t c = 0; c < nc; ++c)
@@ -360,7 +360,7 @@ static int fit_node(gs__builder *b, node_job *j, uint32_t node_id, gs_error *err
     }
     b->arenas[node_id] = arena;
     for (uint32_t c = 0; c < nc; ++c) {
-        const gs_sep_curve *cv = &t->curves[nd->curve_start + c];
+        const gs__sep_curve *cv = &t->curves[nd->curve_start + c];
         for (uint32_t k = 0; k < cv->n_samples; ++k) {
             double s = t->samples[cv->sample_start + k].s;
             u_all[j->sample_first[c] + k] =
@@ -368,31 +368,31 @@ static int fit_node(gs__builder *b, node_job *j, uint32_t node_id, gs_error *err
         }
         if (!cv->closed) u_all[j->sample_first[c] + cv->n_samples - 1] = 1.0;
     }
-    gs_fit_options fo;
-    gs_fit_options_default(&fo);
+    gs__fit_options fo;
+    gs__fit_options_default(&fo);
     fo.m_max = b->opt->mmax;
-    fo.tol = gs_fit_tol_at_depth(b->opt->tol, nd->depth);
+    fo.tol = gs__fit_tol_at_depth(b->opt->tol, nd->depth);
     int rc = GS_OK;
     uint64_t n_fun = 0, n_mixed = 0, n_over = 0, n_uncert = 0;
     double worst_fit = 0;
     double deg_sum = 0, err_sum = 0;
 #pragma omp parallel num_threads(j->nthreads) reduction(+ : n_fun, n_mixed, deg_sum, n_over, err_sum, n_uncert) reduction(max : worst_fit)
     {
-        gs_fit_work *w = NULL;
+        gs__fit_work *w = NULL;
         gs_error e;
         uint32_t max_ns = 0;
         for (uint32_t c = 0; c < nc; ++c)
             if (t->curves[nd->curve_start + c].n_samples > max_ns) max_ns = t->curves[nd->curve_start + c].n_samples;
         double *d = gs__malloc(max_ns, sizeof *d);
-        int my = d ? gs_fit_work_create(max_ns, &fo, &w, &e) : GS_ENOMEM;
-        gs_fit_result res;
+        int my = d ? gs__fit_work_create(max_ns, &fo, &w, &e) : GS_ENOMEM;
+        gs__fit_result res;
 #pragma omp for schedule(dynamic, 64)
         for (uint32_t i = 0; i < nd->n_verts; ++i) {
             if (my) continue;
             uint32_t x = t->verts[nd->vert_start + i];
             double *slot = arena + (size_t)i * cap_total;
             for (uint32_t c = 0; c < nc && !my; ++c) {
-                const gs_sep_curve *cv = &t->curves[nd->curve_start + c];
+                const gs__sep_curve *cv = &t->curves[nd->curve_start + c];
                 uint32_t n = cv->n_samples;
                 const float *row = j->D + (size_t)i * ns + j->sample_first[c];
                 double mx = 0, mn = INFINITY;
@@ -404,7 +404,7 @@ static int fit_node(gs__builder *b, node_job *j, uint32_t node_id, gs_error *err
                     } else
                         n_inf++;
                 }
-                gs_fun *f = &b->funs[b->fun_start[x] + nd->curve_prefix + c];
+                gs__fun *f = &b->funs[b->fun_start[x] + nd->curve_prefix + c];
                 uint32_t cap = b->opt->sampled ? n : b->opt->mmax + 1;
                 memset(f, 0, sizeof *f);
                 f->closed = cv->closed;
@@ -422,7 +422,7 @@ static int fit_node(gs__builder *b, node_job *j, uint32_t node_id, gs_error *err
                     f->minval = n_inf ? fmin(mn, 2 * mx) : mn;
                     f->coef = slot;
                 } else {
-                    my = gs_fit_distance(w, u_all + j->sample_first[c], d, n, cv->closed, cv->length / 2, &res, &e);
+                    my = gs__fit_distance(w, u_all + j->sample_first[c], d, n, cv->closed, cv->length / 2, &res, &e);
                     if (my) break;
                     *f = res.fun;
                     memcpy(slot, res.coef, (res.fun.degree + 1) * sizeof *slot);
@@ -443,7 +443,7 @@ static int fit_node(gs__builder *b, node_job *j, uint32_t node_id, gs_error *err
             rc = my;
             if (err) *err = e;
         }
-        gs_fit_work_free(w);
+        gs__fit_work_free(w);
         free(d);
     }
     free(u_all);
@@ -462,12 +462,12 @@ static int fit_node(gs__builder *b, node_job *j, uint32_t node_id, gs_error *err
 
 /* Shrink node_id's arena to the coefficients its functions use (the fits
  * reserve room for degree mmax) and repoint them. */
-static int compact_arena(gs__builder *b, const gs_tree_node *nd, uint32_t node_id, gs_error *err)
+static int compact_arena(gs__builder *b, const gs__tree_node *nd, uint32_t node_id, gs_error *err)
 {
-    const gs_tree *t = b->tree;
+    const gs__tree *t = b->tree;
     size_t used = 0;
     for (uint32_t i = 0; i < nd->n_verts; ++i) {
-        const gs_fun *f = &b->funs[b->fun_start[t->verts[nd->vert_start + i]] + nd->curve_prefix];
+        const gs__fun *f = &b->funs[b->fun_start[t->verts[nd->vert_start + i]] + nd->curve_prefix];
         for (uint32_t c = 0; c < nd->n_curves; ++c)
             if (f[c].coef) used += f[c].degree + 1;
     }
@@ -475,7 +475,7 @@ static int compact_arena(gs__builder *b, const gs_tree_node *nd, uint32_t node_i
     if (!arena) return gs__fail(err, GS_ENOMEM, "out of memory for node %u's functions", node_id);
     size_t k = 0;
     for (uint32_t i = 0; i < nd->n_verts; ++i) {
-        gs_fun *f = &b->funs[b->fun_start[t->verts[nd->vert_start + i]] + nd->curve_prefix];
+        gs__fun *f = &b->funs[b->fun_start[t->verts[nd->vert_start + i]] + nd->curve_prefix];
         for (uint32_t c = 0; c < nd->n_curves; ++c) {
             if (!f[c].coef) continue;
             memcpy(arena + k, f[c].coef, (f[c].degree + 1) * sizeof *arena);
@@ -493,7 +493,7 @@ static int compact_arena(gs__builder *b, const gs_tree_node *nd, uint32_t node_i
 int gs__pipe_process_node(gs__builder *b, uint32_t i, uint32_t nthreads, double *t_fields, double *t_fits,
                           gs_error *err)
 {
-    const gs_tree_node *nd = &b->tree->nodes[i];
+    const gs__tree_node *nd = &b->tree->nodes[i];
     node_job j;
     double ta = gs__now();
     int rc = job_prepare(b, nd, nthreads, &j, err);

@@ -17,10 +17,10 @@ typedef struct gs__builder {
     const double *xyz_out;  /* the positions the database stores (the      */
                             /*   caller's: mesh may be a centred copy)      */
     const gs_build_options *opt;
-    const gs_tree *tree;
+    const gs__tree *tree;
     uint32_t nthreads;
     uint64_t *fun_start;   /* nv+1 */
-    gs_fun *funs;
+    gs__fun *funs;
     double **arenas;       /* one coefficient arena per node (or NULL)     */
     /* progress */
     double work_total, work_done;

@@ -10,7 +10,7 @@
 
 #define ROWS (GS_FUN_MAX_DEGREE + 1)
 
-/* Rows a grid of g points needs: the degrees gs_fun_grid_points gives g
+/* Rows a grid of g points needs: the degrees gs__fun_grid_points gives g
  * for (g = 4 m + 9, at least 33; the largest grid serves every degree), so
  * that a small grid's table stays small in memory. */
 static uint32_t rows_for(uint32_t g)
@@ -199,7 +199,7 @@ static void to_values(float *p, uint32_t n, int squared)
 #endif
 }
 
-void gs__grid_values(const gs_fun *f, uint32_t g, float *v)
+void gs__grid_values(const gs__fun *f, uint32_t g, float *v)
 {
     g = g < 3 ? 3 : (g > GS_FUN_GRID_MAX ? GS_FUN_GRID_MAX : g);
     int loop = f->closed != 0;

@@ -14,6 +14,6 @@
  * points of its own variable t, interpolated linearly to the u grid (within
  * a cell's curvature: the grid locates the minimum, the series then gives
  * the value). Thread-safe (tables built once per g). */
-void gs__grid_values(const gs_fun *f, uint32_t g, float *v);
+void gs__grid_values(const gs__fun *f, uint32_t g, float *v);
 
 #endif

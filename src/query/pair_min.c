@@ -1,8 +1,8 @@
 /* pair_min.c - the minimum over a curve of the sum of two separator
  * distance functions (paper sec. 3.2 eq. 4, sec. 4.3), which every query
- * runs: the robust minimiser (gs_fun_pair_min: a Chebyshev-Lobatto scan of
+ * runs: the robust minimiser (gs__fun_pair_min: a Chebyshev-Lobatto scan of
  * values and slopes, cells refined cheapest first by safeguarded Newton)
- * and the query's grid minimiser (gs_fun_pair_min_grid: the cell of the
+ * and the query's grid minimiser (gs__fun_pair_min_grid: the cell of the
  * minimum from the two functions' values on the curve's uniform grid,
  * src/query/pair_grid.c, refined from the series). */
 #include "../fit/fun_internal.h"
@@ -64,7 +64,7 @@ static inline v2 sqrt2(v2 x)
 }
 
 /* p and p' of c (degree m <= rows-1) at the np padded grid nodes. */
-static void tab_eval(const double *c, uint32_t m, const gs_cheb_grid *g, double *p, double *d)
+static void tab_eval(const double *c, uint32_t m, const gs__cheb_grid *g, double *p, double *d)
 {
     const uint32_t np = g->np;
     for (uint32_t j = 0; j < np; j += 8) {
@@ -260,7 +260,7 @@ static void refine_cands(const pctx *c, cand *cs, uint32_t nc, double cut, best 
 }
 
 /* Values and slopes of the sum at the grid nodes and the seam. */
-static best pair_minimise(const pctx *c, const gs_cheb_grid *g, double cut)
+static best pair_minimise(const pctx *c, const gs__cheb_grid *g, double cut)
 {
     double pa[GRID_PTS], da[GRID_PTS], pb[GRID_PTS], db[GRID_PTS], s[GRID_PTS + 2],
         ds[GRID_PTS + 2], tb[GRID_PTS], xs[GRID_PTS + 2], xs2[GRID_PTS + 2], s2[GRID_PTS + 2],
@@ -313,7 +313,7 @@ static best pair_minimise(const pctx *c, const gs_cheb_grid *g, double cut)
     refine_cands(c, cs, nc, cut, &b);
     return b;
 }
-static double pair_min_cut(const gs_fun *a, const gs_fun *b, double cut, double *u_at)
+static double pair_min_cut(const gs__fun *a, const gs__fun *b, double cut, double *u_at)
 {
     if (u_at)
         *u_at = 0.0;
@@ -324,22 +324,22 @@ static double pair_min_cut(const gs_fun *a, const gs_fun *b, double cut, double 
     pctx c;
     double comb[GS_FUN_MAX_DEGREE + 1];
     gs__fun_pair_setup(a, b, &c, comb);
-    const gs_cheb_grid *g = gs_cheb_grid_for(a->degree > b->degree ? a->degree : b->degree);
+    const gs__cheb_grid *g = gs__cheb_grid_for(a->degree > b->degree ? a->degree : b->degree);
     STAT(4);
     best r = pair_minimise(&c, g, cut);
     double u = gs__fun_finish(&c, &r);
     if (u_at)
         *u_at = u;
     /* the value as evaluated (sqrt near 0 amplifies rounding differences) */
-    return gs_fun_value(a, u) + gs_fun_value(b, u);
+    return gs__fun_value(a, u) + gs__fun_value(b, u);
 }
 
-double gs_fun_pair_min(const gs_fun *a, const gs_fun *b, double *u_at)
+double gs__fun_pair_min(const gs__fun *a, const gs__fun *b, double *u_at)
 {
     return pair_min_cut(a, b, INFINITY, u_at);
 }
 
-double gs_fun_pair_min_below(const gs_fun *a, const gs_fun *b, double best, double *u_at)
+double gs__fun_pair_min_below(const gs__fun *a, const gs__fun *b, double best, double *u_at)
 {
     return pair_min_cut(a, b, best, u_at);
 }
@@ -354,13 +354,13 @@ static double grid_u(uint32_t j, uint32_t g, int closed)
     return closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1);
 }
 
-/* gs_fun_value(a, u) + gs_fun_value(b, u) for two Chebyshev functions, bit
+/* gs__fun_value(a, u) + gs__fun_value(b, u) for two Chebyshev functions, bit
  * for bit, with the two Clenshaw recurrences interleaved (a series of lower
  * degree starts with exact zeros). */
-static double pair_value(const gs_fun *a, const gs_fun *b, double u)
+static double pair_value(const gs__fun *a, const gs__fun *b, double u)
 {
-    double ta = gs__fun_clamp1(a->closed ? gs_fun_wrap(u - a->shift) : u);
-    double tb = gs__fun_clamp1(b->closed ? gs_fun_wrap(u - b->shift) : u);
+    double ta = gs__fun_clamp1(a->closed ? gs__fun_wrap(u - a->shift) : u);
+    double tb = gs__fun_clamp1(b->closed ? gs__fun_wrap(u - b->shift) : u);
     const double *ca = a->coef, *cb = b->coef;
     uint32_t ma = a->degree, mb = b->degree, m = ma > mb ? ma : mb, mn = ma < mb ? ma : mb;
     double a1 = 0.0, a2 = 0.0, b1 = 0.0, b2 = 0.0, sa = 2.0 * ta, sb = 2.0 * tb;
@@ -394,7 +394,7 @@ static double pair_value(const gs_fun *a, const gs_fun *b, double u)
 }
 
 /* term_at3 of the two functions at u (p, p', p'' by the forward recurrences
- * of gs_cheb_eval3, both series at once up to the lower degree): returns
+ * of gs__cheb_eval3, both series at once up to the lower degree): returns
  * the sum of the values, *s1 and *s2 the sums of the derivatives, bit for
  * bit term_at3 of each (wrapped, clamped) added. order (a constant at each
  * call, so that the compiler drops the rest) says how many of them are
@@ -402,17 +402,17 @@ static double pair_value(const gs_fun *a, const gs_fun *b, double u)
  * skipped, *s2 meaningless), 1 the value alone (only the p recurrence; s1
  * and s2 untouched). The value is the same, bit for bit, at every order:
  * the same operations compute it. */
-static inline double pair_at(const gs_fun *a, const gs_fun *b, double u, double *s1, double *s2, int order)
+static inline double pair_at(const gs__fun *a, const gs__fun *b, double u, double *s1, double *s2, int order)
 {
-    double ta = gs__fun_clamp1(a->closed ? gs_fun_wrap(u - a->shift) : u);
-    double tb = gs__fun_clamp1(b->closed ? gs_fun_wrap(u - b->shift) : u);
+    double ta = gs__fun_clamp1(a->closed ? gs__fun_wrap(u - a->shift) : u);
+    double tb = gs__fun_clamp1(b->closed ? gs__fun_wrap(u - b->shift) : u);
     const double *ca = a->coef, *cb = b->coef;
     uint32_t ma = a->degree, mb = b->degree;
     int first = order >= 2, second = order >= 3;
     double p[2], p1[2], p2[2];
     if (ma < 1 || mb < 1) {
-        gs_cheb_eval3(ca, ma, ta, &p[0], &p1[0], &p2[0]);
-        gs_cheb_eval3(cb, mb, tb, &p[1], &p1[1], &p2[1]);
+        gs__cheb_eval3(ca, ma, ta, &p[0], &p1[0], &p2[0]);
+        gs__cheb_eval3(cb, mb, tb, &p[1], &p1[1], &p2[1]);
     } else {
         uint32_t mn = ma < mb ? ma : mb;
         v2 t = {ta, tb}, t0 = {1.0, 1.0}, t1 = t, e0 = {0.0, 0.0}, e1 = {1.0, 1.0}, f0 = {0.0, 0.0},
@@ -469,21 +469,21 @@ static inline double pair_at(const gs_fun *a, const gs_fun *b, double u, double 
     return v;
 }
 
-static double pair_at3(const gs_fun *a, const gs_fun *b, double u, double *s1, double *s2)
+static double pair_at3(const gs__fun *a, const gs__fun *b, double u, double *s1, double *s2)
 {
     return pair_at(a, b, u, s1, s2, 3);
 }
 
 /* pair_at3's value and slope alone: for the probes that use no curvature
  * (a loop's windows and dips). */
-static double pair_at2(const gs_fun *a, const gs_fun *b, double u, double *s1)
+static double pair_at2(const gs__fun *a, const gs__fun *b, double u, double *s1)
 {
     double s2;
     return pair_at(a, b, u, s1, &s2, 2);
 }
 
 /* pair_at3's value alone: Newton's last point needs no slopes. */
-static double pair_at1(const gs_fun *a, const gs_fun *b, double u)
+static double pair_at1(const gs__fun *a, const gs__fun *b, double u)
 {
     return pair_at(a, b, u, NULL, NULL, 1);
 }
@@ -494,7 +494,7 @@ static double pair_at1(const gs_fun *a, const gs_fun *b, double u)
  * derivative recurrences and is evaluated again at the end). */
 #define NEWTON_STEPS 2 /* from a sharp function's own minimiser          */
 #define DIP_INSIDE 1e-7 /* zero-set edges: this fraction of the way in   */
-static void newton_candidate(const gs_fun *a, const gs_fun *b, double u, double h, int closed,
+static void newton_candidate(const gs__fun *a, const gs__fun *b, double u, double h, int closed,
                              int steps, double *best, double *bu, int *exact)
 {
     if (steps == 0) { /* the value alone: two Clenshaw sums */
@@ -513,7 +513,7 @@ static void newton_candidate(const gs_fun *a, const gs_fun *b, double u, double 
         if (!(s2 > 0.0)) return;
         double step = -s1 / s2;
         step = step < -h ? -h : (step > h ? h : step);
-        double w = closed ? gs_fun_wrap(u + step) : gs__fun_clamp1(u + step);
+        double w = closed ? gs__fun_wrap(u + step) : gs__fun_clamp1(u + step);
         if (fabs(w - u) <= 1e-12) return;
         u = w;
     }
@@ -535,13 +535,13 @@ static void newton_candidate(const gs_fun *a, const gs_fun *b, double u, double 
  * where its slope goes from dl < 0 to dr > 0: Newton on the slope from the
  * secant's root, kept inside the shrinking bracket (bisection when it would
  * leave it), to |step| <= 1e-10 or a predicted gain below STOP_REL. */
-static void bracket_min(const gs_fun *a, const gs_fun *b, double xl, double xr, double dl, double dr, double *best,
+static void bracket_min(const gs__fun *a, const gs__fun *b, double xl, double xr, double dl, double dr, double *best,
                         double *bu, int *exact)
 {
     double s2, t = xl - dl * (xr - xl) / (dr - dl); /* secant start */
     for (int it = 0; it < BRACKET_ITERS; ++it) {
         double s1, w = pair_at3(a, b, t, &s1, &s2);
-        if (w < *best) *best = w, *bu = gs_fun_wrap(t), *exact = 0;
+        if (w < *best) *best = w, *bu = gs__fun_wrap(t), *exact = 0;
         if (s1 == 0.0) return;
         if (s1 < 0.0) xl = t;
         else xr = t;
@@ -553,7 +553,7 @@ static void bracket_min(const gs_fun *a, const gs_fun *b, double xl, double xr, 
     }
 }
 
-static int window_min(const gs_fun *a, const gs_fun *b, double lo, double hi, double *best, double *bu,
+static int window_min(const gs__fun *a, const gs__fun *b, double lo, double hi, double *best, double *bu,
                       int *exact)
 {
     double x[WINDOW_PTS], v[WINDOW_PTS], d[WINDOW_PTS];
@@ -563,7 +563,7 @@ static int window_min(const gs_fun *a, const gs_fun *b, double lo, double hi, do
         v[k] = pair_at2(a, b, x[k], &d[k]);
         if (v[k] < v[i]) i = k;
     }
-    if (v[i] < *best) *best = v[i], *bu = gs_fun_wrap(x[i]), *exact = 0;
+    if (v[i] < *best) *best = v[i], *bu = gs__fun_wrap(x[i]), *exact = 0;
     for (int k = 0; k < WINDOW_PTS; ++k)
         if (d[k] != d[k]) return 0; /* slopes that are not numbers: the robust minimiser */
     if (d[i] == 0.0 || (i == 0 && d[i] > 0.0) || (i == WINDOW_PTS - 1 && d[i] < 0.0)) return 1;
@@ -581,11 +581,11 @@ static int window_min(const gs_fun *a, const gs_fun *b, double lo, double hi, do
  * minimum for bracket_min. Returns 0 when the slopes are not numbers (the
  * caller then uses the robust minimiser), 1 otherwise (a minimum beyond
  * lim is the grid's to find). */
-static int dip_min(const gs_fun *a, const gs_fun *b, double u, double L, double lim, double *best, double *bu,
+static int dip_min(const gs__fun *a, const gs__fun *b, double u, double L, double lim, double *best, double *bu,
                    int *exact)
 {
     double s1, v = pair_at2(a, b, u, &s1);
-    if (v < *best) *best = v, *bu = gs_fun_wrap(u), *exact = 0;
+    if (v < *best) *best = v, *bu = gs__fun_wrap(u), *exact = 0;
     if (s1 == 0.0) return 1;
     if (s1 != s1) return 0;
     double dir = s1 < 0.0 ? 1.0 : -1.0, m = fabs(s1);
@@ -596,7 +596,7 @@ static int dip_min(const gs_fun *a, const gs_fun *b, double u, double L, double 
     for (;;) {
         double t = u + dir * x, t1;
         double w = pair_at2(a, b, t, &t1);
-        if (w < *best) *best = w, *bu = gs_fun_wrap(t), *exact = 0;
+        if (w < *best) *best = w, *bu = gs__fun_wrap(t), *exact = 0;
         double dt = dir * t1; /* the slope along dir */
         if (dt != dt) return 0;
         if (dt >= 0.0) {
@@ -677,18 +677,18 @@ static void grid_minima(const float *e, uint32_t g, float mn, float thr, uint32_
 
 /* A loop's seam lies in (u_{j-1}, u_{j+1}] (closed grid, with a little
  * slack): there the fit may jump, and no parabola describes the sum. */
-static int seam_near(const gs_fun *f, uint32_t j, uint32_t g)
+static int seam_near(const gs__fun *f, uint32_t j, uint32_t g)
 {
-    double sigma = (gs_fun_wrap(f->shift - 1.0) + 1.0) * 0.5 * g; /* seam in grid units */
+    double sigma = (gs__fun_wrap(f->shift - 1.0) + 1.0) * 0.5 * g; /* seam in grid units */
     double d = sigma - ((double)j - 1.0);
     if (d < 0.0) d += g;
     if (d >= g) d -= g;
     return d <= 2.0 + 1e-9 * g || d >= g - 1e-9 * g;
 }
 /* The sum at x (a point of a's zero set). */
-static void dip_edge(const gs_fun *a, const gs_fun *b, double x, int closed, double *best, double *bu, int *exact)
+static void dip_edge(const gs__fun *a, const gs__fun *b, double x, int closed, double *best, double *bu, int *exact)
 {
-    x = closed ? gs_fun_wrap(x) : gs__fun_clamp1(x);
+    x = closed ? gs__fun_wrap(x) : gs__fun_clamp1(x);
     double v = pair_value(a, b, x);
     if (v < *best) *best = v, *bu = x, *exact = 1;
 }
@@ -698,10 +698,10 @@ static void dip_edge(const gs_fun *a, const gs_fun *b, double x, int closed, dou
  * its zero set (a little inside), where the sum of a clamped fit and a
  * smooth function has its kink. Returns window_min's verdict. */
 #define DIP_WINDOW 1.5
-static int dip_candidates(const gs_fun *a, const gs_fun *b, const gs_fun_dip *d, double h, int closed,
+static int dip_candidates(const gs__fun *a, const gs__fun *b, const gs__fun_dip *d, double h, int closed,
                           double *best, double *bu, int *exact)
 {
-    if (!d || d->u != d->u || !gs__fun_is_sharp(a)) return 1;
+    if (!d || d->u != d->u || !gs__fun_sharp_dip(a)) return 1;
     if (!closed) newton_candidate(a, b, d->u, h, closed, NEWTON_STEPS, best, bu, exact);
     else if (d->slope > 0.0) return dip_min(a, b, d->u, d->slope, DIP_WINDOW * h, best, bu, exact);
     else if (!window_min(a, b, d->u - DIP_WINDOW * h, d->u + DIP_WINDOW * h, best, bu, exact)) return 0;
@@ -712,9 +712,9 @@ static int dip_candidates(const gs_fun *a, const gs_fun *b, const gs_fun_dip *d,
     return 1;
 }
 
-uint32_t gs_fun_seam_cell(const gs_fun *f, uint32_t g)
+uint32_t gs__fun_seam_cell(const gs__fun *f, uint32_t g)
 {
-    double sigma = (gs_fun_wrap(f->shift - 1.0) + 1.0) * 0.5 * g; /* in [0, g]; NaN for a NaN shift */
+    double sigma = (gs__fun_wrap(f->shift - 1.0) + 1.0) * 0.5 * g; /* in [0, g]; NaN for a NaN shift */
     return sigma >= 0.0 && sigma < g ? (uint32_t)sigma : g - 1;
 }
 
@@ -722,9 +722,9 @@ uint32_t gs_fun_seam_cell(const gs_fun *f, uint32_t g)
  * the sum: the lower of f's two one-sided limits there (p(1), p(-1)) plus
  * the other function's lower grid value beside the seam is not above thr.
  * The seam's cell comes from d when the caller kept it. */
-static int seam_low(const gs_fun *f, const gs_fun_dip *d, const float *vo, uint32_t g, float thr)
+static int seam_low(const gs__fun *f, const gs__fun_dip *d, const float *vo, uint32_t g, float thr)
 {
-    uint32_t j = d && d->seam_cell < g ? d->seam_cell : gs_fun_seam_cell(f, g);
+    uint32_t j = d && d->seam_cell < g ? d->seam_cell : gs__fun_seam_cell(f, g);
     float q0 = vo[j], q1 = vo[j + 1 < g ? j + 1 : 0];
     float o = q0 < q1 ? q0 : q1;
     double v = d && d->seam == d->seam ? d->seam : gs__fun_seam_value(f);
@@ -737,23 +737,23 @@ static int seam_low(const gs_fun *f, const gs_fun_dip *d, const float *vo, uint3
  * are their inner ends). They cover every grid cell beside the seam. */
 #define SEAM_WINDOW 2.5
 #define SEAM_EPS 1e-12
-static int seam_windows(const gs_fun *f, const gs_fun *o, double h, double *best, double *bu, int *exact)
+static int seam_windows(const gs__fun *f, const gs__fun *o, double h, double *best, double *bu, int *exact)
 {
-    double us = gs_fun_wrap(f->shift - 1.0), w = SEAM_WINDOW * h;
+    double us = gs__fun_wrap(f->shift - 1.0), w = SEAM_WINDOW * h;
     return window_min(f, o, us - w, us - SEAM_EPS, best, bu, exact) &&
            window_min(f, o, us + SEAM_EPS, us + w, best, bu, exact);
 }
 
-double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, const float *gb, uint32_t g,
-                            const gs_fun_dip *da, const gs_fun_dip *db, double *u_at)
+double gs__fun_pair_min_grid(const gs__fun *a, const gs__fun *b, const float *ga, const float *gb, uint32_t g,
+                            const gs__fun_dip *da, const gs__fun_dip *db, double *u_at)
 {
     if (gs__fun_unreachable(a) || gs__fun_unreachable(b) || g < 3 || g > GS_FUN_GRID_MAX || a->kind == GS_FUN_SAMPLED ||
         b->kind == GS_FUN_SAMPLED || a->closed != b->closed)
-        return gs_fun_pair_min(a, b, u_at);
+        return gs__fun_pair_min(a, b, u_at);
     int closed = a->closed != 0;
     float e[GS_FUN_GRID_MAX + 8], *s = e + 1; /* s with its ends' neighbours (grid_minima) */
     float mn = grid_sum(ga, gb, g, s);
-    if (!(mn <= FLT_MAX)) return gs_fun_pair_min(a, b, u_at); /* beyond float range (or NaN) */
+    if (!(mn <= FLT_MAX)) return gs__fun_pair_min(a, b, u_at); /* beyond float range (or NaN) */
     /* j1: the lowest grid value (a discrete local minimum); j2: the lowest
      * other discrete local minimum when the grid cannot tell it from j1 */
     uint32_t j1 = GS_NONE_U32, j2 = GS_NONE_U32;
@@ -762,13 +762,13 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
      * searched on both sides below; two such seams close to each other go
      * to the robust minimiser */
     int sa = closed && seam_low(a, da, gb, g, thr), sb = closed && seam_low(b, db, ga, g, thr);
-    if (sa && sb && fabs(gs_fun_wrap(a->shift - b->shift + 1.0) - 1.0) < 4.0 * SEAM_WINDOW * 2.0 / g)
-        return gs_fun_pair_min(a, b, u_at);
+    if (sa && sb && fabs(gs__fun_wrap(a->shift - b->shift + 1.0) - 1.0) < 4.0 * SEAM_WINDOW * 2.0 / g)
+        return gs__fun_pair_min(a, b, u_at);
     e[0] = closed ? s[g - 1] : INFINITY;
     e[g + 1] = closed ? s[0] : INFINITY;
     e[g + 2] = e[g + 3] = e[g + 4] = 0.0f;
     grid_minima(e, g, mn, thr, &j1, &j2);
-    if (j1 == GS_NONE_U32) return gs_fun_pair_min(a, b, u_at); /* cannot happen */
+    if (j1 == GS_NONE_U32) return gs__fun_pair_min(a, b, u_at); /* cannot happen */
     double h = closed ? 2.0 / g : 2.0 / (g - 1), best = INFINITY, bu = 0.0;
     /* loops whose pairs went to the robust minimiser before (a dip or a
      * seam): Newton from the parabola's vertex too */
@@ -779,7 +779,7 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
         if (jb == GS_NONE_U32) continue;
         /* a loop's seam beside the minimum: the robust minimiser */
         int na = closed && seam_near(a, jb, g), nb = closed && seam_near(b, jb, g);
-        if ((na && !sa) || (nb && !sb)) return gs_fun_pair_min(a, b, u_at);
+        if ((na && !sa) || (nb && !sb)) return gs__fun_pair_min(a, b, u_at);
         if (na || nb) continue; /* inside a seam's window */
         double u0 = grid_u(jb, g, closed);
         if (!closed && (jb == 0 || jb + 1 == g) && g >= 3) { /* a path's end: the end, or inside its cell */
@@ -794,7 +794,7 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
             if (den > 0.0) {
                 double t = 0.5 * (sl - sr) / den;
                 u0 += (t < -1.0 ? -1.0 : (t > 1.0 ? 1.0 : t)) * h;
-                u0 = closed ? gs_fun_wrap(u0) : gs__fun_clamp1(u0);
+                u0 = closed ? gs__fun_wrap(u0) : gs__fun_clamp1(u0);
             }
         }
         newton_candidate(a, b, u0, h, closed, dipped ? NEWTON_STEPS : 0, &best, &bu, &exact);
@@ -804,7 +804,7 @@ double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, c
     if (!dip_candidates(a, b, da, h, closed, &best, &bu, &exact) ||
         !dip_candidates(b, a, db, h, closed, &best, &bu, &exact) || (sa && !seam_windows(a, b, h, &best, &bu, &exact)) ||
         (sb && !seam_windows(b, a, h, &best, &bu, &exact)))
-        return gs_fun_pair_min(a, b, u_at);
+        return gs__fun_pair_min(a, b, u_at);
     if (u_at) *u_at = bu;
     return exact && best < INFINITY ? best : pair_value(a, b, bu); /* the value as evaluated */
 }

@@ -4,7 +4,7 @@
  * the stored minima. Reads the file's records in place (format version 3):
  * each vertex's minima, then its functions' blocks, decoded as needed; the
  * two functions of a curve are tabulated on the curve's grid and their sum
- * minimised (src/fit/fun.c gs_fun_pair_min_grid). Every read stays inside
+ * minimised (src/fit/fun.c gs__fun_pair_min_grid). Every read stays inside
  * the vertex's record (a malformed block gives NaN). The hot path: no
  * allocation, no locks. */
 #include "../db/db_internal.h"
@@ -41,7 +41,7 @@ static double same_leaf(const gs_db *db, uint32_t l, uint32_t x, uint32_t y)
 
 /* Lowest common ancestor: parents have smaller depth (validated), so both
  * walks end at the root at the latest. */
-static uint32_t lowest_common_ancestor(const gs_db_node *nodes, uint32_t a, uint32_t b)
+static uint32_t lowest_common_ancestor(const gs__db_node *nodes, uint32_t a, uint32_t b)
 {
     while (nodes[a].depth > nodes[b].depth) a = nodes[a].parent;
     while (nodes[b].depth > nodes[a].depth) b = nodes[b].parent;
@@ -106,7 +106,7 @@ static inline void cursor_init(const gs_db *db, uint32_t x, uint32_t nf, cursor 
 /* The size of the block at p (0: malformed, or past the record's end). */
 static inline uint32_t block_bytes(const unsigned char *p, const unsigned char *end)
 {
-    gs_db_fblock b;
+    gs__db_fblock b;
     return gs__db_fblock_parse(p, (uint64_t)(end - p), &b) ? b.bytes : 0;
 }
 
@@ -148,16 +148,16 @@ static const unsigned char *cursor_block(cursor *c, uint32_t k)
 /* A block as a function: coefficients decoded into coef (Chebyshev), the
  * dip (if stored), the minimum from the entry. Returns 0 if malformed. */
 typedef struct dfun {
-    gs_fun f;
-    gs_fun_dip dip;
-    gs_db_fblock b;
+    gs__fun f;
+    gs__fun_dip dip;
+    gs__db_fblock b;
     double coef[GS_FUN_MAX_DEGREE + 1];
 } dfun;
 
 static int decode(const unsigned char *p, const unsigned char *end, float minval, dfun *d)
 {
     if (!p || !gs__db_fblock_parse(p, (uint64_t)(end - p), &d->b)) return 0;
-    const gs_db_fblock *b = &d->b;
+    const gs__db_fblock *b = &d->b;
     d->f.kind = b->sampled ? GS_FUN_SAMPLED : GS_FUN_CHEBYSHEV;
     d->f.degree = b->degree;
     d->f.squared = b->squared;
@@ -178,13 +178,13 @@ static int decode(const unsigned char *p, const unsigned char *end, float minval
     return b->sampled || gs__db_fblock_coef(b, d->coef);
 }
 
-/* A sampled block's value at u (piecewise linear, as gs_fun_value). */
-static double sampled_at(const gs_db_fblock *b, double u)
+/* A sampled block's value at u (piecewise linear, as gs__fun_value). */
+static double sampled_at(const gs__db_fblock *b, double u)
 {
     uint32_t n = b->degree + 1, k, k1;
     double x;
     if (b->closed) {
-        x = (gs_fun_wrap(u) + 1.0) * 0.5 * n;
+        x = (gs__fun_wrap(u) + 1.0) * 0.5 * n;
         k = x >= n ? n - 1 : (uint32_t)x;
         k1 = k + 1 == n ? 0 : k + 1;
     } else {
@@ -199,10 +199,10 @@ static double sampled_at(const gs_db_fblock *b, double u)
 
 static double dfun_at(const dfun *d, double u)
 {
-    return d->b.sampled ? sampled_at(&d->b, u) : gs_fun_value(&d->f, u);
+    return d->b.sampled ? sampled_at(&d->b, u) : gs__fun_value(&d->f, u);
 }
 
-static double sample_u(const gs_db_fblock *b, uint32_t k)
+static double sample_u(const gs__db_fblock *b, uint32_t k)
 {
     uint32_t n = b->degree + 1;
     return b->closed ? -1.0 + 2.0 * k / n : -1.0 + 2.0 * k / (n - 1);
@@ -236,12 +236,12 @@ static double pair_min(const gs_db *db, cursor *cx, cursor *cy, uint32_t k, uint
         return NAN;
     if (a.b.sampled || b.b.sampled) return sampled_pair(&a, &b);
     uint32_t d1 = db->curves[c].degree1;
-    if (!d1) return gs_fun_pair_min(&a.f, &b.f, NULL);
-    uint32_t g = gs_fun_grid_points(d1 - 1);
+    if (!d1) return gs__fun_pair_min(&a.f, &b.f, NULL);
+    uint32_t g = gs__fun_grid_points(d1 - 1);
     float va[GS_FUN_GRID_MAX + 8], vb[GS_FUN_GRID_MAX + 8];
     gs__grid_values(&a.f, g, va);
     gs__grid_values(&b.f, g, vb);
-    return gs_fun_pair_min_grid(&a.f, &b.f, va, vb, g, &a.dip, &b.dip, NULL);
+    return gs__fun_pair_min_grid(&a.f, &b.f, va, vb, g, &a.dip, &b.dip, NULL);
 }
 
 /* The prefetch helpers are always inlined: GCC counts __builtin_prefetch

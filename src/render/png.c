@@ -29,20 +29,20 @@ static void on_warning(png_structp png, png_const_charp msg)
 
 int gs__png_write(const char *path, const uint8_t *rgb, uint32_t w, uint32_t h, gs_error *err)
 {
-    gs_atomic_file af;
-    int rc = gs_atomic_open(&af, path, err);
+    gs__atomic_file af;
+    int rc = gs__atomic_open(&af, path, err);
     if (rc) return rc;
     png_err perr = {{0}};
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &perr, on_error, on_warning);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     if (!png || !info) {
         png_destroy_write_struct(&png, &info);
-        gs_atomic_abort(&af);
+        gs__atomic_abort(&af);
         return gs__fail(err, GS_ENOMEM, "%s: out of memory for the PNG encoder", path);
     }
     if (setjmp(png_jmpbuf(png))) {
         png_destroy_write_struct(&png, &info);
-        gs_atomic_abort(&af);
+        gs__atomic_abort(&af);
         return gs__fail(err, GS_EIO, "%s: PNG encoding failed: %s", path, perr.message);
     }
     png_init_io(png, af.fp);
@@ -53,5 +53,5 @@ int gs__png_write(const char *path, const uint8_t *rgb, uint32_t w, uint32_t h, 
     for (uint32_t y = 0; y < h; ++y) png_write_row(png, rgb + (size_t)y * w * 3);
     png_write_end(png, info);
     png_destroy_write_struct(&png, &info);
-    return gs_atomic_commit(&af, err);
+    return gs__atomic_commit(&af, err);
 }

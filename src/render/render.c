@@ -275,7 +275,7 @@ static void ov_line(overlay *v, const camera *cam, const double *a, const double
 static int add_overlays(scene *s, const camera *cam, gs_error *err)
 {
     const gs_render_options *o = s->o;
-    gs_rseg *seg = NULL;
+    gs__rseg *seg = NULL;
     size_t nseg = 0;
     if (o->separators) {
         int rc = gs__render_separators(s->mesh, o->separators, &seg, &nseg, err);

@@ -74,7 +74,7 @@ static int cmp_centroid(const void *pa, const void *pb)
 
 /* Chain the segments of each node by their ends' keys and smooth the
  * points where exactly two segments meet. */
-static int smooth(gs_rseg *s, size_t k, gs_error *err)
+static int smooth(gs__rseg *s, size_t k, gs_error *err)
 {
     endp *e = gs__malloc(2 * k + 1, sizeof *e);
     uint32_t *pid = gs__malloc(2 * k + 1, sizeof *pid), *deg = NULL;
@@ -146,7 +146,7 @@ done:
 
 static int cmp_seg(const void *pa, const void *pb)
 {
-    const gs_rseg *a = pa, *b = pb;
+    const gs__rseg *a = pa, *b = pb;
     if (a->depth != b->depth) return a->depth > b->depth ? -1 : 1;
     return a->order < b->order ? -1 : a->order > b->order;
 }
@@ -165,7 +165,7 @@ static int load_tree(const gs_db *db, tree *t, gs_error *err)
     return GS_OK;
 }
 
-int gs__render_separators(const gs_mesh *mesh, const gs_db *db, gs_rseg **out, size_t *n, gs_error *err)
+int gs__render_separators(const gs_mesh *mesh, const gs_db *db, gs__rseg **out, size_t *n, gs_error *err)
 {
     *out = NULL;
     *n = 0;
@@ -174,7 +174,7 @@ int gs__render_separators(const gs_mesh *mesh, const gs_db *db, gs_rseg **out, s
     uint32_t nf = gs_mesh_num_faces(mesh);
     const uint32_t *tri = gs_mesh_faces(mesh);
     const double *xyz = gs_mesh_positions(mesh);
-    gs_rseg *s = rc ? NULL : gs__malloc(3 * (size_t)nf + 1, sizeof *s);
+    gs__rseg *s = rc ? NULL : gs__malloc(3 * (size_t)nf + 1, sizeof *s);
     if (!rc && !s) rc = gs__fail(err, GS_ENOMEM, "render: out of memory for the separators");
     size_t k = 0;
     for (uint32_t f = 0; !rc && f < nf; ++f) {
@@ -193,7 +193,7 @@ int gs__render_separators(const gs_mesh *mesh, const gs_db *db, gs_rseg **out, s
         }
         if (ncut == 2) { /* one curve across the face */
             int e = cut[0] == GS_NONE ? 1 : 0, e2 = cut[2] == GS_NONE ? 1 : 2;
-            gs_rseg *g = &s[k];
+            gs__rseg *g = &s[k];
             mid(xyz, c[e], c[(e + 1) % 3], g->p[0]);
             mid(xyz, c[e2], c[(e2 + 1) % 3], g->p[1]);
             g->key[0] = edge_key(c[e], c[(e + 1) % 3]);
@@ -208,7 +208,7 @@ int gs__render_separators(const gs_mesh *mesh, const gs_db *db, gs_rseg **out, s
             for (int j = 0; j < 3; ++j)
                 cen[j] = (xyz[3 * (size_t)c[0] + j] + xyz[3 * (size_t)c[1] + j] + xyz[3 * (size_t)c[2] + j]) / 3.0;
             for (int i = 0; i < 3; ++i) {
-                gs_rseg *g = &s[k];
+                gs__rseg *g = &s[k];
                 mid(xyz, c[i], c[(i + 1) % 3], g->p[0]);
                 for (int j = 0; j < 3; ++j) g->p[1][j] = cen[j];
                 g->key[0] = edge_key(c[i], c[(i + 1) % 3]);

@@ -9,29 +9,29 @@
 #include <string.h>
 #include <unistd.h>
 
-int gs_test_failures = 0;
-int gs_test_checks = 0;
+int gs__test_failures = 0;
+int gs__test_checks = 0;
 
 /* The first shared file a test looked for and did not find, and how many. */
 static char g_missing[4096];
 static int g_n_missing;
 
-int gs_test_finish(const char *name)
+int gs__test_finish(const char *name)
 {
-    printf("%s: %d checks, %d failed\n", name, gs_test_checks, gs_test_failures);
-    if (gs_test_failures) return 1;
+    printf("%s: %d checks, %d failed\n", name, gs__test_checks, gs__test_failures);
+    if (gs__test_failures) return 1;
     if (g_n_missing) {
         /* not a pass: the parts that need the data did not run */
         printf("SKIP: %s: shared data not found (%s%s; set GEOSEP_SHARED or the GEOSEP_SHARED_DIR CMake "
                "cache variable): the checks that need it did not run, the %d others passed\n",
-               name, g_missing, g_n_missing > 1 ? " and others" : "", gs_test_checks);
+               name, g_missing, g_n_missing > 1 ? " and others" : "", gs__test_checks);
         fflush(stdout);
         return 77;
     }
     return 0;
 }
 
-void gs_test_skip(const char *reason)
+void gs__test_skip(const char *reason)
 {
     printf("SKIP: %s\n", reason);
     fflush(stdout);
@@ -42,7 +42,7 @@ void gs_test_skip(const char *reason)
 #define GEOSEP_SHARED_DIR "../shared"
 #endif
 
-const char *gs_test_shared_path(const char *relative)
+const char *gs__test_shared_path(const char *relative)
 {
     static char buf[4096];
     const char *base = getenv("GEOSEP_SHARED");
@@ -53,15 +53,15 @@ const char *gs_test_shared_path(const char *relative)
     return NULL;
 }
 
-int gs_test_shared_pair(const char *name, char *obj, char *gt, size_t n)
+int gs__test_shared_pair(const char *name, char *obj, char *gt, size_t n)
 {
     char rel[256];
     snprintf(rel, sizeof rel, "meshes/%.200s.obj", name);
-    const char *p = gs_test_shared_path(rel);
+    const char *p = gs__test_shared_path(rel);
     if (!p) return 0;
     snprintf(obj, n, "%s", p);
     snprintf(rel, sizeof rel, "groundtruth/%.200s.gt", name);
-    p = gs_test_shared_path(rel);
+    p = gs__test_shared_path(rel);
     if (!p) return 0;
     snprintf(gt, n, "%s", p);
     return 1;
@@ -72,9 +72,9 @@ static int cmp_name(const void *a, const void *b)
     return strcmp(a, b);
 }
 
-int gs_test_shared_names(char (*names)[GS_TEST_NAME_MAX], int max)
+int gs__test_shared_names(char (*names)[GS_TEST_NAME_MAX], int max)
 {
-    const char *g = gs_test_shared_path("groundtruth");
+    const char *g = gs__test_shared_path("groundtruth");
     if (!g) return -1;
     DIR *dh = opendir(g);
     CHECK_MSG(dh != NULL, "cannot list %s", g);
@@ -91,9 +91,9 @@ int gs_test_shared_names(char (*names)[GS_TEST_NAME_MAX], int max)
     return n;
 }
 
-gs_test_errs gs_test_db_errors(const gs_db *db, const uint32_t *src, uint32_t k, const double *want, uint32_t n)
+gs__test_errs gs__test_db_errors(const gs_db *db, const uint32_t *src, uint32_t k, const double *want, uint32_t n)
 {
-    gs_test_errs e = {0, 0, 0};
+    gs__test_errs e = {0, 0, 0};
     double *d = malloc((n ? n : 1) * sizeof *d);
     gs_error err;
     CHECK(d != NULL);

@@ -14,7 +14,7 @@ static void fx_quadratic(fixture *f, uint64_t i, uint32_t x, uint32_t k, uint32_
     f->coef[i][0] = A + b * (0.5 + t0 * t0);
     f->coef[i][1] = -2 * b * t0;
     f->coef[i][2] = b / 2;
-    gs_fun *g = &f->funs[i];
+    gs__fun *g = &f->funs[i];
     g->kind = GS_FUN_CHEBYSHEV;
     g->degree = 2;
     g->squared = (uint32_t)sq;
@@ -31,8 +31,8 @@ static void fx_quadratic(fixture *f, uint64_t i, uint32_t x, uint32_t k, uint32_
 
 static void fx_tree(fixture *f)
 {
-    gs_db_node nodes[5] = {{GS_NONE, 0, 0, 1, 0}, {0, 1, 1, 0, 1}, {0, 1, 1, 2, 1}, {2, 2, 3, 0, 3}, {2, 2, 3, 0, 3}};
-    gs_db_curve curves[3] = {{0, 0, 50, 2.0}, {2, 1, 40, 1.5}, {2, 0, 30, 1.0}};
+    gs__db_node nodes[5] = {{GS_NONE, 0, 0, 1, 0}, {0, 1, 1, 0, 1}, {0, 1, 1, 2, 1}, {2, 2, 3, 0, 3}, {2, 2, 3, 0, 3}};
+    gs__db_curve curves[3] = {{0, 0, 50, 2.0}, {2, 1, 40, 1.5}, {2, 0, 30, 1.0}};
     uint32_t leaf[FX_NV] = {1, 1, 3, 3, 4, 4, GS_NONE};
     memcpy(f->nodes, nodes, sizeof nodes);
     memcpy(f->curves, curves, sizeof curves);
@@ -72,7 +72,7 @@ void make_fixture(fixture *f, int leaf_exact)
         for (uint32_t k = 0; k < nf; ++k, ++i) fx_quadratic(f, i, x, k, k == 1);
     }
     f->fun_start[FX_NV] = i;
-    gs_db_content *c = &f->c;
+    gs__db_content *c = &f->c;
     c->nv = FX_NV;
     c->xyz = f->xyz;
     c->n_nodes = 5;

@@ -17,17 +17,17 @@
 
 typedef struct fixture {
     double xyz[3 * FX_NV];
-    gs_db_node nodes[5];
-    gs_db_curve curves[3];
+    gs__db_node nodes[5];
+    gs__db_curve curves[3];
     uint32_t leaf[FX_NV];
     uint64_t fun_start[FX_NV + 1];
-    gs_fun funs[FX_NF];
+    gs__fun funs[FX_NF];
     double coef[FX_NF][3];
     double qa[FX_NF], qb[FX_NF], qt[FX_NF]; /* the quadratics, for references */
     uint32_t leaf_vstart[6], leaf_verts[6];
     uint64_t leaf_dstart[6];
     double leaf_dist[12];
-    gs_db_content c;
+    gs__db_content c;
 } fixture;
 
 /* Fill *f (leaf tables when leaf_exact). */
