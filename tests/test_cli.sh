@@ -228,6 +228,10 @@ run build "$D" -o "$T/grid.gsdb" --quiet
 { [ "$rc" -eq 0 ] && [ -s "$T/grid.gsdb" ] && [ ! -s "$T/out" ]; }; verdict "build --quiet writes a database"
 run build "$D" -o "$T/grid2.gsdb" --threads 1 --vmax 20 --mmax 12 --tol 0.005 --spacing 0.4
 { [ "$rc" -eq 0 ] && grep -q "nodes" "$T/out" && grep -q "time: tree" "$T/out" && grep -q "cost" "$T/out"; }; verdict "build prints tree, times and size"
+run build "$G" -o "$T/dgg.gsdb" --method dgg --dgg-eps 0.01 --threads 1
+{ [ "$rc" -eq 0 ] && grep -q "built with: method dgg (eps 0.01)" "$T/out"; }; verdict "build --method dgg: the database records eps"
+run verify "$T/dgg.gsdb"
+{ [ "$rc" -eq 0 ] && grep -q "built with: method dgg (eps 0.01)" "$T/out"; }; verdict "verify: prints the recorded dgg eps"
 run build "$D" -o "$T/grid3.gsdb" --no-leaf-exact --quiet
 { [ "$rc" -eq 0 ] && [ "$(stat -c %s "$T/grid3.gsdb")" -lt "$(stat -c %s "$T/grid.gsdb")" ]; }; verdict "build stores the leaf tables unless --no-leaf-exact"
 # a flat grid: the database distance is close to the Euclidean one
