@@ -8,6 +8,7 @@
  * reports the tables. */
 #include "check.h"
 #include "geosep.h"
+#include "db/db_internal.h"
 #include "partition/tree.h"
 
 #include <math.h>
@@ -16,10 +17,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+static uint32_t g_vmax = 0; /* 0: the default leaf size */
+
 static gs_db *build(const gs_mesh *m, gs_method method, int leaf_exact, uint32_t threads)
 {
     gs_build_options o;
     gs_build_options_default(&o);
+    if (g_vmax) o.vmax = g_vmax;
     o.method = method;
     o.leaf_exact = leaf_exact;
     o.threads = threads;
@@ -37,7 +41,7 @@ static gs__tree *tree_of(const gs_mesh *m)
     gs_build_options_default(&o);
     gs__tree_options to;
     gs__tree_options_default(&to);
-    to.vmax = o.vmax;
+    to.vmax = g_vmax ? g_vmax : o.vmax;
     to.seed = o.seed;
     to.sample_spacing = o.sample_spacing;
     gs__tree *t = NULL;
@@ -174,6 +178,13 @@ static void check_mesh(const char *spec, gs_method method, int want_better)
         uint64_t better = check_leaves(spec, m, t, dx, d0, GS_METHOD_EXACT);
         if (want_better) CHECK_MSG(better > 0, "%s: no same-leaf pair improves on Euclidean", spec);
         check_plain_is_euclidean(m, t, d0);
+        /* local numbers in 8 bits, or 16 when a leaf has more than 256 vertices */
+        uint32_t big = 0;
+        for (uint32_t l = 0; l < t->n_nodes; ++l)
+            if (t->nodes[l].child[0] == GS_NONE && t->nodes[l].n_verts > big) big = t->nodes[l].n_verts;
+        CHECK_MSG((dx->leaf_local16 != NULL) == (big > 256) && (dx->leaf_local8 != NULL) == (big <= 256),
+                  "%s: largest leaf %u, 16-bit local numbers %d", spec, big, dx->leaf_local16 != NULL);
+        CHECK_MSG(g_vmax <= 256 || big > 256, "%s: vmax %u but no leaf above 256 vertices (%u)", spec, g_vmax, big);
     }
     gs_db_free(dx);
     gs_db_free(d0);
@@ -280,6 +291,10 @@ int main(void)
     check_mesh("torus:40,16", GS_METHOD_EXACT, 1);
     check_mesh("peaks:24", GS_METHOD_GRAPH, 1);
     check_mesh("peaks:24", GS_METHOD_FMM, 1); /* fmm's tables had +inf pairs before they were exact */
+    /* leaves of up to 600 vertices: 16-bit local numbers (format flags bit 1) */
+    g_vmax = 600;
+    check_mesh("peaks:30", GS_METHOD_EXACT, 1);
+    g_vmax = 0;
     check_roundtrip_and_threads();
     check_two_components();
     return gs__test_finish("test_leaf_exact");
