@@ -267,6 +267,8 @@ static void m_leaf_internal(unsigned char *b) { uint32_t v = 2; memcpy(section(b
 static void m_leaf_range(unsigned char *b) { uint32_t v = 99; memcpy(section(b, GS__SEC_LEAVES) + 4 * 0, &v, 4); }
 /* vertex 1 moves to leaf 3: it would need 3 minima, its record holds 1 */
 static void m_leaf_count(unsigned char *b) { uint32_t v = 3; memcpy(section(b, GS__SEC_LEAVES) + 4 * 1, &v, 4); }
+/* vertex 2 moves from leaf 3 to leaf 4 (the same ancestors: its record fits) */
+static void m_leaf_moved(unsigned char *b) { uint32_t v = 4; memcpy(section(b, GS__SEC_LEAVES) + 4 * 2, &v, 4); }
 /* vertex 2 (leaf 3: 3 functions, curves 0, 1 loop, 2) */
 static void m_degree(unsigned char *b) { first_block(b, 2, 3)[0] = (first_block(b, 2, 3)[0] & ~0x1Fu) | 27u; }
 static void m_exponent(unsigned char *b) { first_block(b, 2, 3)[1] = 125; }
@@ -310,6 +312,7 @@ static void m_leaf_local_range(unsigned char *b) { section(b, GS__SEC_LEAF_LOCAL
 static void m_leaf_unref(unsigned char *b) { section(b, GS__SEC_LEAF_LOCAL)[6] = 1; }
 static void m_leaf_qstart(unsigned char *b) { uint64_t v = 5; memcpy(leaf_node(b, 3), &v, 8); }
 static void m_leaf_n(unsigned char *b) { uint32_t v = 3; memcpy(leaf_node(b, 4) + 8, &v, 4); }
+static void m_leaf_n_big(unsigned char *b) { uint32_t v = 257; memcpy(leaf_node(b, 4) + 8, &v, 4); }
 static void m_leaf_q_top(unsigned char *b) { uint16_t v = 100; memcpy(section(b, GS__SEC_LEAF_Q), &v, 2); }
 static void m_leaf_q_pad(unsigned char *b) { section(b, GS__SEC_LEAF_Q)[6] = 1; }
 static void m_padding(unsigned char *b) { section(b, GS__SEC_LEAVES)[4 * FX_NV] = 1; }
@@ -333,7 +336,8 @@ static void test_structure(void)
         {m_degree1, 0, "vertex 0, function 0: degree 2, its curve's degree1 2"},
         {m_leaf_internal, 1, "vertex 4 has leaf 2, which is not a leaf node"},
         {m_leaf_range, 1, "vertex 0 has leaf 99"},
-        {m_leaf_count, 1, "section 'leaf_nodes': node 1 has a table of 2 vertices, 1 vertices are in it"},
+        {m_leaf_count, 0, "n_functions 14 but the vertices have 16"},
+        {m_leaf_moved, 0, "section 'leaf_nodes': node 3 has a table of 2 vertices, 1 vertices are in it"},
         {m_degree, 0, "vertex 2, function 0: malformed block"},
         {m_exponent, 0, "vertex 2, function 0: closed 0 (curve 0), sampled 0 (build 0), exponent 125"},
         {m_closed_bit, 0, "vertex 2, function 0: closed 1 (curve 0)"},
@@ -369,11 +373,12 @@ static void test_structure(void)
         {m_leaf_scale, 0, "section 'leaf_nodes': node 1 (2 vertices) has scale 1e+31"},
         {m_leaf_scale_nan, 0, "section 'leaf_nodes': node 3 (2 vertices) has scale nan"},
         {m_leaf_internal_scale, 0, "section 'leaf_nodes': node 0 (0 vertices) has scale 1"},
-        {m_leaf_local, 1, "vertex 1 has number 0 in leaf 1"},
-        {m_leaf_local_range, 1, "vertex 4 has number 2 in leaf 4"},
+        {m_leaf_local, 0, "vertex 1 has number 0 in leaf 1, taken by another vertex"},
+        {m_leaf_local_range, 1, "vertex 4 has number 2 in leaf 4 (2 vertices)"},
         {m_leaf_unref, 1, "unreferenced vertex 6 has number 1"},
         {m_leaf_qstart, 1, "section 'leaf_nodes': node 3's table starts at entry 5 (expected 1)"},
-        {m_leaf_n, 1, "section 'leaf_nodes': node 4 has a table of 3 vertices, 2 vertices are in it"},
+        {m_leaf_n, 1, "section 'leaf_nodes': the tables hold 5 entries, header leaf_entries 3"},
+        {m_leaf_n_big, 1, "section 'leaf_nodes': node 4 has a table of 257 vertices (at most 256)"},
         {m_leaf_q_top, 0, "section 'leaf_q': node 1's largest finite entry is 100"},
         {m_leaf_q_pad, 1, "section 'leaf_q': padding byte 6"},
         {m_padding, 1, "padding byte"},

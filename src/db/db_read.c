@@ -303,10 +303,30 @@ static int check_index(reader *r)
 
 /* ---- leaf tables: the structure at open, the values by verify ---------- */
 
-/* Each node's table: n equals the vertices with that leaf (0 for internal
- * nodes), tables contiguous from 0 to leaf_entries, every vertex's number
- * below its leaf's n and distinct within the leaf; padding zero. After
- * this every same-leaf read of leaf_q is in bounds. */
+/* Every vertex's number is below its leaf's n (0 for unreferenced
+ * vertices). wide: u16 numbers (a constant where it is called: one loop
+ * per width, the open's longest one). */
+static inline int check_local_bounds(reader *r, int wide)
+{
+    const gs_db *db = r->db;
+    for (uint32_t x = 0; x < db->nv; ++x) {
+        uint32_t l = db->leaf[x], k = wide ? db->leaf_local16[x] : db->leaf_local8[x];
+        if (l == GS_NONE ? k != 0 : k >= db->leaf_nodes[l].n)
+            return l == GS_NONE
+                       ? BAD(r, "%s: section 'leaf_local': unreferenced vertex %u has number %u (must be 0)", r->name,
+                             x, k)
+                       : BAD(r, "%s: section 'leaf_local': vertex %u has number %u in leaf %u (%u vertices)", r->name,
+                             x, k, l, db->leaf_nodes[l].n);
+    }
+    return GS_OK;
+}
+
+/* At open, what keeps every same-leaf read in bounds: each node's n at
+ * most 256 (65,536 with 16-bit numbers), the tables contiguous from 0 to
+ * leaf_entries, every vertex's number below its leaf's n; padding zero.
+ * O(nodes + vertices), no allocation. That each n is its leaf's vertex
+ * count and no two vertices share a number: verify
+ * (check_leaf_numbering). */
 static int check_leaf_structure(reader *r)
 {
     gs_db *db = r->db;
@@ -315,41 +335,48 @@ static int check_leaf_structure(reader *r)
     int rc = check_padding(r, GS__SEC_LEAF_LOCAL, wl * db->nv);
     if (!rc) rc = check_padding(r, GS__SEC_LEAF_Q, 2 * db->leaf_entries);
     if (rc) return rc;
+    uint64_t q = 0;
+    const uint64_t nmax = db->leaf_local8 ? 256 : 65536;
+    for (uint32_t l = 0; l < db->n_nodes; ++l) {
+        const gs__db_leaf_node *t = &db->leaf_nodes[l];
+        if (t->n > nmax)
+            return BAD(r, "%s: section 'leaf_nodes': node %u has a table of %u vertices (at most %llu)", r->name, l,
+                       t->n, (unsigned long long)nmax);
+        if (t->qstart != q)
+            return BAD(r, "%s: section 'leaf_nodes': node %u's table starts at entry %llu (expected %llu)", r->name, l,
+                       (unsigned long long)t->qstart, (unsigned long long)q);
+        q += gs__db_leaf_tri(t->n);
+    }
+    if (q != db->leaf_entries)
+        return BAD(r, "%s: section 'leaf_nodes': the tables hold %llu entries, header leaf_entries %llu", r->name,
+                   (unsigned long long)q, (unsigned long long)db->leaf_entries);
+    return db->leaf_local8 ? check_local_bounds(r, 0) : check_local_bounds(r, 1);
+}
+
+/* Verify: each node's n is the number of vertices in it, and the vertices
+ * of a leaf have distinct numbers (so the table has a row per vertex). */
+static int check_leaf_numbering(reader *r)
+{
+    gs_db *db = r->db;
     uint32_t *count = gs__calloc(db->n_nodes, sizeof *count);
     uint64_t *first = gs__calloc((size_t)db->n_nodes + 1, sizeof *first); /* seen[] offset of each node */
     unsigned char *seen = gs__calloc((size_t)db->nv + 1, 1);
-    if (!count || !first || !seen) rc = gs__fail(r->err, GS_ENOMEM, "%s: out of memory", r->name);
+    int rc = count && first && seen ? GS_OK : gs__fail(r->err, GS_ENOMEM, "%s: out of memory", r->name);
     for (uint32_t x = 0; x < db->nv && !rc; ++x)
         if (db->leaf[x] != GS_NONE) count[db->leaf[x]]++;
-    uint64_t q = 0;
-    const uint64_t nmax = db->leaf_local8 ? 256 : 65536;
     for (uint32_t l = 0; l < db->n_nodes && !rc; ++l) {
-        const gs__db_leaf_node *t = &db->leaf_nodes[l];
-        if (t->n != count[l] || t->n > nmax)
-            rc = BAD(r, "%s: section 'leaf_nodes': node %u has a table of %u vertices, %u vertices are in it (at most "
-                        "%llu)",
-                     r->name, l, t->n, count[l], (unsigned long long)nmax);
-        else if (t->qstart != q)
-            rc = BAD(r, "%s: section 'leaf_nodes': node %u's table starts at entry %llu (expected %llu)", r->name, l,
-                     (unsigned long long)t->qstart, (unsigned long long)q);
-        first[l] = l ? first[l - 1] + count[l - 1] : 0;
-        q += gs__db_leaf_tri(t->n);
+        if (db->leaf_nodes[l].n != count[l])
+            rc = BAD(r, "%s: section 'leaf_nodes': node %u has a table of %u vertices, %u vertices are in it", r->name,
+                     l, db->leaf_nodes[l].n, count[l]);
+        first[l + 1] = first[l] + count[l];
     }
-    if (!rc && q != db->leaf_entries)
-        rc = BAD(r, "%s: section 'leaf_nodes': the tables hold %llu entries, header leaf_entries %llu", r->name,
-                 (unsigned long long)q, (unsigned long long)db->leaf_entries);
     for (uint32_t x = 0; x < db->nv && !rc; ++x) {
         uint32_t l = db->leaf[x], k = gs__db_leaf_local(db, x);
-        if (l == GS_NONE) {
-            if (k) rc = BAD(r, "%s: section 'leaf_local': unreferenced vertex %u has number %u (must be 0)", r->name, x, k);
-            continue;
-        }
-        uint32_t nl = db->leaf_nodes[l].n;
-        if (k >= nl || seen[first[l] + k])
-            rc = BAD(r, "%s: section 'leaf_local': vertex %u has number %u in leaf %u (%u vertices, or taken)",
-                     r->name, x, k, l, nl);
-        else
-            seen[first[l] + k] = 1;
+        if (l == GS_NONE) continue;
+        if (seen[first[l] + k]) /* k < n = count[l]: checked */
+            rc = BAD(r, "%s: section 'leaf_local': vertex %u has number %u in leaf %u, taken by another vertex",
+                     r->name, x, k, l);
+        seen[first[l] + k] = 1;
     }
     free(count);
     free(first);
@@ -365,6 +392,8 @@ static int check_leaf_values(reader *r)
 {
     gs_db *db = r->db;
     if (!db->leaf_nodes) return GS_OK;
+    int rc = check_leaf_numbering(r);
+    if (rc) return rc;
     for (uint32_t l = 0; l < db->n_nodes; ++l) {
         const gs__db_leaf_node *t = &db->leaf_nodes[l];
         if (!(t->scale >= 0 && t->scale <= GS__DB_LEAF_MAX_SCALE) || (t->n == 0 && t->scale != 0))
