@@ -35,7 +35,16 @@ struct gs_db {
     const uint32_t *leaf_vstart, *leaf_local; /* NULL without leaf tables */
     const uint64_t *leaf_dstart;
     const double *leaf_dist;
+    /* data a later stage derives from the file on first use and keeps (the
+     * neighbourhood bounds of src/query/within.c): NULL until then; set
+     * once with an atomic compare-and-swap; gs_db_free calls its free */
+    struct gs__db_derived *derived;
 };
+
+/* The head of such derived data. */
+typedef struct gs__db_derived {
+    void (*free)(struct gs__db_derived *self);
+} gs__db_derived;
 
 /* Vertex x's record: its nf minima (float) then its function blocks;
  * *end receives the byte after it. Guaranteed in bounds by the structural

@@ -5,6 +5,7 @@
 #include "query_internal.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 int gs_db_field(const gs_db *db, uint32_t x, double *out, gs_error *err)
 {
@@ -15,8 +16,24 @@ int gs_db_field(const gs_db *db, uint32_t x, double *out, gs_error *err)
         return GS_OK;
     }
     gs__qsrc *s = gs__qsrc_create(db, x);
-    if (!s) return gs__fail(err, GS_ENOMEM, "gs_db_field: out of memory for vertex %u's functions", x);
-    for (uint32_t y = 0; y < db->nv; ++y) out[y] = gs__qsrc_distance(s, y);
+    uint32_t *top = gs__malloc(db->n_nodes, sizeof *top); /* each leaf's common ancestor with x's */
+    if (!s || !top) {
+        gs__qsrc_free(s), free(top);
+        return gs__fail(err, GS_ENOMEM, "gs_db_field: out of memory for vertex %u's functions", x);
+    }
+    for (uint32_t n = 0; n < db->n_nodes; ++n) top[n] = GS_NONE;
+    const uint32_t lx = db->leaf[x];
+    for (uint32_t y = 0; y < db->nv; ++y) {
+        uint32_t ly = db->leaf[y];
+        if (y == x) out[y] = 0.0;
+        else if (ly == GS_NONE) out[y] = INFINITY;
+        else if (ly == lx) out[y] = gs__qsrc_distance(s, y);
+        else {
+            if (top[ly] == GS_NONE) top[ly] = gs__qsrc_ancestor(s, ly);
+            out[y] = gs__qsrc_cross(s, y, ly, top[ly]);
+        }
+    }
     gs__qsrc_free(s);
+    free(top);
     return GS_OK;
 }

@@ -39,4 +39,10 @@ const float *gs__qsrc_minima(const gs__qsrc *s);
  * GS_NONE). */
 uint32_t gs__qsrc_ancestor(const gs__qsrc *s, uint32_t node);
 
+/* One row of a radius matrix (within.c, for radius.c): the vertices within
+ * r of x (r >= 0 checked by the caller) by increasing id, and their
+ * distances. *ids, *dist: new arrays (caller frees; NULL when *n = 0). */
+int gs__db_within_row(const gs_db *db, uint32_t x, double r, uint32_t **ids, double **dist, size_t *n,
+                      gs_error *err);
+
 #endif
