@@ -354,6 +354,7 @@ static PyMethodDef db_methods[] = {
      "sampled, leaf_exact, spacing, seed, max_samples, heat_time, heat_refine,\n"
      "fmm_start."},
     GSPY_DB_QUERY_METHODS,
+    GSPY_DB_WITHIN_METHODS,
     {NULL, NULL, 0, NULL}};
 
 PyTypeObject gspy_DatabaseType = {
