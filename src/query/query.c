@@ -8,6 +8,7 @@
  * the vertex's record (a malformed block gives NaN). The hot path: no
  * allocation, no locks. */
 #include "../db/db_internal.h"
+#include "../fit/fun_internal.h"
 #include "pair_grid.h"
 #include "query_internal.h"
 
@@ -262,7 +263,14 @@ static const xfun *xfun_get(const gs_db *db, cursor *cx, xfun *cache, uint32_t k
         f->state = -1;
         if (decode(cursor_block(cx, k), cx->end, cx->ent[k], &f->d)) {
             uint32_t d1 = db->curves[c].degree1;
-            if (!f->d.b.sampled && d1) gs__grid_values(&f->d.f, gs__fun_grid_points(d1 - 1), f->grid);
+            if (!f->d.b.sampled && d1) {
+                uint32_t g = gs__fun_grid_points(d1 - 1);
+                gs__grid_values(&f->d.f, g, f->grid);
+                if (f->d.f.closed) { /* what the minimiser would find each time */
+                    f->d.dip.seam = gs__fun_seam_value(&f->d.f);
+                    f->d.dip.seam_cell = gs__fun_seam_cell(&f->d.f, g);
+                }
+            }
             f->state = 1;
         }
     }
@@ -335,6 +343,36 @@ static double cross_cursors(const gs_db *db, cursor *cx, cursor *cy, uint32_t to
             if (d != d) return NAN;
             if (d < best) best = d;
         }
+    }
+    return best;
+}
+
+/* cross_cursors for a source (cx its cursor, its functions in cache): the
+ * same candidates visited in the same order (the lowest bound first, ties
+ * in gathering order) and the same stop, found by selection instead of a
+ * sort: most targets stop after one or two candidates. */
+static double cross_source(const gs_db *db, cursor *cx, cursor *cy, uint32_t top, xfun *cache, int x_first)
+{
+    candidate c[MAX_CANDIDATES];
+    uint32_t n = 0, a = top;
+    for (; a != GS_NONE; a = db->nodes[a].parent) {
+        uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
+        if (n + (k1 - k0) > MAX_CANDIDATES) break;
+        for (uint32_t k = k0; k < k1; ++k, ++n)
+            c[n].bound = (double)cx->ent[k] + (double)cy->ent[k], c[n].k = k,
+            c[n].curve = db->nodes[a].curve_start + (k - k0);
+    }
+    if (a != GS_NONE) return cross_cursors(db, cx, cy, top, cache, x_first); /* > 64 curves: rare */
+    double best = INFINITY;
+    for (uint32_t left = n; left; --left) {
+        uint32_t m = 0;
+        for (uint32_t i = 1; i < left; ++i)
+            if (c[i].bound < c[m].bound) m = i;
+        if (c[m].bound >= best) break; /* all others rejected too (and unreachable) */
+        double d = pair_min(db, cx, cy, c[m].k, c[m].curve, cache, x_first);
+        if (d != d) return NAN;
+        if (d < best) best = d;
+        for (uint32_t i = m; i + 1 < left; ++i) c[i] = c[i + 1]; /* keeps the order of the rest */
     }
     return best;
 }
@@ -472,7 +510,7 @@ double gs__qsrc_cross(gs__qsrc *s, uint32_t y, uint32_t ly, uint32_t top)
     const gs_db *db = s->db;
     cursor cy;
     cursor_init(db, y, db->nodes[ly].curve_prefix, &cy);
-    double d = cross_cursors(db, &s->cx, &cy, top, s->cache, s->x < y);
+    double d = cross_source(db, &s->cx, &cy, top, s->cache, s->x < y);
     return d != d ? d : at_least_euclidean(db, s->x, y, d);
 }
 
