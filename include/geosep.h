@@ -853,8 +853,12 @@ GS_API int gs_db_point_field(const gs_db *db, const gs_surface_point *p, double 
  * vertex ids (caller's array). GS_EARG if k exceeds the number of vertices
  * used by faces, seed_vertex is out of range or used by no face, or an
  * argument is NULL; GS_ENOMEM if the work arrays cannot be allocated.
- * Cost: k calls of gs_db_field; memory: 2 x n_vertices doubles, freed
- * before returning. Thread-safe (the database is only read). */
+ * Cost: a gs_db_field while some vertex is unreached from every sample so
+ * far (the first sample; one per component), then for each sample a
+ * gs_db_within of the distance of that sample to the ones before (only
+ * the vertices within it can come closer): far below a field each once
+ * the samples spread out. Memory: 2 x n_vertices doubles, freed before
+ * returning. Thread-safe (the database is only read). */
 GS_API int gs_db_farthest_point_sampling(const gs_db *db, uint32_t k, uint32_t seed_vertex, uint32_t *out,
                                          gs_error *err);
 
