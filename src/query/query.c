@@ -350,8 +350,10 @@ static double cross_cursors(const gs_db *db, cursor *cx, cursor *cy, uint32_t to
 /* cross_cursors for a source (cx its cursor, its functions in cache): the
  * same candidates visited in the same order (the lowest bound first, ties
  * in gathering order) and the same stop, found by selection instead of a
- * sort: most targets stop after one or two candidates. */
-static double cross_source(const gs_db *db, cursor *cx, cursor *cy, uint32_t top, xfun *cache, int x_first)
+ * sort: most targets stop after one or two candidates. Also stops at a
+ * candidate whose bound exceeds cut (+inf: never). */
+static double cross_source(const gs_db *db, cursor *cx, cursor *cy, uint32_t top, xfun *cache, int x_first,
+                           double cut)
 {
     candidate c[MAX_CANDIDATES];
     uint32_t n = 0, a = top;
@@ -368,7 +370,7 @@ static double cross_source(const gs_db *db, cursor *cx, cursor *cy, uint32_t top
         uint32_t m = 0;
         for (uint32_t i = 1; i < left; ++i)
             if (c[i].bound < c[m].bound) m = i;
-        if (c[m].bound >= best) break; /* all others rejected too (and unreachable) */
+        if (c[m].bound >= best || c[m].bound > cut) break; /* all others rejected too (and unreachable) */
         double d = pair_min(db, cx, cy, c[m].k, c[m].curve, cache, x_first);
         if (d != d) return NAN;
         if (d < best) best = d;
@@ -505,13 +507,18 @@ uint32_t gs__qsrc_ancestor(const gs__qsrc *s, uint32_t node)
     return node;
 }
 
-double gs__qsrc_cross(gs__qsrc *s, uint32_t y, uint32_t ly, uint32_t top)
+double gs__qsrc_cross_cut(gs__qsrc *s, uint32_t y, uint32_t ly, uint32_t top, double cut)
 {
     const gs_db *db = s->db;
     cursor cy;
     cursor_init(db, y, db->nodes[ly].curve_prefix, &cy);
-    double d = cross_source(db, &s->cx, &cy, top, s->cache, s->x < y);
+    double d = cross_source(db, &s->cx, &cy, top, s->cache, s->x < y, cut);
     return d != d ? d : at_least_euclidean(db, s->x, y, d);
+}
+
+double gs__qsrc_cross(gs__qsrc *s, uint32_t y, uint32_t ly, uint32_t top)
+{
+    return gs__qsrc_cross_cut(s, y, ly, top, INFINITY);
 }
 
 double gs__qsrc_distance(gs__qsrc *s, uint32_t y)

@@ -28,6 +28,14 @@ double gs__qsrc_distance(gs__qsrc *s, uint32_t y);
  * the caller knows top, the lowest common ancestor of the two leaves. */
 double gs__qsrc_cross(gs__qsrc *s, uint32_t y, uint32_t ly, uint32_t top);
 
+/* gs__qsrc_cross, but the candidate curves whose quick-reject bound (the
+ * sum of the two stored minima) exceeds cut are not visited: the answer is
+ * exact whenever it is at most every such bound, else some value above the
+ * smallest answer those curves could give. For a neighbourhood of radius
+ * r, a cut above which every curve's answer exceeds r keeps every answer
+ * <= r exact and every other one > r. */
+double gs__qsrc_cross_cut(gs__qsrc *s, uint32_t y, uint32_t ly, uint32_t top, double cut);
+
 /* x's leaf (GS_NONE: used by no face). */
 uint32_t gs__qsrc_leaf(const gs__qsrc *s);
 

@@ -197,7 +197,15 @@ static double node_bound(const source *s, uint32_t n, uint32_t a)
     return lowered(s, e > m ? e : m);
 }
 
-/* The same for one vertex y under such a node. */
+/* The straight distance from x to y, lowered. */
+static double euclid_bound(const source *s, uint32_t y)
+{
+    const double *q = s->db->xyz + 3 * (size_t)y, *p = s->db->xyz + 3 * (size_t)s->x;
+    double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+    return lowered(s, sqrt(dx * dx + dy * dy + dz * dz));
+}
+
+/* Both bounds for one vertex y under such a node. */
 static double vertex_bound(const source *s, uint32_t y, uint32_t a)
 {
     const double *q = s->db->xyz + 3 * (size_t)y, *p = s->db->xyz + 3 * (size_t)s->x;
@@ -260,6 +268,8 @@ static int by_distance(const void *pa, const void *pb)
 /* Every vertex y with d(x, y) <= r into *res (unsorted). 0: out of memory. */
 static int collect(source *s, double r, hits *res)
 {
+    /* a curve whose bound exceeds cut answers more than r (lowered()) */
+    const double cut = (r + s->slack) / (1.0 - BOUND_REL);
     if (s->lx == GS_NONE) return hits_add(res, s->x, 0.0);
     const nbr_index *ix = s->ix;
     /* a stack of (node, its lowest common ancestor with x's leaf; GS_NONE:
@@ -278,8 +288,8 @@ static int collect(source *s, double r, hits *res)
                 uint32_t y = ix->verts[i];
                 double d;
                 if (a == GS_NONE) d = gs__qsrc_distance(s->q, y); /* x's own leaf */
-                else if (vertex_bound(s, y, a) > r) continue;
-                else d = gs__qsrc_cross(s->q, y, n, a);
+                else if (euclid_bound(s, y) > r) continue;
+                else d = gs__qsrc_cross_cut(s->q, y, n, a, cut); /* the minima's bound inside */
                 if (d <= r && d < INFINITY) ok = hits_add(res, y, d);
             }
             continue;
