@@ -73,8 +73,8 @@ const char gspy_db_within_doc[] =
     "every vertex connected to x. Exactly the vertices of field(x) <= r, with\n"
     "the same distances; whole parts of the database's tree are skipped by\n"
     "stored lower bounds, so a small radius costs a small part of a field\n"
-    "(the first call on a database computes those bounds, a few milliseconds\n"
-    "for 60,000 vertices). IndexError for x out of range, ValueError for a\n"
+    "(the first call on a database computes those bounds, about the time of\n"
+    "one field). IndexError for x out of range, ValueError for a\n"
     "negative or NaN r. Runs without the GIL.";
 
 PyObject *gspy_db_within(PyObject *self_obj, PyObject *args)
