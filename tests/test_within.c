@@ -10,6 +10,7 @@
  *    candidates, k beyond the candidates);
  *  - gs_db_radius_matrix's rows equal gs_db_within's by id, the same for 1
  *    and 2 threads;
+ *  - threads racing for the first call (which computes the bounds);
  *  - every bad argument. */
 #include "check.h"
 #include "db_fixture.h"
@@ -265,6 +266,37 @@ static void unreferenced(void)
     free(new_id);
 }
 
+/* Threads racing for the first call on a fresh database (each may compute
+ * the bounds; one is kept): every answer equals the serial one. */
+static void first_call_race(void)
+{
+    gs_mesh *m = NULL;
+    gs_error e = {0};
+    CHECK(gs_mesh_generate("sphere:3", &m, &e) == GS_OK);
+    gs_db *db = m ? build(m, "sphere:3", 24) : NULL, *ref = m ? build(m, "sphere:3", 24) : NULL;
+    if (db && ref) {
+        enum { T = 8 };
+        size_t bad = 0;
+#pragma omp parallel for num_threads(4) schedule(static, 1) reduction(+ : bad)
+        for (int t = 0; t < T; ++t) {
+            gs_neighbors *a = NULL, *b = NULL;
+            uint32_t x = (uint32_t)(37 * t);
+            if (gs_db_within(db, x, 0.5, &a, NULL) != GS_OK) bad++;
+#pragma omp critical(ref_db)
+            if (gs_db_within(ref, x, 0.5, &b, NULL) != GS_OK) bad++;
+            if (a && b)
+                bad += a->n != b->n || memcmp(a->ids, b->ids, a->n * sizeof *a->ids) ||
+                       memcmp(a->dist, b->dist, a->n * sizeof *a->dist);
+            gs_neighbors_free(a);
+            gs_neighbors_free(b);
+        }
+        CHECK_MSG(bad == 0, "first calls from 4 threads: %zu answers differ", bad);
+    }
+    gs_db_free(db);
+    gs_db_free(ref);
+    gs_mesh_free(m);
+}
+
 int main(void)
 {
     /* the hand-made fixture: curves unreachable from some vertices, a vertex
@@ -281,5 +313,6 @@ int main(void)
     on_mesh("two:6", 10, 0);        /* two components: +inf beyond */
     on_mesh("sphere:3", 24, 40);
     unreferenced();
+    first_call_race();
     return gs__test_finish("test_within");
 }

@@ -90,7 +90,7 @@ static nbr_index *nbr_build(const gs_db *db)
         const float *m = (const float *)(const void *)rec;
         float *t = ix->mins + ix->moff[l];
         for (uint32_t k = 0; k < nodes[l].curve_prefix; ++k)
-            if (m[k] < t[k]) t[k] = m[k]; /* NaN (a corrupt file) is left out */
+            if (!(m[k] >= t[k])) t[k] = m[k] == m[k] ? m[k] : -INFINITY; /* NaN (a corrupt file): no bound */
     }
     for (uint32_t n = nn; n-- > 1;) {
         uint32_t p = nodes[n].parent;
@@ -174,6 +174,7 @@ static double minima_bound(const float *mx, const float *t, uint32_t nk)
     double b = INFINITY;
     for (uint32_t k = 0; k < nk; ++k) {
         double v = (double)mx[k] + (double)t[k];
+        if (v != v) return -INFINITY; /* a NaN minimum (a corrupt file): no bound */
         if (v < b) b = v;
     }
     return b;
