@@ -118,13 +118,19 @@ static nbr_index *nbr_build(const gs_db *db)
         for (int a = 0; a < 3; ++a) s[a] = 0.5 * (b[a] + b[3 + a]);
         s[3] = -1.0;
     }
-    for (uint32_t y = 0; y < nv; ++y) { /* each vertex widens the spheres of its leaf's ancestors */
+    for (uint32_t y = 0; y < nv; ++y) { /* a leaf's sphere holds its vertices */
+        if (db->leaf[y] == GS_NONE) continue;
         const double *p = db->xyz + 3 * (size_t)y;
-        for (uint32_t a = db->leaf[y]; a != GS_NONE; a = nodes[a].parent) {
-            double *s = ix->sphere + 4 * (size_t)a;
-            double dx = p[0] - s[0], dy = p[1] - s[1], dz = p[2] - s[2], d = sqrt(dx * dx + dy * dy + dz * dz);
-            if (d > s[3]) s[3] = d;
-        }
+        double *s = ix->sphere + 4 * (size_t)db->leaf[y];
+        double dx = p[0] - s[0], dy = p[1] - s[1], dz = p[2] - s[2], d = sqrt(dx * dx + dy * dy + dz * dz);
+        if (d > s[3]) s[3] = d;
+    }
+    for (uint32_t n = nn; n-- > 1;) { /* a node's sphere holds its children's */
+        const double *c = ix->sphere + 4 * (size_t)n;
+        double *s = ix->sphere + 4 * (size_t)nodes[n].parent;
+        if (c[3] < 0.0) continue;
+        double dx = c[0] - s[0], dy = c[1] - s[1], dz = c[2] - s[2], d = sqrt(dx * dx + dy * dy + dz * dz) + c[3];
+        if (d > s[3]) s[3] = d;
     }
     free(box);
     return ix;
