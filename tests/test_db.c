@@ -271,7 +271,7 @@ static void m_records_bytes(unsigned char *b) { uint64_t v = (uint64_t)1 << 61; 
 static void m_offset(unsigned char *b) { uint64_t v = 1u << 20; memcpy(b + GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * 6 + 8, &v, 8); }
 static void m_size(unsigned char *b) { uint64_t v = 8; memcpy(b + GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * 0 + 16, &v, 8); }
 static void m_n_leaves(unsigned char *b) { uint32_t v = 4; memcpy(b + 44, &v, 4); }
-static void m_flags(unsigned char *b) { uint32_t v = 3; memcpy(b + 16, &v, 4); }
+static void m_flags(unsigned char *b) { uint32_t v = 5; memcpy(b + 16, &v, 4); }
 static void m_avg_depth(unsigned char *b) { double v = NAN; memcpy(b + 72, &v, 8); }
 static void m_method(unsigned char *b) { uint32_t v = 9; memcpy(b + 80, &v, 4); }
 static void m_spacing(unsigned char *b) { double v = 0; memcpy(b + 120, &v, 8); }
@@ -329,7 +329,7 @@ static void test_structure(void)
         {m_offset, 1, "section 'leaf_vstart': offset"},
         {m_size, 1, "section 'positions': size 8"},
         {m_n_leaves, 1, "n_leaves 4 but the tree has 3"},
-        {m_flags, 1, "flags 0x3 has unknown bits"},
+        {m_flags, 1, "flags 0x5 has unknown bits"},
         {m_avg_depth, 1, "avg_depth"},
         {m_method, 1, "method 9 unknown"},
         {m_spacing, 1, "sample_spacing 0"},

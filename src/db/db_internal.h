@@ -6,6 +6,7 @@
 #define GS_DB_INTERNAL_H
 
 #include "db_content.h"
+#include "db_near.h"
 #include "format.h"
 
 #include <stddef.h>
@@ -35,6 +36,7 @@ struct gs_db {
     const uint32_t *leaf_vstart, *leaf_local; /* NULL without leaf tables */
     const uint64_t *leaf_dstart;
     const double *leaf_dist;
+    gs__db_near near;              /* near.start NULL without the section   */
 };
 
 /* Vertex x's record: its nf minima (float) then its function blocks;

@@ -18,9 +18,10 @@ typedef struct reader {
     gs_db *db;
     const char *name;
     gs_error *err;
-    const unsigned char *sec[GS__SEC_COUNT_FULL + 1];
-    uint64_t sec_size[GS__SEC_COUNT_FULL + 1];
+    const unsigned char *sec[GS__SEC_MAX + 1];
+    uint64_t sec_size[GS__SEC_MAX + 1];
     uint32_t n_sec;
+    uint32_t ids[GS__SEC_MAX]; /* the sections' ids in file order       */
 } reader;
 
 #define BAD(r, ...) gs__fail((r)->err, GS_EPARSE, __VA_ARGS__)
@@ -74,9 +75,9 @@ static void read_header(gs_db *db, const unsigned char *b)
 static int check_header(reader *r, const unsigned char *b, uint64_t size)
 {
     gs_db *db = r->db;
-    if (db->flags & ~GS__DB_FLAG_LEAF_EXACT)
+    if (db->flags & ~(GS__DB_FLAG_LEAF_EXACT | GS__DB_FLAG_NEAR))
         return BAD(r, "%s: header: flags 0x%X has unknown bits", r->name, db->flags);
-    uint32_t want = (db->flags & GS__DB_FLAG_LEAF_EXACT) ? GS__SEC_COUNT_FULL : GS__SEC_COUNT_BASE;
+    uint32_t want = gs__db_section_ids(db->flags, r->ids);
     r->n_sec = gs__get32(b + GS__H_SECTIONS);
     if (r->n_sec != want) return BAD(r, "%s: header: n_sections %u (flags require %u)", r->name, r->n_sec, want);
     if (gs__get32(b + GS__H_HEADER_BYTES) != GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * want)
@@ -130,21 +131,26 @@ static int check_counts(reader *r)
 static int check_table(reader *r, const unsigned char *b, uint64_t size, int verify)
 {
     gs_db *db = r->db;
-    uint64_t want[GS__SEC_COUNT_FULL + 1];
+    uint64_t want[GS__SEC_MAX + 1];
     if (!gs__db_layout(db->nv, db->n_nodes, db->n_curves, db->records_bytes, db->leaf_entries,
-                       r->n_sec == GS__SEC_COUNT_FULL, want))
+                       (db->flags & GS__DB_FLAG_LEAF_EXACT) != 0, want))
         return BAD(r, "%s: header: records_bytes or leaf_entries absurdly large", r->name);
     uint64_t off = GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * (uint64_t)r->n_sec;
-    for (uint32_t s = 1; s <= r->n_sec; ++s) {
-        const unsigned char *t = b + GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * (s - 1);
+    for (uint32_t i = 0; i < r->n_sec; ++i) {
+        uint32_t s = r->ids[i];
+        const unsigned char *t = b + GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * i;
         uint64_t o = gs__get64(t + 8), sz = gs__get64(t + 16);
         if (gs__get32(t) != s || gs__get32(t + 4) != 0)
-            return BAD(r, "%s: section table: entry %u has id %u, reserved %u (expected id %u, 0)", r->name, s - 1,
+            return BAD(r, "%s: section table: entry %u has id %u, reserved %u (expected id %u, 0)", r->name, i,
                        gs__get32(t), gs__get32(t + 4), s);
         if (o != off)
             return BAD(r, "%s: section '%s': offset %llu (expected %llu)", r->name, SEC(s), (unsigned long long)o,
                        (unsigned long long)off);
-        if (sz != want[s])
+        if (s == GS__SEC_NEAR) { /* sized by its own head (db_near.c checks it) */
+            if (sz % 8 || sz > size - off)
+                return BAD(r, "%s: section '%s': size %llu (a multiple of 8 within the file's %llu bytes)", r->name,
+                           SEC(s), (unsigned long long)sz, (unsigned long long)size);
+        } else if (sz != want[s])
             return BAD(r, "%s: section '%s': size %llu disagrees with the header counts (expected %llu)", r->name,
                        SEC(s), (unsigned long long)sz, (unsigned long long)want[s]);
         if (sz > size - off)
@@ -455,6 +461,7 @@ static int check_values(reader *r)
     for (uint32_t x = 0; x < db->nv && !rc; ++x) rc = check_record(r, x, path);
     free(path);
     if (!rc) rc = check_leaf_values(r);
+    if (!rc) rc = gs__db_near_verify(&db->near, db->nv, r->name, r->err);
     return rc;
 }
 
@@ -469,7 +476,7 @@ static void set_pointers(reader *r)
     db->curves = (const gs__db_disk_curve *)r->sec[GS__SEC_CURVES];
     db->index = (const uint32_t *)r->sec[GS__SEC_INDEX];
     db->records = r->sec[GS__SEC_RECORDS];
-    if (r->n_sec == GS__SEC_COUNT_FULL) {
+    if (r->sec[GS__SEC_LEAF_VSTART]) {
         db->leaf_vstart = (const uint32_t *)r->sec[GS__SEC_LEAF_VSTART];
         db->leaf_local = (const uint32_t *)r->sec[GS__SEC_LEAF_LOCAL];
         db->leaf_dstart = (const uint64_t *)r->sec[GS__SEC_LEAF_DSTART];
@@ -496,6 +503,9 @@ static int validate(reader *r, const unsigned char *b, uint64_t size, int verify
     free(n_children);
     if (!rc) rc = check_index(r);
     if (!rc) rc = check_leaf_structure(r);
+    if (!rc && r->sec[GS__SEC_NEAR])
+        rc = gs__db_near_attach(r->sec[GS__SEC_NEAR], r->sec_size[GS__SEC_NEAR], r->db->nv, r->name, &r->db->near,
+                                r->err);
     if (!rc && verify) rc = check_values(r);
     return rc;
 }

@@ -201,13 +201,13 @@ static int curve_grids(const gs__db_content *c, uint32_t *grid, uint32_t *fcurve
     return GS_OK;
 }
 
-static void write_header(unsigned char *b, const gs__db_content *c, uint32_t n_sec, uint64_t file_bytes,
-                         uint64_t records_bytes, uint64_t leaf_entries, int tables, uint64_t numbers)
+static void write_header(unsigned char *b, const gs__db_content *c, uint32_t flags, uint32_t n_sec,
+                         uint64_t file_bytes, uint64_t records_bytes, uint64_t leaf_entries, uint64_t numbers)
 {
     memcpy(b, GS__DB_MAGIC, 8);
     gs__put32(b + GS__H_VERSION, GS__DB_VERSION);
     gs__put32(b + GS__H_ENDIAN, GS__DB_ENDIAN_TAG);
-    gs__put32(b + GS__H_FLAGS, tables ? GS__DB_FLAG_LEAF_EXACT : 0);
+    gs__put32(b + GS__H_FLAGS, flags);
     gs__put32(b + GS__H_HEADER_BYTES, GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * n_sec);
     gs__put64(b + GS__H_FILE_BYTES, file_bytes);
     gs__put32(b + GS__H_NV, c->nv);
@@ -261,10 +261,12 @@ static void write_leaf_tables(unsigned char *const sec[], const gs__db_content *
             if (c->leaf_verts[k] < c->nv) gs__put32(loc + 4 * (uint64_t)c->leaf_verts[k], k - c->leaf_vstart[l]);
 }
 
-static void write_table(unsigned char *buf, unsigned char *const sec[], const uint64_t size[], uint32_t n_sec)
+static void write_table(unsigned char *buf, unsigned char *const sec[], const uint64_t size[], const uint32_t *ids,
+                        uint32_t n_sec)
 {
     unsigned char *t = buf + GS__DB_HEADER_BYTES;
-    for (uint32_t s = 1; s <= n_sec; ++s, t += GS__DB_ENTRY_BYTES) {
+    for (uint32_t i = 0; i < n_sec; ++i, t += GS__DB_ENTRY_BYTES) {
+        uint32_t s = ids[i];
         gs__put32(t, s);
         gs__put32(t + 4, 0);
         gs__put64(t + 8, (uint64_t)(sec[s] - buf));
@@ -307,20 +309,24 @@ int gs__db_pack(const gs__db_content *c, gs_db **out, gs_error *err)
         }
         index[c->nv] = (uint32_t)(records / 8);
     }
-    uint64_t leaf_entries = tables ? c->leaf_dstart[c->n_nodes] : 0, size[GS__SEC_COUNT_FULL + 1];
-    uint32_t n_sec = tables ? GS__SEC_COUNT_FULL : GS__SEC_COUNT_BASE;
+    uint64_t leaf_entries = tables ? c->leaf_dstart[c->n_nodes] : 0, size[GS__SEC_MAX + 1];
+    int near = c->near_radius > 0;
+    uint32_t flags = (tables ? GS__DB_FLAG_LEAF_EXACT : 0) | (near ? GS__DB_FLAG_NEAR : 0), ids[GS__SEC_MAX];
+    uint32_t n_sec = gs__db_section_ids(flags, ids);
     if (!rc && !gs__db_layout(c->nv, c->n_nodes, c->n_curves, records, leaf_entries, tables, size))
         rc = gs__fail(err, GS_ELIMIT, "database: too many records or leaf entries");
+    if (!rc && near && !(size[GS__SEC_NEAR] = gs__db_near_bytes(c->nv, c->n_near)))
+        rc = gs__fail(err, GS_ELIMIT, "database: %llu near pairs", (unsigned long long)c->n_near);
     uint64_t total = GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * n_sec;
-    for (uint32_t s = 1; s <= n_sec && !rc; ++s) total += size[s];
+    for (uint32_t i = 0; i < n_sec && !rc; ++i) total += size[ids[i]];
     if (!rc && total > SIZE_MAX) rc = gs__fail(err, GS_ELIMIT, "database: %llu bytes", (unsigned long long)total);
     unsigned char *buf = rc ? NULL : gs__calloc((size_t)total, 1);
     if (!rc && !buf) rc = gs__fail(err, GS_ENOMEM, "database: out of memory (%llu bytes)", (unsigned long long)total);
     if (!rc) {
-        unsigned char *sec[GS__SEC_COUNT_FULL + 1] = {0};
+        unsigned char *sec[GS__SEC_MAX + 1] = {0};
         uint64_t off = GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * n_sec;
-        for (uint32_t s = 1; s <= n_sec; ++s) sec[s] = buf + off, off += size[s];
-        write_header(buf, c, n_sec, total, records, leaf_entries, tables, numbers);
+        for (uint32_t i = 0; i < n_sec; ++i) sec[ids[i]] = buf + off, off += size[ids[i]];
+        write_header(buf, c, flags, n_sec, total, records, leaf_entries, numbers);
         write_tree(sec, c, grid);
         memcpy(sec[GS__SEC_INDEX], index, 4 * ((size_t)c->nv + 1));
         uint64_t unused = 0;
@@ -329,7 +335,8 @@ int gs__db_pack(const gs__db_content *c, gs_db **out, gs_error *err)
         for (uint32_t x = 0; x < c->nv; ++x)
             encode_vertex(c, grid, fcurve, x, sec[GS__SEC_RECORDS] + 8 * (uint64_t)index[x], &unused, &unused_bad);
         if (tables) write_leaf_tables(sec, c);
-        write_table(buf, sec, size, n_sec);
+        if (near) gs__db_near_write(sec[GS__SEC_NEAR], c->nv, c->near_radius, c->near_pairs, c->n_near);
+        write_table(buf, sec, size, ids, n_sec);
         rc = gs__db_attach(buf, (size_t)total, 0, "built database", 0, out, err);
         if (rc) free(buf);
     }

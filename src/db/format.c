@@ -94,16 +94,26 @@ int gs__db_host_little_endian(void)
     return c == 1;
 }
 
-const char *const gs__db_section_name[GS__SEC_COUNT_FULL + 1] = {
+const char *const gs__db_section_name[GS__SEC_MAX + 1] = {
     "?", "positions", "leaves", "nodes", "curves", "vertex_index", "records", "leaf_vstart", "leaf_local",
-    "leaf_dstart", "leaf_dist"};
+    "leaf_dstart", "leaf_dist", "near_pairs"};
+
+uint32_t gs__db_section_ids(uint32_t flags, uint32_t ids[GS__SEC_MAX])
+{
+    uint32_t n = 0;
+    for (uint32_t s = 1; s <= GS__SEC_COUNT_BASE; ++s) ids[n++] = s;
+    for (uint32_t s = GS__SEC_COUNT_BASE + 1; s <= GS__SEC_COUNT_FULL && (flags & GS__DB_FLAG_LEAF_EXACT); ++s)
+        ids[n++] = s;
+    if (flags & GS__DB_FLAG_NEAR) ids[n++] = GS__SEC_NEAR;
+    return n;
+}
 
 int gs__db_layout(uint32_t nv, uint32_t n_nodes, uint32_t n_curves, uint64_t records_bytes,
-                  uint64_t leaf_entries, int tables, uint64_t size[GS__SEC_COUNT_FULL + 1])
+                  uint64_t leaf_entries, int tables, uint64_t size[GS__SEC_MAX + 1])
 {
     const uint64_t lim = (uint64_t)1 << 62;
     if (records_bytes > lim || leaf_entries > lim / 8) return 0;
-    memset(size, 0, sizeof(uint64_t) * (GS__SEC_COUNT_FULL + 1));
+    memset(size, 0, sizeof(uint64_t) * (GS__SEC_MAX + 1));
     size[GS__SEC_POSITIONS] = 24 * (uint64_t)nv;
     size[GS__SEC_LEAVES] = gs__pad8(4 * (uint64_t)nv);
     size[GS__SEC_NODES] = gs__pad8(20 * (uint64_t)n_nodes);

@@ -21,6 +21,7 @@
 #define GS__DB_CHECKSUM_AT 152u /* header_checksum: the header's last field */
 #define GS__DB_ENTRY_BYTES 32u
 #define GS__DB_FLAG_LEAF_EXACT 1u
+#define GS__DB_FLAG_NEAR 2u /* section 'near_pairs' present (db_near.h) */
 #define GS__DB_BUILD_VERTEX_SOURCES 1u
 #define GS__DB_BUILD_SAMPLED 2u
 /* bits 2-3: gs_solver_options.heat_refine */
@@ -73,12 +74,19 @@ enum {
     GS__SEC_LEAF_LOCAL,
     GS__SEC_LEAF_DSTART,
     GS__SEC_LEAF_DIST,
+    GS__SEC_NEAR,      /* exact distances of near pairs (db_near.h)      */
     GS__SEC_COUNT_BASE = 6,
-    GS__SEC_COUNT_FULL = 10
+    GS__SEC_COUNT_FULL = 10,
+    GS__SEC_MAX = GS__SEC_NEAR
 };
 
 /* Section names for messages, by id (0 unused). */
-extern const char *const gs__db_section_name[GS__SEC_COUNT_FULL + 1];
+extern const char *const gs__db_section_name[GS__SEC_MAX + 1];
+
+/* The ids of the sections a file with these header flags holds, in file
+ * order (ascending): 1..6, 7..10 with leaf tables, 11 with near pairs.
+ * Returns their count. */
+uint32_t gs__db_section_ids(uint32_t flags, uint32_t ids[GS__SEC_MAX]);
 
 /* A node of the bisection tree (section 'nodes', 20 bytes, in place). */
 typedef struct gs__db_node {
@@ -207,9 +215,10 @@ static inline int gs__db_fblock_coef(const gs__db_fblock *b, double *c)
 
 /* Sizes in bytes of sections 1..10 (size[0] unused) from the header
  * counts; tables: leaf exact tables present (else size[7..10] = 0).
+ * size[GS__SEC_NEAR] is 0: that section describes its own size.
  * Returns 0 if a size would exceed 2^62. */
 int gs__db_layout(uint32_t nv, uint32_t n_nodes, uint32_t n_curves, uint64_t records_bytes,
-                  uint64_t leaf_entries, int tables, uint64_t size[GS__SEC_COUNT_FULL + 1]);
+                  uint64_t leaf_entries, int tables, uint64_t size[GS__SEC_MAX + 1]);
 
 /* The format's 64-bit checksum (doc "Checksum") of a then b (b may be NULL
  * with nb == 0). */

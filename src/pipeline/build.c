@@ -28,6 +28,7 @@ void gs_build_options_default(gs_build_options *o)
     o->vertex_sources = -1; /* by the method (see geosep.h) */
     o->sampled = 0;
     o->leaf_exact = 1; /* same-leaf pairs: Euclidean answers were off by up to 56% (bunny-5k) */
+    o->near_radius = 6; /* pairs beyond it within 5% on every shared mesh (doc/accuracy.md) */
     o->seed = 1;
     o->sample_spacing = 0.5;
     gs_solver_options_default(&o->solver);
@@ -153,7 +154,9 @@ static void tree_progress(void *user, double frac)
     gs__pipe_progress(user, "tree", frac);
 }
 
-static int assemble(gs__builder *b, const gs__leaf_tables *lt, gs_db **out, gs_error *err)
+/* near_radius > 0: the section 'near_pairs' with pairs[0..n_near). */
+static int assemble(gs__builder *b, const gs__leaf_tables *lt, double near_radius, const gs__near_pair *pairs,
+                    uint64_t n_near, gs_db **out, gs_error *err)
 {
     const gs__tree *t = b->tree;
     gs__db_node *nodes = gs__malloc(t->n_nodes, sizeof *nodes);
@@ -188,6 +191,9 @@ static int assemble(gs__builder *b, const gs__leaf_tables *lt, gs_db **out, gs_e
         c.leaf_dstart = lt->dstart;
         c.leaf_dist = lt->dist;
     }
+    c.near_radius = near_radius;
+    c.near_pairs = pairs;
+    c.n_near = n_near;
     c.method = (uint32_t)b->opt->method;
     c.vmax = b->opt->vmax;
     c.mmax = b->opt->mmax;
@@ -216,6 +222,8 @@ static int check_options(const gs_build_options *o, gs_error *err)
     if (o->mmax < 2 || o->mmax > GS_FUN_MAX_DEGREE)
         return gs__fail(err, GS_EARG, "mmax %u out of range [2, %d]", o->mmax, GS_FUN_MAX_DEGREE);
     if (!(o->tol > 0 && o->tol < 1)) return gs__fail(err, GS_EARG, "tol %g out of range (0, 1)", o->tol);
+    if (!(o->near_radius >= 0 && o->near_radius <= 100))
+        return gs__fail(err, GS_EARG, "near_radius %g out of range [0, 100] (mean edge lengths)", o->near_radius);
     if (!(o->sample_spacing >= 0.01 && o->sample_spacing <= 100))
         return gs__fail(err, GS_EARG, "sample_spacing %g out of range [0.01, 100]", o->sample_spacing);
     if (o->max_samples && (o->max_samples < 8 || o->max_samples > (1u << 24)))
@@ -393,8 +401,21 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
     }
     if (rc == GS_OK) {
         gs__pipe_progress(&b, "write", 0);
-        rc = assemble(&b, &lt, out, err);
+        rc = assemble(&b, &lt, 0, NULL, 0, out, err);
         gs__pipe_progress(&b, "write", 1);
+    }
+    if (rc == GS_OK && opt->near_radius > 0 && mesh->report.mean_edge > 0) {
+        double ta = gs__now(), R = opt->near_radius * mesh->report.mean_edge;
+        gs__near_pair *pairs = NULL;
+        uint64_t n_near = 0;
+        gs_db *db0 = *out;
+        *out = NULL;
+        gs__pipe_progress(&b, "near", 0);
+        rc = gs__pipe_near_pairs(&b, db0, R, GS_PIPE_NEAR_TOL, &pairs, &n_near, err);
+        t_fields += gs__now() - ta; /* exact near fields count as fields */
+        if (rc == GS_OK) rc = assemble(&b, &lt, R, pairs, n_near, out, err);
+        gs_db_free(db0);
+        free(pairs);
     }
     gs__pipe_leaf_tables_free(&lt);
     if (rc == GS_OK && stats) {

@@ -299,13 +299,24 @@ static double cross(const gs_db *db, uint32_t x, uint32_t y, uint32_t top, uint3
     return best;
 }
 
+/* The stored exact distance of a near pair (section 'near_pairs'): only
+ * pairs nearer than its radius are stored, so a pair at least that far
+ * apart in space costs one comparison. e: their Euclidean distance. */
+static int near_pair(const gs_db *db, uint32_t x, uint32_t y, double e, double *d)
+{
+    if (!(e < db->near.radius)) return 0; /* also without the section: radius 0 */
+    return x < y ? gs__db_near_find(&db->near, x, y, d) : gs__db_near_find(&db->near, y, x, d);
+}
+
 /* Cross-leaf distance of x != y (any order), top their leaves' lowest common
  * ancestor: the two go in vertex-id order so that d(x,y) == d(y,x). */
 static double cross_leaf(const gs_db *db, uint32_t x, uint32_t y, uint32_t lx, uint32_t ly, uint32_t top)
 {
+    double e = euclidean(db, x, y), d;
+    if (near_pair(db, x, y, e, &d)) return d < e ? e : d;
     uint32_t nfx = db->nodes[lx].curve_prefix, nfy = db->nodes[ly].curve_prefix;
-    double d = x < y ? cross(db, x, y, top, nfx, nfy) : cross(db, y, x, top, nfy, nfx);
-    return d != d ? d : at_least_euclidean(db, x, y, d);
+    d = x < y ? cross(db, x, y, top, nfx, nfy) : cross(db, y, x, top, nfy, nfx);
+    return d != d || d >= e ? d : e;
 }
 
 double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y)
