@@ -595,6 +595,9 @@ typedef struct gs_build_stats {
                              /*   with the smallest is kept; doc/accuracy.md)  */
     double max_fit_error;    /* the largest such error over all fits           */
     double mean_fit_error;   /* mean relative error of the fits on the samples */
+    uint64_t n_near_pairs;   /* near pairs stored (near_radius)                */
+    double seconds_near;     /* their exact fields and checks (also counted    */
+                             /*   in seconds_fields)                           */
 } gs_build_stats;
 
 /* Build a database in memory. stats may be NULL. *out receives a new
@@ -663,6 +666,10 @@ typedef struct gs_db_info {
     gs_solver_options solver;  /* the field method's parameters (heat_refine  */
                                /*   as used: never GS_HEAT_REFINE_AUTO; 0     */
                                /*   for methods other than heat)              */
+    double near_radius;        /* near pairs: the radius (mesh units; 0: no   */
+                               /*   section) and how many are stored          */
+    uint64_t n_near_pairs;
+    uint64_t near_bytes;       /* the section's size                          */
 } gs_db_info;
 
 GS_API int gs_db_get_info(const gs_db *db, gs_db_info *info, gs_error *err);

@@ -619,6 +619,9 @@ int gs_db_get_info(const gs_db *db, gs_db_info *info, gs_error *err)
     info->vertex_sources = (db->build_flags & GS__DB_BUILD_VERTEX_SOURCES) != 0;
     info->sampled = (db->build_flags & GS__DB_BUILD_SAMPLED) != 0;
     info->leaf_exact = db->leaf_vstart != NULL;
+    info->near_radius = db->near.start ? db->near.radius : 0.0;
+    info->n_near_pairs = db->near.n;
+    info->near_bytes = db->near.start ? gs__db_near_bytes(db->nv, db->near.n) : 0;
     info->sample_spacing = db->sample_spacing;
     info->seed = db->seed;
     info->max_samples = db->max_samples;

@@ -10,6 +10,7 @@
 
 #include "../db/db_content.h"
 #include "../db/db_internal.h"
+#include "../fit/fit.h"
 #include "../geodesic/geodesic_internal.h"
 
 #include <math.h>
@@ -215,6 +216,27 @@ static int assemble(gs__builder *b, const gs__leaf_tables *lt, double near_radiu
     return rc;
 }
 
+/* Each vertex's near radius: R0, or wide * R0 when one of its functions is
+ * uncertified (a fit off by more than GS_FIT_MAX_ERR somewhere: homer's
+ * answers through such functions were off by up to 9% 6 to 10 mean edges
+ * apart). *rmax: the largest. NULL when out of memory. */
+static double *near_radii(const gs__builder *b, double R0, double *rmax)
+{
+    uint32_t nv = b->mesh->nv;
+    double *r = gs__malloc(nv ? nv : 1, sizeof *r), wide = GS_PIPE_NEAR_WIDE;
+    const char *env = getenv("GS_NEAR_WIDE");
+    if (env) wide = atof(env);
+    if (!r) return NULL;
+    *rmax = 0;
+    for (uint32_t x = 0; x < nv; ++x) {
+        float worst = 0;
+        for (uint64_t k = b->fun_start[x]; k < b->fun_start[x + 1]; ++k) worst = fmaxf(worst, b->fun_err[k]);
+        r[x] = worst >= GS_FIT_MAX_ERR ? wide * R0 : R0;
+        *rmax = fmax(*rmax, r[x]);
+    }
+    return r;
+}
+
 static int check_options(const gs_build_options *o, gs_error *err)
 {
     if (!gs_method_name(o->method)) return gs__fail(err, GS_EARG, "unknown method %d", (int)o->method);
@@ -345,7 +367,8 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
         b.fun_start[x + 1] = b.fun_start[x] + (l == GS_NONE ? 0 : tree->nodes[l].curve_prefix);
     }
     b.funs = gs__calloc(b.fun_start[mesh->nv], sizeof *b.funs);
-    if (!b.funs) {
+    b.fun_err = gs__calloc(b.fun_start[mesh->nv] + 1, sizeof *b.fun_err);
+    if (!b.funs || !b.fun_err) {
         rc = gs__fail(err, GS_ENOMEM, "out of memory for %llu functions",
                       (unsigned long long)b.fun_start[mesh->nv]);
         goto done;
@@ -404,16 +427,23 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
         rc = assemble(&b, &lt, 0, NULL, 0, out, err);
         gs__pipe_progress(&b, "write", 1);
     }
+    double t_near = 0;
+    if (stats) memset(stats, 0, sizeof *stats);
     if (rc == GS_OK && opt->near_radius > 0 && mesh->report.mean_edge > 0) {
-        double ta = gs__now(), R = opt->near_radius * mesh->report.mean_edge;
+        double ta = gs__now(), R = 0;
         gs__near_pair *pairs = NULL;
         uint64_t n_near = 0;
         gs_db *db0 = *out;
         *out = NULL;
         gs__pipe_progress(&b, "near", 0);
-        rc = gs__pipe_near_pairs(&b, db0, R, GS_PIPE_NEAR_TOL, &pairs, &n_near, err);
-        t_fields += gs__now() - ta; /* exact near fields count as fields */
+        double *radius = near_radii(&b, opt->near_radius * mesh->report.mean_edge, &R);
+        rc = radius ? gs__pipe_near_pairs(&b, db0, radius, GS_PIPE_NEAR_TOL, &pairs, &n_near, err)
+                    : gs__fail(err, GS_ENOMEM, "out of memory for near pairs");
+        free(radius);
+        t_near = gs__now() - ta;
+        t_fields += t_near; /* exact near fields count as fields */
         if (rc == GS_OK) rc = assemble(&b, &lt, R, pairs, n_near, out, err);
+        if (stats) stats->n_near_pairs = n_near;
         gs_db_free(db0);
         free(pairs);
     }
@@ -430,12 +460,14 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
         stats->n_uncertified = b.n_uncertified;
         stats->max_fit_error = b.max_fit_error;
         stats->mean_fit_error = b.n_functions ? b.fit_err_sum / (double)b.n_functions : 0;
+        stats->seconds_near = t_near;
     }
 done:
     if (b.arenas)
         for (uint32_t i = 0; i < tree->n_nodes; ++i) free(b.arenas[i]);
     free(b.arenas);
     free(b.funs);
+    free(b.fun_err);
     free(b.fun_start);
     gs__tree_free(tree);
     return rc;

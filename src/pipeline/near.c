@@ -48,14 +48,15 @@ static int grow(void **p, size_t *cap, size_t need, size_t size)
     return 0;
 }
 
-/* The pairs of leaf `node` (its n vertices lv) into w->pairs. */
-static int near_leaf(const gs__builder *b, const gs_db *db0, uint32_t node, const uint32_t *lv, uint32_t n, double R,
-                     double tol, uint32_t stamp, near_work *w, gs_error *err)
+/* The pairs of leaf `node` (its n vertices lv) into w->pairs; radius:
+ * each vertex's (near_radius). */
+static int near_leaf(const gs__builder *b, const gs_db *db0, uint32_t node, const uint32_t *lv, uint32_t n,
+                     const double *radius, double tol, uint32_t stamp, near_work *w, gs_error *err)
 {
     const uint32_t *leaf = b->tree->leaf_of_vertex;
     if (grow((void **)&w->radius, &w->rcap, n, sizeof *w->radius))
         return gs__fail(err, GS_ENOMEM, "out of memory for leaf %u's near pairs", node);
-    for (uint32_t k = 0; k < n; ++k) w->radius[k] = R;
+    for (uint32_t k = 0; k < n; ++k) w->radius[k] = radius[lv[k]];
     uint32_t nf = gs__pipe_region(b->mesh, lv, n, w->radius, stamp, w->fstamp, &w->faces, &w->cap);
     if (nf == GS_NONE) return gs__fail(err, GS_ENOMEM, "out of memory for leaf %u's near region", node);
     gs_patch *p = NULL;
@@ -72,17 +73,18 @@ static int near_leaf(const gs__builder *b, const gs_db *db0, uint32_t node, cons
             break;
         }
         gs_source so = gs_source_vertex(src);
+        double R = w->radius[k];
         rc = gs_solver_solve(s, &so, 1, R, w->dist, err);
         for (uint32_t v = 0; v < np && rc == GS_OK; ++v) {
             double d = w->dist[v];
             if (!(d < R && d > 0)) continue;
             uint32_t y = gs_patch_vertex_to_mesh(p, v);
-            if (y <= x || leaf[y] == node || leaf[y] == GS_NONE) continue;
+            if (leaf[y] == node || leaf[y] == GS_NONE) continue;
             double a = gs_db_distance(db0, x, y);
             if (fabs(a - d) <= tol * d) continue; /* NaN or inf: stored */
             if (grow((void **)&w->pairs, &w->pcap, w->n + 1, sizeof *w->pairs))
                 rc = gs__fail(err, GS_ENOMEM, "out of memory for near pairs");
-            else w->pairs[w->n++] = (gs__near_pair){x, y, d};
+            else w->pairs[w->n++] = x < y ? (gs__near_pair){x, y, d} : (gs__near_pair){y, x, d};
         }
     }
     gs_solver_free(s);
@@ -97,8 +99,8 @@ static int pair_cmp(const void *a, const void *b)
     return p->y < q->y ? -1 : (p->y > q->y);
 }
 
-int gs__pipe_near_pairs(gs__builder *b, const gs_db *db0, double R, double tol, gs__near_pair **out, uint64_t *n_out,
-                        gs_error *err)
+int gs__pipe_near_pairs(gs__builder *b, const gs_db *db0, const double *radius, double tol, gs__near_pair **out,
+                        uint64_t *n_out, gs_error *err)
 {
     const gs__tree *t = b->tree;
     *out = NULL;
@@ -122,7 +124,7 @@ int gs__pipe_near_pairs(gs__builder *b, const gs_db *db0, double R, double tol, 
         for (uint32_t q = 0; q < n_leaves; ++q) {
             if (my) continue;
             const gs__tree_node *nd = &t->nodes[leaves[q]];
-            my = near_leaf(b, db0, leaves[q], t->verts + nd->vert_start, nd->n_verts, R, tol, q + 1, &w, &e);
+            my = near_leaf(b, db0, leaves[q], t->verts + nd->vert_start, nd->n_verts, radius, tol, q + 1, &w, &e);
             uint32_t d;
 #pragma omp atomic capture
             d = ++done;
@@ -152,7 +154,12 @@ int gs__pipe_near_pairs(gs__builder *b, const gs_db *db0, double R, double tol, 
         return rc;
     }
     qsort(all, n_all, sizeof *all, pair_cmp);
+    size_t m = 0; /* a pair found from both ends once, its smaller distance */
+    for (size_t i = 0; i < n_all; ++i) {
+        if (m && all[m - 1].x == all[i].x && all[m - 1].y == all[i].y) all[m - 1].d = fmin(all[m - 1].d, all[i].d);
+        else all[m++] = all[i];
+    }
     *out = all;
-    *n_out = n_all;
+    *n_out = m;
     return GS_OK;
 }
