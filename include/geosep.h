@@ -555,9 +555,11 @@ typedef struct gs_build_options {
                              /*   leaves (bunny-5k: 56%) [1]                   */
     double near_radius;      /* near pairs, in mean edge lengths: every pair  */
                              /*   of vertices in different leaves nearer than  */
-                             /*   this whose answer through the separators is  */
-                             /*   off by more than 2% gets its exact distance  */
-                             /*   stored (section 'near_pairs'); 0: none [6]   */
+                             /*   this (twice this from a vertex with an       */
+                             /*   uncertified fit, see gs_build_stats) whose   */
+                             /*   answer through the separators is off by more */
+                             /*   than 2% gets its exact distance stored       */
+                             /*   (section 'near_pairs'); 0: none [5]          */
     uint32_t seed;           /* partitioning seed [1]                          */
     double sample_spacing;   /* separator sample spacing / mean edge length    */
                              /*   [0.5]                                        */

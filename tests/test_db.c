@@ -209,7 +209,7 @@ static void reseal(unsigned char *b, size_t n)
 {
     uint32_t n_sec;
     memcpy(&n_sec, b + 64, 4);
-    if (n_sec > GS__SEC_COUNT_FULL) return; /* a mutated count: leave it */
+    if (n_sec > GS__SEC_MAX) return; /* a mutated count: leave it */
     for (uint32_t s = 0; s < n_sec; ++s) {
         unsigned char *t = b + GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * s;
         uint64_t off, size;

@@ -74,6 +74,7 @@ int gs__db_near_attach(const unsigned char *sec, uint64_t size, uint32_t nv, con
     for (uint64_t i = 4 * ((uint64_t)nb + 1); i < gs__pad8(4 * ((uint64_t)nb + 1)); ++i)
         if (sec[GS__NEAR_HEAD + i]) return BAD("%s: section 'near_pairs': padding byte is not zero", name);
     out->radius = radius;
+    out->radius2 = radius * radius;
     out->step = step;
     out->n = n;
     out->nb = nb;

@@ -31,6 +31,7 @@
 /* The section as the query reads it (in place; start NULL: no section). */
 typedef struct gs__db_near {
     double radius, step;
+    double radius2;            /* radius^2 (0 without the section)        */
     uint64_t n;
     uint32_t nb;
     const uint32_t *start;

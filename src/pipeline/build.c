@@ -29,7 +29,7 @@ void gs_build_options_default(gs_build_options *o)
     o->vertex_sources = -1; /* by the method (see geosep.h) */
     o->sampled = 0;
     o->leaf_exact = 1; /* same-leaf pairs: Euclidean answers were off by up to 56% (bunny-5k) */
-    o->near_radius = 6; /* pairs beyond it within 5% on every shared mesh (doc/accuracy.md) */
+    o->near_radius = 5; /* twice that around uncertified fits: every pair beyond within 5% on every shared mesh (doc/accuracy.md) */
     o->seed = 1;
     o->sample_spacing = 0.5;
     gs_solver_options_default(&o->solver);
@@ -216,22 +216,20 @@ static int assemble(gs__builder *b, const gs__leaf_tables *lt, double near_radiu
     return rc;
 }
 
-/* Each vertex's near radius: R0, or wide * R0 when one of its functions is
- * uncertified (a fit off by more than GS_FIT_MAX_ERR somewhere: homer's
- * answers through such functions were off by up to 9% 6 to 10 mean edges
- * apart). *rmax: the largest. NULL when out of memory. */
+/* Each vertex's near radius: R0, or GS_PIPE_NEAR_WIDE R0 when one of its
+ * functions is uncertified (a fit off by more than GS_FIT_MAX_ERR
+ * somewhere: homer's answers through such functions were off by up to 9%
+ * 6 to 10 mean edges apart). *rmax: the largest. NULL when out of memory. */
 static double *near_radii(const gs__builder *b, double R0, double *rmax)
 {
     uint32_t nv = b->mesh->nv;
-    double *r = gs__malloc(nv ? nv : 1, sizeof *r), wide = GS_PIPE_NEAR_WIDE;
-    const char *env = getenv("GS_NEAR_WIDE");
-    if (env) wide = atof(env);
+    double *r = gs__malloc(nv ? nv : 1, sizeof *r);
     if (!r) return NULL;
     *rmax = 0;
     for (uint32_t x = 0; x < nv; ++x) {
         float worst = 0;
         for (uint64_t k = b->fun_start[x]; k < b->fun_start[x + 1]; ++k) worst = fmaxf(worst, b->fun_err[k]);
-        r[x] = worst >= GS_FIT_MAX_ERR ? wide * R0 : R0;
+        r[x] = worst >= GS_FIT_MAX_ERR ? GS_PIPE_NEAR_WIDE * R0 : R0;
         *rmax = fmax(*rmax, r[x]);
     }
     return r;

@@ -14,11 +14,16 @@
 
 #define FIELD_MAX_DEPTH 512 /* x's ancestors by depth kept on the stack     */
 
-static double euclidean(const gs_db *db, uint32_t x, uint32_t y)
+static double euclidean2(const gs_db *db, uint32_t x, uint32_t y)
 {
     const double *p = db->xyz + 3 * (size_t)x, *q = db->xyz + 3 * (size_t)y;
     double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
-    return sqrt(dx * dx + dy * dy + dz * dz);
+    return dx * dx + dy * dy + dz * dz;
+}
+
+static double euclidean(const gs_db *db, uint32_t x, uint32_t y)
+{
+    return sqrt(euclidean2(db, x, y));
 }
 
 /* A geodesic is never shorter than the straight segment: the bound catches a
@@ -301,10 +306,11 @@ static double cross(const gs_db *db, uint32_t x, uint32_t y, uint32_t top, uint3
 
 /* The stored exact distance of a near pair (section 'near_pairs'): only
  * pairs nearer than its radius are stored, so a pair at least that far
- * apart in space costs one comparison. e: their Euclidean distance. */
-static int near_pair(const gs_db *db, uint32_t x, uint32_t y, double e, double *d)
+ * apart in space costs one comparison. e2: their squared Euclidean
+ * distance. */
+static int near_pair(const gs_db *db, uint32_t x, uint32_t y, double e2, double *d)
 {
-    if (!(e < db->near.radius)) return 0; /* also without the section: radius 0 */
+    if (!(e2 < db->near.radius2)) return 0; /* also without the section: 0 */
     return x < y ? gs__db_near_find(&db->near, x, y, d) : gs__db_near_find(&db->near, y, x, d);
 }
 
@@ -312,10 +318,12 @@ static int near_pair(const gs_db *db, uint32_t x, uint32_t y, double e, double *
  * ancestor: the two go in vertex-id order so that d(x,y) == d(y,x). */
 static double cross_leaf(const gs_db *db, uint32_t x, uint32_t y, uint32_t lx, uint32_t ly, uint32_t top)
 {
-    double e = euclidean(db, x, y), d;
-    if (near_pair(db, x, y, e, &d)) return d < e ? e : d;
-    uint32_t nfx = db->nodes[lx].curve_prefix, nfy = db->nodes[ly].curve_prefix;
-    d = x < y ? cross(db, x, y, top, nfx, nfy) : cross(db, y, x, top, nfy, nfx);
+    double e2 = euclidean2(db, x, y), d;
+    if (!near_pair(db, x, y, e2, &d)) {
+        uint32_t nfx = db->nodes[lx].curve_prefix, nfy = db->nodes[ly].curve_prefix;
+        d = x < y ? cross(db, x, y, top, nfx, nfy) : cross(db, y, x, top, nfy, nfx);
+    }
+    double e = sqrt(e2);
     return d != d || d >= e ? d : e;
 }
 
