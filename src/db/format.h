@@ -21,7 +21,7 @@
 #define GS__DB_CHECKSUM_AT 152u /* header_checksum: the header's last field */
 #define GS__DB_ENTRY_BYTES 32u
 #define GS__DB_FLAG_LEAF_EXACT 1u
-#define GS__DB_FLAG_NEAR 2u /* section 'near_pairs' present (db_near.h) */
+#define GS__DB_FLAG_NEAR 8u /* section 'near_pairs' present (db_near.h) */
 #define GS__DB_BUILD_VERTEX_SOURCES 1u
 #define GS__DB_BUILD_SAMPLED 2u
 /* bits 2-3: gs_solver_options.heat_refine */
