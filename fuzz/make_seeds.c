@@ -299,6 +299,7 @@ int main(int argc, char **argv)
     database("two:4", "two-components", 0, 0);
     database("sphere:1", "sphere-leaf-exact", 1, 0);
     database("grid:6,4", "grid-sampled", 0, 1);
+    database("knot:40,8", "knot-near-pairs", 1, 0); /* 42 near pairs: section 'near_pairs' with entries */
 
     /* mode byte (see fuzz_cli_input.c), then the text */
     FILE *f = open_seed("fuzz_cli_input", "pairs");

@@ -420,31 +420,31 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
         rc = gs__pipe_leaf_tables(&b, &lt, err);
         t_fields += gs__now() - ta; /* exact leaf fields count as fields */
     }
-    if (rc == GS_OK) {
-        gs__pipe_progress(&b, "write", 0);
-        rc = assemble(&b, &lt, 0, NULL, 0, out, err);
-        gs__pipe_progress(&b, "write", 1);
-    }
-    double t_near = 0;
+    /* near pairs: checked against the database without them (the same
+     * records), then the database is packed again with them */
+    double t_near = 0, R = 0;
+    gs__near_pair *pairs = NULL;
+    uint64_t n_near = 0;
     if (stats) memset(stats, 0, sizeof *stats);
     if (rc == GS_OK && opt->near_radius > 0 && mesh->report.mean_edge > 0) {
-        double ta = gs__now(), R = 0;
-        gs__near_pair *pairs = NULL;
-        uint64_t n_near = 0;
-        gs_db *db0 = *out;
-        *out = NULL;
+        double ta = gs__now();
+        gs_db *db0 = NULL;
         gs__pipe_progress(&b, "near", 0);
         double *radius = near_radii(&b, opt->near_radius * mesh->report.mean_edge, &R);
-        rc = radius ? gs__pipe_near_pairs(&b, db0, radius, GS_PIPE_NEAR_TOL, &pairs, &n_near, err)
-                    : gs__fail(err, GS_ENOMEM, "out of memory for near pairs");
+        rc = radius ? assemble(&b, &lt, 0, NULL, 0, &db0, err) : gs__fail(err, GS_ENOMEM, "out of memory for near pairs");
+        if (rc == GS_OK) rc = gs__pipe_near_pairs(&b, db0, radius, GS_PIPE_NEAR_TOL, &pairs, &n_near, err);
         free(radius);
+        gs_db_free(db0);
         t_near = gs__now() - ta;
         t_fields += t_near; /* exact near fields count as fields */
-        if (rc == GS_OK) rc = assemble(&b, &lt, R, pairs, n_near, out, err);
         if (stats) stats->n_near_pairs = n_near;
-        gs_db_free(db0);
-        free(pairs);
     }
+    if (rc == GS_OK) {
+        gs__pipe_progress(&b, "write", 0);
+        rc = assemble(&b, &lt, R, pairs, n_near, out, err);
+        gs__pipe_progress(&b, "write", 1);
+    }
+    free(pairs);
     gs__pipe_leaf_tables_free(&lt);
     if (rc == GS_OK && stats) {
         stats->seconds_tree = t1 - t0;
