@@ -165,7 +165,7 @@ static void test_corruptions(void)
         {m_xlow, 0, "entry 1 is the pair (16, 2)"},
         {m_ent_reserved, 0, "with reserved byte 1"},
         {m_size, 1, "section table: sections end at"},
-        {m_flag_off, 1, "n_sections 11 (flags require 10)"},
+        {m_flag_off, 1, "n_sections 10 (flags require 9)"},
     };
     unsigned char *b = malloc(n), *copy = malloc(n);
     for (size_t i = 0; i < sizeof cases / sizeof *cases; ++i) {
