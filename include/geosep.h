@@ -531,8 +531,8 @@ GS_API void gs_path_free(gs_path *path);
  * of threads at once. */
 typedef struct gs_db gs_db;
 
-/* Progress callback: stage name ("tree", "fields", "leaves", "write") and the
- * fraction done in [0,1]. Called from the building thread only. */
+/* Progress callback: stage name ("tree", "fields", "leaves", "near", "write")
+ * and the fraction done in [0,1]. Called from the building thread only. */
 typedef void (*gs_progress_fn)(void *user, const char *stage, double fraction);
 
 typedef struct gs_build_options {
@@ -553,6 +553,13 @@ typedef struct gs_build_options {
                              /*   answer same-leaf pairs with the Euclidean    */
                              /*   distance, which underestimates on curved     */
                              /*   leaves (bunny-5k: 56%) [1]                   */
+    double near_radius;      /* near pairs, in mean edge lengths: every pair  */
+                             /*   of vertices in different leaves nearer than  */
+                             /*   this (twice this from a vertex with an       */
+                             /*   uncertified fit, see gs_build_stats) whose   */
+                             /*   answer through the separators is off by more */
+                             /*   than 2% gets its exact distance stored       */
+                             /*   (section 'near_pairs'); 0: none [5]          */
     uint32_t seed;           /* partitioning seed [1]                          */
     double sample_spacing;   /* separator sample spacing / mean edge length    */
                              /*   [0.5]                                        */
@@ -596,6 +603,9 @@ typedef struct gs_build_stats {
                              /*   with the smallest is kept; doc/accuracy.md)  */
     double max_fit_error;    /* the largest such error over all fits           */
     double mean_fit_error;   /* mean relative error of the fits on the samples */
+    uint64_t n_near_pairs;   /* near pairs stored (near_radius)                */
+    double seconds_near;     /* their exact fields and checks (also counted    */
+                             /*   in seconds_fields)                           */
 } gs_build_stats;
 
 /* Build a database in memory. stats may be NULL. *out receives a new
@@ -664,6 +674,10 @@ typedef struct gs_db_info {
     gs_solver_options solver;  /* the field method's parameters (heat_refine  */
                                /*   as used: never GS_HEAT_REFINE_AUTO; 0     */
                                /*   for methods other than heat)              */
+    double near_radius;        /* near pairs: the radius (mesh units; 0: no   */
+                               /*   section) and how many are stored          */
+    uint64_t n_near_pairs;
+    uint64_t near_bytes;       /* the section's size                          */
 } gs_db_info;
 
 GS_API int gs_db_get_info(const gs_db *db, gs_db_info *info, gs_error *err);
