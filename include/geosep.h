@@ -787,6 +787,37 @@ GS_API int gs_db_point_field(const gs_db *db, const gs_surface_point *p, double 
 GS_API int gs_db_farthest_point_sampling(const gs_db *db, uint32_t k, uint32_t seed_vertex, uint32_t *out,
                                          gs_error *err);
 
+/* ---- Paths from a database (src/query/db_path.c, doc/paths.md) --------- */
+
+/* GS_OK if mesh is the one db was built from: the same number of
+ * vertices, every position bit for bit, and the same vertices used by no
+ * face; else GS_EARG naming the first difference. Reads every vertex
+ * (about 0.1 ms per 60k vertices). Thread-safe. */
+GS_API int gs_db_check_mesh(const gs_db *db, const gs_mesh *mesh, gs_error *err);
+
+/* A geodesic path from x to y (each a vertex or a surface point of mesh,
+ * as gs_solver_path takes them: gs_source_vertex / gs_source_point) from
+ * the database, without solving a field: a walk down the database's
+ * distance to x, then shortened until locally shortest (funnel unfolding
+ * and vertex flips; doc/paths.md). The database does not store faces:
+ * mesh must be the one db was built from (GS_EARG if the vertex counts
+ * differ or a vertex the path visits is not where db has it;
+ * gs_db_check_mesh checks every vertex). The result has the form and
+ * guarantees of gs_solver_path's paths (points as xyz and as face +
+ * barycentric weights, consecutive points in one face, straight in faces
+ * and across edges, bending only at saddle and boundary vertices) except
+ * that it is the locally shortest path near the database's route: its
+ * length is never below the exact distance and, on the meshes measured,
+ * within 1% of it (doc/paths.md). x == y gives one point; points in
+ * different components an empty path (0 points, length +INFINITY) and
+ * GS_OK. GS_EARG for an invalid point (message names X or Y and what is
+ * wrong), GS_ENOMEM, GS_EINTERNAL if the database answers NaN (a corrupt
+ * file). *out receives a new path (gs_path_free), NULL on error.
+ * Thread-safe: db and mesh are only read; each call allocates its own
+ * work space (about the path's faces and visited vertices). */
+GS_API int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const gs_source *y,
+                      gs_path **out, gs_error *err);
+
 /* ======================================================================== */
 /* Pictures (src/render): a software rasterizer, PNG output                 */
 /* ======================================================================== */
