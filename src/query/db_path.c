@@ -323,12 +323,14 @@ static int anode(ctx *c, uint32_t v, uint32_t *slot)
 }
 
 /* Append the vertices of a shortest edge path from the vertex path's last
- * vertex to `to` (Euclidean heuristic: admissible and consistent). */
-static int astar(ctx *c, uint32_t to)
+ * vertex to `to` (Euclidean heuristic: admissible and consistent). *found:
+ * 0 if they are not connected. */
+static int astar(ctx *c, uint32_t to, int *found_it)
 {
     const gs__topo *t = c->t;
     uint32_t from = c->vp[c->nvp - 1], s;
     c->na = 0, c->nheap = 0;
+    *found_it = 0;
     if (c->amap.cap) memset(c->amap.key, 0xff, c->amap.cap * sizeof *c->amap.key), c->amap.n = 0;
     if (anode(c, from, &s)) return oom(c);
     c->ag[s] = 0;
@@ -357,20 +359,21 @@ static int astar(ctx *c, uint32_t to)
             }
         }
     }
-    if (found == GS_NONE)
-        return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: vertex %u is not connected to vertex %u", from, to);
+    if (found == GS_NONE) return GS_OK;
     size_t n0 = c->nvp, k = 0;
     for (uint32_t a = found; a != s; a = c->aparent[a]) ++k;
     if (grow((void **)&c->vp, &c->vpcap, n0 + k, sizeof *c->vp)) return oom(c);
     c->nvp = n0 + k;
     for (uint32_t a = found; a != s; a = c->aparent[a]) c->vp[n0 + --k] = c->anode[a];
+    *found_it = 1;
     return GS_OK;
 }
 
 /* ---- 1. descent ------------------------------------------------------- */
 
-/* Extend the vertex path (its first vertex in place) downhill to a vertex of
- * targets[0..nt). */
+/* Extend the vertex path (its first vertex in place) down the valley to a
+ * vertex of targets[0..nt); a vertex without a neighbour closer to X hands
+ * over to A*. */
 static int descend(ctx *c, const uint32_t *targets, int nt)
 {
     const gs__topo *t = c->t;
@@ -378,24 +381,37 @@ static int descend(ctx *c, const uint32_t *targets, int nt)
         uint32_t v = c->vp[c->nvp - 1];
         for (int k = 0; k < nt; ++k)
             if (v == targets[k]) return GS_OK;
-        double dv, best = INFINITY;
+        double dv, best = INFINITY, dir[3] = {0, 0, 0};
         uint32_t bn = GS_NONE;
         int rc = dist_to_target(c, v, &dv);
         if (rc) return rc;
-        for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1]; ++i) {
-            uint32_t h = t->vc[i];
-            uint32_t nb[2] = {t->tri[gs__next(h)], t->tri[gs__prev(h)]};
-            for (int k = 0; k < 2; ++k) {
-                double dn;
-                if ((rc = dist_to_target(c, nb[k], &dn))) return rc;
-                if (!(dn < dv)) continue;
-                double dy = 0;
-                if ((rc = dist_to_origin(c, nb[k], &dy))) return rc;
-                double s = dn + dy;
-                if (s < best) best = s, bn = nb[k];
+        if (c->nvp > 1) /* the last step's direction: neighbours behind it come last */
+            for (int k = 0; k < 3; ++k) dir[k] = vpos(c, v)[k] - vpos(c, c->vp[c->nvp - 2])[k];
+        for (int pass = 0; pass < 2 && bn == GS_NONE; ++pass)
+            for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1]; ++i) {
+                uint32_t h = t->vc[i];
+                uint32_t nb[2] = {t->tri[gs__next(h)], t->tri[gs__prev(h)]};
+                for (int k = 0; k < 2; ++k) {
+                    const double *q = vpos(c, nb[k]), *p = vpos(c, v);
+                    double ahead = (q[0] - p[0]) * dir[0] + (q[1] - p[1]) * dir[1] + (q[2] - p[2]) * dir[2];
+                    if ((ahead >= 0) == (pass == 1)) continue;
+                    double dn;
+                    if ((rc = dist_to_target(c, nb[k], &dn))) return rc;
+                    if (!(dn < dv)) continue;
+                    double dy = 0;
+                    if ((rc = dist_to_origin(c, nb[k], &dy))) return rc;
+                    double s = dn + dy;
+                    if (s < best) best = s, bn = nb[k];
+                }
             }
+        if (bn == GS_NONE) {
+            int found;
+            if ((rc = astar(c, c->target, &found))) return rc;
+            if (!found)
+                return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: vertex %u is not connected to vertex %u", v,
+                                c->target);
+            return GS_OK;
         }
-        if (bn == GS_NONE) return astar(c, c->target);
         if ((rc = push_vertex(c, bn))) return rc;
     }
 }
@@ -453,6 +469,34 @@ static uint32_t rotate_run(const gs__topo *t, uint32_t v, endspec in, endspec ou
     return n;
 }
 
+/* The side of vertex vp[i] the shortest path passes, judged from the
+ * chord between the vertex path's vertices CHORD_SPAN before and after it:
+ * +1 if the chord passes among the faces run[0..n) (one side of v), -1 if
+ * on the other side, 0 if it passes (nearly) through v. */
+#define CHORD_SPAN 4
+static int chord_side(const ctx *c, size_t i, const uint32_t *run, uint32_t n)
+{
+    const gs__topo *t = c->t;
+    const double *v = vpos(c, c->vp[i]);
+    const double *P = vpos(c, c->vp[i >= CHORD_SPAN ? i - CHORD_SPAN : 0]);
+    const double *N = vpos(c, c->vp[i + CHORD_SPAN < c->nvp ? i + CHORD_SPAN : c->nvp - 1]);
+    double d[3], w[3], dd = 0, wd = 0;
+    for (int k = 0; k < 3; ++k) d[k] = N[k] - P[k], w[k] = v[k] - P[k], dd += d[k] * d[k], wd += w[k] * d[k];
+    if (!(dd > 0)) return 0;
+    double tt = wd / dd, sv[3], s2 = 0, o[3] = {0, 0, 0}, e2 = 0;
+    tt = tt < 0 ? 0 : tt > 1 ? 1 : tt;
+    for (int k = 0; k < 3; ++k) sv[k] = P[k] + tt * d[k] - v[k], s2 += sv[k] * sv[k];
+    for (uint32_t j = 0; j < n; ++j) {
+        const uint32_t *T = t->tri + 3 * (size_t)run[j];
+        for (int k = 0; k < 3; ++k)
+            o[k] += (t->xyz[3 * (size_t)T[0] + k] + t->xyz[3 * (size_t)T[1] + k] + t->xyz[3 * (size_t)T[2] + k]) / 3 - v[k];
+    }
+    for (int k = 0; k < 3; ++k) e2 += o[k] * o[k];
+    double dot = o[0] * sv[0] + o[1] * sv[1] + o[2] * sv[2];
+    if (!(fabs(dot) > 0.1 * sqrt(s2 * e2))) return 0; /* through v, or across: undecided */
+    return dot > 0 ? 1 : -1;
+}
+
 /* Append face f to the sleeve, dropping a repeat and undoing a step back
  * (f, g, f -> f). */
 static int sleeve_push(ctx *c, uint32_t f)
@@ -498,6 +542,10 @@ static int build_sleeve(ctx *c, endspec xin, endspec yout)
         if (!n0 && !n1)
             return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: no faces around vertex %u join the path's edges", v);
         int k = a0 <= a1 ? 0 : 1;
+        if (n0 && n1) { /* the side of v that the chord over a few vertices passes */
+            int side = chord_side(c, i, buf[0], n0);
+            if (side) k = side > 0 ? 0 : 1;
+        }
         uint32_t n = k ? n1 : n0;
         for (uint32_t j = 0; j < n; ++j) {
             int rc = sleeve_push(c, buf[k][j]);
@@ -534,6 +582,18 @@ static p2 point2(const ctx *c, const qpt *q, size_t i)
                 q->bary[0] * u[0].y + q->bary[1] * u[1].y + q->bary[2] * u[2].y};
 }
 
+/* The area of a triangle with sides a, b, c (Kahan's stable Heron
+ * formula: no trigonometry, accurate for slivers). */
+static double tri_area(double a, double b, double c)
+{
+    double t;
+    if (a < b) t = a, a = b, b = t;
+    if (a < c) t = a, a = c, c = t;
+    if (b < c) t = b, b = c, c = t;
+    double p = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
+    return 0.25 * sqrt(p > 0 ? p : 0);
+}
+
 /* Unfold the sleeve into the plane (one chain: every face shares its edge's
  * two points with the previous one) and fill the funnel's portals
  * fp[1..m-1]; fp[0] and fp[m] are the ends. */
@@ -562,10 +622,12 @@ static int unfold(ctx *c, const qpt *x, const qpt *y)
         p2 *w = c->uv + 3 * (i + 1);
         w[o % 3] = B;
         w[gs__next(o) % 3] = A;
-        double dx = B.x - A.x, dy = B.y - A.y, n = hypot(dx, dy), th = t->angle[gs__next(o)], r = t->len[gs__next(o)];
+        /* C to the right of A -> B: its foot x along AB, its height y */
+        double dx = B.x - A.x, dy = B.y - A.y, n = sqrt(dx * dx + dy * dy);
+        double L = t->len[o], r = t->len[gs__next(o)], q = t->len[gs__prev(o)];
+        double y = 2 * tri_area(L, r, q) / L, x = (r * r - q * q + L * L) / (2 * L);
         dx /= n, dy /= n;
-        double cs = cos(th), sn = sin(th);
-        w[gs__prev(o) % 3] = (p2){A.x + r * (dx * cs + dy * sn), A.y + r * (-dx * sn + dy * cs)};
+        w[gs__prev(o) % 3] = (p2){A.x + x * dx + y * dy, A.y + x * dy - y * dx};
         c->fp[i + 1] = (portal){B, A, t->tri[gs__next(h)], t->tri[h]};
     }
     p2 s = point2(c, x, 0), e = point2(c, y, m - 1);
@@ -745,7 +807,10 @@ static int converge(ctx *c, const qpt *x, const qpt *y, uint32_t xv, uint32_t yv
         if (!nf) break;
     }
     double l = 0;
-    for (size_t j = 0; j + 1 < c->nap; ++j) l += hypot(c->ap[j + 1].p.x - c->ap[j].p.x, c->ap[j + 1].p.y - c->ap[j].p.y);
+    for (size_t j = 0; j + 1 < c->nap; ++j) {
+        double dx = c->ap[j + 1].p.x - c->ap[j].p.x, dy = c->ap[j + 1].p.y - c->ap[j].p.y;
+        l += sqrt(dx * dx + dy * dy);
+    }
     *len = l;
     return GS_OK;
 }
@@ -855,6 +920,121 @@ static int make_path(ctx *c, gs_path **out)
         if (i) len += dist3(xyz + 3 * i - 3, xyz + 3 * i);
     }
     return gs__path_adopt((uint32_t)n, xyz, face, bary, len, out, c->err);
+}
+
+/* A path this much longer than the database's d(X, Y) is checked: beyond
+ * the database's usual errors (exact fields; approximate ones err more). */
+#define CHECK_TOL_EXACT 0.008
+#define CHECK_TOL_APPROX 0.015
+#define CORRIDOR_TOL 0.01   /* the database's error allowed for in the corridor */
+
+/* ---- the check: a path much longer than the database's distance -------- */
+
+/* The path is longer than the database's distance by more than the
+ * database's errors usually are (the descent then followed another
+ * route's valley: a coarse mesh next to the path, a fitted function's
+ * error): the exact shortest path inside the corridor that holds every
+ * path shorter than this one, the vertices v with d(X, v) + d(v, Y) at
+ * most its length (plus the database's tolerance and the ends' offsets),
+ * grown from the vertex path; the faces at them form a patch, solved
+ * exactly (gs_solver_path). *out: that path if shorter, else untouched. */
+static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_source *y, double len, double slack,
+                    gs_path **out)
+{
+    const gs__topo *t = c->t;
+    double thr = len * (1 + CORRIDOR_TOL) + slack + 2 * mesh->report.max_edge;
+    /* flood: c->vp grows into the corridor's vertices (amap: seen) */
+    c->na = 0;
+    if (c->amap.cap) memset(c->amap.key, 0xff, c->amap.cap * sizeof *c->amap.key), c->amap.n = 0;
+    uint32_t slot;
+    for (size_t i = 0; i < c->nvp; ++i)
+        if (anode(c, c->vp[i], &slot)) return oom(c);
+    size_t nseed = c->nvp;
+    c->nvp = 0;
+    for (size_t i = 0; i < nseed; ++i)
+        if (c->aclosed[i] == 0) c->aclosed[i] = 1, c->vp[c->nvp++] = c->anode[i];
+    for (size_t q = 0; q < c->nvp; ++q) {
+        uint32_t v = c->vp[q];
+        for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1]; ++i) {
+            uint32_t h = t->vc[i];
+            uint32_t nb[2] = {t->tri[gs__next(h)], t->tri[gs__prev(h)]};
+            for (int k = 0; k < 2; ++k) {
+                if (vmap_get(&c->amap, nb[k]) != GS_NONE) continue;
+                if (anode(c, nb[k], &slot)) return oom(c);
+                double dx, dy;
+                int rc = dist_to_target(c, nb[k], &dx);
+                if (!rc) rc = dist_to_origin(c, nb[k], &dy);
+                if (rc) return rc;
+                if (dx + dy <= thr && (rc = push_vertex(c, nb[k]))) return rc;
+            }
+        }
+    }
+    /* the faces at the corridor's vertices, and the ends' faces */
+    vmap fmap = {0};
+    uint32_t *faces = NULL;
+    size_t nf = 0, fcap = 0;
+    int rc = GS_OK;
+    for (size_t q = 0; q < c->nvp + 2 && !rc; ++q) {
+        const gs_source *e = q == c->nvp ? x : y;
+        uint32_t v = q < c->nvp ? c->vp[q] : e->face == GS_NONE ? e->vertex : GS_NONE;
+        uint32_t i0 = 0, i1 = 1, one = q < c->nvp ? GS_NONE : e->face;
+        if (v != GS_NONE) i0 = t->vc_start[v], i1 = t->vc_start[v + 1];
+        for (uint32_t i = i0; i < i1 && !rc; ++i) {
+            uint32_t f = v != GS_NONE ? t->vc[i] / 3 : one;
+            if (f == GS_NONE || vmap_get(&fmap, f) != GS_NONE) continue;
+            if (grow((void **)&faces, &fcap, nf + 1, sizeof *faces) || vmap_put(&fmap, f, (uint32_t)nf))
+                rc = oom(c);
+            else
+                faces[nf++] = f;
+        }
+    }
+    gs_patch *patch = NULL;
+    gs_solver *solver = NULL;
+    gs_path *p = NULL;
+    if (!rc) rc = gs_patch_create(mesh, faces, (uint32_t)nf, &patch, c->err);
+    if (!rc) rc = gs_solver_create(patch, GS_METHOD_EXACT, &solver, c->err);
+    gs_source lx = *x, ly = *y;
+    for (int k = 0; k < 2 && !rc; ++k) {
+        gs_source *e = k ? &ly : &lx;
+        if (e->face == GS_NONE) e->vertex = gs_patch_vertex_from_mesh(patch, e->vertex);
+        else e->face = vmap_get(&fmap, e->face);
+    }
+    if (!rc) rc = gs_solver_path(solver, &lx, &ly, &p, c->err);
+    uint32_t n = gs_path_num_points(p);
+    if (!rc && n && gs_path_length(p) < len) { /* in mesh faces */
+        double *xyz = gs__malloc(3 * (size_t)n, sizeof *xyz), *bary = gs__malloc(3 * (size_t)n, sizeof *bary);
+        uint32_t *face = gs__malloc(n, sizeof *face);
+        if (!xyz || !bary || !face) {
+            free(xyz), free(bary), free(face);
+            rc = oom(c);
+        } else {
+            memcpy(xyz, gs_path_xyz(p), 3 * (size_t)n * sizeof *xyz);
+            memcpy(bary, gs_path_bary(p), 3 * (size_t)n * sizeof *bary);
+            for (uint32_t i = 0; i < n; ++i) face[i] = gs_patch_face_to_mesh(patch, gs_path_faces(p)[i]);
+            gs_path *r = NULL;
+            rc = gs__path_adopt(n, xyz, face, bary, gs_path_length(p), &r, c->err);
+            if (!rc) gs_path_free(*out), *out = r;
+        }
+    }
+    gs_path_free(p);
+    gs_solver_free(solver);
+    gs_patch_free(patch);
+    vmap_free(&fmap);
+    free(faces);
+    return rc;
+}
+
+/* A path end as the database's surface point. */
+static void source_point(const gs__topo *t, const gs_source *s, gs_surface_point *p)
+{
+    if (s->face == GS_NONE) {
+        *p = gs_surface_point_vertex(s->vertex);
+        return;
+    }
+    const uint32_t *T = t->tri + 3 * (size_t)s->face;
+    double b[3], sum = 0;
+    for (int k = 0; k < 3; ++k) b[k] = s->bary[k] > 0 ? s->bary[k] : 0, sum += b[k];
+    *p = gs_surface_point_make(T[0], T[1], T[2], b[0] / sum, b[1] / sum, b[2] / sum);
 }
 
 /* ---- entry points ------------------------------------------------------------ */
@@ -1051,6 +1231,15 @@ int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const g
     double len;
     if ((rc = converge(&c, &qx, &qy, xv, yv, &len))) goto done;
     if (!(rc = trace_points(&c, &qx, &qy))) rc = make_path(&c, out);
+    if (!rc) { /* against the database's distance */
+        gs_surface_point sx, sy;
+        source_point(t, x, &sx);
+        source_point(t, y, &sy);
+        double d = gs_db_point_distance(db, &sx, &sy), slack = dist3(px, vpos(&c, c.target)) + dist3(py, vpos(&c, c.origin));
+        double tol = db->method == GS_METHOD_EXACT ? CHECK_TOL_EXACT : CHECK_TOL_APPROX;
+        if (len > d * (1 + tol)) rc = corridor(&c, mesh, x, y, len, slack, out);
+        if (rc) gs_path_free(*out), *out = NULL;
+    }
 done:
     ctx_free(&c);
     return rc;
