@@ -925,6 +925,9 @@ static int make_path(ctx *c, gs_path **out)
 /* A path this much longer than the database's d(X, Y) is checked: beyond
  * the database's usual errors (exact fields; approximate ones err more). */
 #define CHECK_TOL_EXACT 0.008
+/* ... and first, a little longer, also traced from the other end */
+#define REVERSE_TOL_EXACT 0.004
+#define REVERSE_TOL_APPROX 0.01
 #define CHECK_TOL_APPROX 0.015
 #define CORRIDOR_TOL 0.01   /* the database's error allowed for in the corridor */
 
@@ -1133,6 +1136,84 @@ static int carriers(const gs__topo *t, const qpt *q, uint32_t v[3])
     return n;
 }
 
+/* One path from X to Y (descent from Y's end, sleeve, shortening): its
+ * points in c->q, *len its length. */
+static int run(ctx *c, const qpt *qx, const qpt *qy, double *len)
+{
+    const gs_db *db = c->db;
+    const gs__topo *t = c->t;
+    uint32_t cx[3], cy[3];
+    int ncx = carriers(t, qx, cx), ncy = carriers(t, qy, cy), rc = GS_OK;
+    /* the descent's target: X's corner best placed towards Y's heaviest */
+    uint32_t yh = cy[0];
+    if (qy->type == Q_FACE) {
+        int kb = 0;
+        for (int k = 1; k < 3; ++k)
+            if (qy->bary[k] > qy->bary[kb]) kb = k;
+        yh = t->tri[3 * (size_t)qy->f + kb];
+    } else if (qy->type == Q_EDGE) {
+        yh = qy->t > 0.5 ? qy->b : qy->a;
+    }
+    double px[3], py[3];
+    q_position(t, qx, px);
+    q_position(t, qy, py);
+    c->target = cx[0];
+    if (ncx > 1) {
+        double best = INFINITY;
+        for (int k = 0; k < ncx; ++k) {
+            double d = dist3(px, vpos(c, cx[k])) + gs_db_distance(db, cx[k], yh);
+            if (d < best) best = d, c->target = cx[k];
+        }
+    }
+    /* the targets: X itself, or the corners of its face */
+    uint32_t targets[3];
+    int nt = 0;
+    if (qx->type == Q_VERTEX) targets[nt++] = qx->a;
+    else
+        for (int k = 0; k < 3; ++k) targets[nt++] = t->tri[3 * (size_t)qx->f + k];
+    /* the start: Y itself, or its face's corner best placed towards X */
+    uint32_t start = cy[0];
+    if (ncy > 1) {
+        double best = INFINITY;
+        for (int k = 0; k < ncy && !rc; ++k) {
+            double d;
+            rc = dist_to_target(c, cy[k], &d);
+            d += dist3(py, vpos(c, cy[k]));
+            if (d < best) best = d, start = cy[k];
+        }
+    }
+    c->origin = start;
+    if (!rc) rc = push_vertex(c, start);
+    if (!rc) rc = descend(c, targets, nt);
+    if (rc) return rc;
+    /* X first */
+    for (size_t i = 0, j = c->nvp - 1; i < j; ++i, --j) {
+        uint32_t s = c->vp[i];
+        c->vp[i] = c->vp[j], c->vp[j] = s;
+    }
+    endspec xin = {ES_NONE, 0}, yout = {ES_NONE, 0};
+    if (qx->type != Q_VERTEX) xin = (endspec){ES_FACE, qx->f};
+    if (qy->type != Q_VERTEX) yout = (endspec){ES_FACE, qy->f};
+    if ((rc = build_sleeve(c, xin, yout))) return rc;
+    uint32_t xv = qx->type == Q_VERTEX ? qx->a : GS_NONE, yv = qy->type == Q_VERTEX ? qy->a : GS_NONE;
+    if ((rc = converge(c, qx, qy, xv, yv, len))) return rc;
+    return trace_points(c, qx, qy);
+}
+
+/* The points of a path from Y to X as the path from X to Y (each point with
+ * the face of the segment that leaves it). */
+static void reverse_points(ctx *c)
+{
+    size_t n = c->nq;
+    for (size_t i = 0, j = n - 1; n && i < j; ++i, --j) {
+        qpt s = c->q[i];
+        c->q[i] = c->q[j], c->q[j] = s;
+    }
+    /* point i leaves by the segment that arrived at it: the next point's */
+    for (size_t i = 0; i + 1 < n; ++i) c->q[i].seg = c->q[i + 1].seg;
+    if (n > 1) c->q[n - 1].seg = c->q[n - 2].seg;
+}
+
 int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const gs_source *y, gs_path **out,
                gs_error *err)
 {
@@ -1176,71 +1257,33 @@ int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const g
         rc = gs__path_adopt(0, NULL, NULL, NULL, INFINITY, out, err);
         return rc;
     }
-    /* the descent's target: X's corner best placed towards Y's heaviest */
-    uint32_t yh = cy[0];
-    if (qy.type == Q_FACE) {
-        int kb = 0;
-        for (int k = 1; k < 3; ++k)
-            if (qy.bary[k] > qy.bary[kb]) kb = k;
-        yh = t->tri[3 * (size_t)qy.f + kb];
-    } else if (qy.type == Q_EDGE) {
-        yh = qy.t > 0.5 ? qy.b : qy.a;
+    gs_surface_point sx, sy;
+    source_point(t, x, &sx);
+    source_point(t, y, &sy);
+    double d = gs_db_point_distance(db, &sx, &sy), len, len2 = INFINITY;
+    int exact_db = db->method == GS_METHOD_EXACT;
+    ctx c2;
+    memset(&c2, 0, sizeof c2);
+    c2.db = db, c2.t = t, c2.err = err;
+    ctx *best = &c;
+    rc = run(&c, &qx, &qy, &len);
+    /* longer than the database's distance: also from the other end */
+    if (!rc && len > d * (1 + (exact_db ? REVERSE_TOL_EXACT : REVERSE_TOL_APPROX))) {
+        rc = run(&c2, &qy, &qx, &len2);
+        if (!rc && len2 < len) best = &c2, len = len2, reverse_points(&c2);
     }
-    double px[3], py[3];
-    q_position(t, &qx, px);
-    q_position(t, &qy, py);
-    c.target = cx[0];
-    if (ncx > 1) {
-        double best = INFINITY;
-        for (int k = 0; k < ncx; ++k) {
-            double d = dist3(px, vpos(&c, cx[k])) + gs_db_distance(db, cx[k], yh);
-            if (d < best) best = d, c.target = cx[k];
-        }
+    if (!rc) rc = make_path(best, out);
+    /* still much longer: the exact path inside the corridor of shorter ones */
+    if (!rc && len > d * (1 + (exact_db ? CHECK_TOL_EXACT : CHECK_TOL_APPROX))) {
+        double px[3], py[3];
+        q_position(t, &qx, px);
+        q_position(t, &qy, py);
+        double slack = best == &c ? dist3(px, vpos(best, best->target)) + dist3(py, vpos(best, best->origin))
+                                  : dist3(py, vpos(best, best->target)) + dist3(px, vpos(best, best->origin));
+        rc = corridor(best, mesh, x, y, len, slack, out);
     }
-    /* the targets: X itself, or the corners of its face */
-    uint32_t targets[3];
-    int nt = 0;
-    if (qx.type == Q_VERTEX) targets[nt++] = qx.a;
-    else
-        for (int k = 0; k < 3; ++k) targets[nt++] = t->tri[3 * (size_t)qx.f + k];
-    /* the start: Y itself, or its face's corner best placed towards X */
-    uint32_t start = cy[0];
-    if (ncy > 1) {
-        double best = INFINITY;
-        for (int k = 0; k < ncy && !rc; ++k) {
-            double d;
-            rc = dist_to_target(&c, cy[k], &d);
-            d += dist3(py, vpos(&c, cy[k]));
-            if (d < best) best = d, start = cy[k];
-        }
-    }
-    c.origin = start;
-    if (!rc) rc = push_vertex(&c, start);
-    if (!rc) rc = descend(&c, targets, nt);
-    if (rc) goto done;
-    /* X first */
-    for (size_t i = 0, j = c.nvp - 1; i < j; ++i, --j) {
-        uint32_t s = c.vp[i];
-        c.vp[i] = c.vp[j], c.vp[j] = s;
-    }
-    endspec xin = {ES_NONE, 0}, yout = {ES_NONE, 0};
-    if (qx.type != Q_VERTEX) xin = (endspec){ES_FACE, qx.f};
-    if (qy.type != Q_VERTEX) yout = (endspec){ES_FACE, qy.f};
-    if ((rc = build_sleeve(&c, xin, yout))) goto done;
-    uint32_t xv = qx.type == Q_VERTEX ? qx.a : GS_NONE, yv = qy.type == Q_VERTEX ? qy.a : GS_NONE;
-    double len;
-    if ((rc = converge(&c, &qx, &qy, xv, yv, &len))) goto done;
-    if (!(rc = trace_points(&c, &qx, &qy))) rc = make_path(&c, out);
-    if (!rc) { /* against the database's distance */
-        gs_surface_point sx, sy;
-        source_point(t, x, &sx);
-        source_point(t, y, &sy);
-        double d = gs_db_point_distance(db, &sx, &sy), slack = dist3(px, vpos(&c, c.target)) + dist3(py, vpos(&c, c.origin));
-        double tol = db->method == GS_METHOD_EXACT ? CHECK_TOL_EXACT : CHECK_TOL_APPROX;
-        if (len > d * (1 + tol)) rc = corridor(&c, mesh, x, y, len, slack, out);
-        if (rc) gs_path_free(*out), *out = NULL;
-    }
-done:
+    if (rc) gs_path_free(*out), *out = NULL;
+    ctx_free(&c2);
     ctx_free(&c);
     return rc;
 }
