@@ -841,7 +841,9 @@ GS_API int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, 
  * subtrees meet), then smoothed; by depth red (the root's, 4 pixels
  * wide), orange, blue, green, purple, then dark grey, thinner deeper down
  * (to 1.2 pixels), on top of the surface, hidden where the surface is in
- * front. Points: white dots in a dark ring (9 pixels), hidden where the
+ * front. Paths: white lines 2.5 pixels wide with a dark border (6 pixels
+ * in all), over the separators, hidden where the surface is in front.
+ * Points: white dots in a dark ring (9 pixels), on top, hidden where the
  * surface is in front. */
 typedef struct gs_render_options {
     uint32_t width, height;      /* pixels, GS_RENDER_MIN_SIZE..MAX [640x480] */
@@ -854,6 +856,12 @@ typedef struct gs_render_options {
                                  /*   vertex count and positions) [NULL]     */
     const double *points;        /* 3 * n_points coordinates, finite [NULL]  */
     uint32_t n_points;           /*   [0]                                    */
+    const double *paths;         /* polylines (paths: gs_path_xyz, geosep    */
+    const uint32_t *path_starts; /*   path): path i is the points path_      */
+    uint32_t n_paths;            /*   starts[i] .. path_starts[i+1]-1 of     */
+                                 /*   paths (3 coordinates each, finite);    */
+                                 /*   n_paths + 1 increasing offsets from 0  */
+                                 /*   [NULL, NULL, 0]                        */
 } gs_render_options;
 
 #define GS_RENDER_MIN_SIZE 16u

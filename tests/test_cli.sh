@@ -573,6 +573,21 @@ expect_fail 1 "X: face 9999 out of range" "path DB: face out of range" path "$T/
 expect_fail 2 "expected DB X Y --mesh MESH" "path DB: missing Y" path "$T/grid.gsdb" 0 --mesh "$D"
 expect_fail 2 "--mesh needs a value" "path DB: --mesh without a value" path "$T/grid.gsdb" 0 1 --mesh
 expect_fail 1 "nope.gsdb" "path: missing database" path "$T/nope.gsdb" 0 1 --mesh "$D"
+# render --path / --points: the path drawn over the surface
+run path "$T/grid.gsdb" 0 399 --mesh "$D" -o "$T/diag.txt"
+printf '# a comment\n0.5 0.5 0\n0.25 0.75 0\n' >"$T/dots.txt"
+run render "$D" -o "$T/plain.png" --view 0,0 --size 120x120
+run render "$D" -o "$T/pathpic.png" --view 0,0 --size 120x120 --path "$T/diag.txt" --points "$T/dots.txt"
+{ [ "$rc" -eq 0 ] && png_ok "$T/pathpic.png" && ! cmp -s "$T/pathpic.png" "$T/plain.png"; }; verdict "render --path --points: drawn over the surface"
+printf '0 0 0\n1 1 0\n\n0 1 0\n1 0 0\n' >"$T/two_lines.txt"
+run render "$D" -o "$T/two.png" --view 0,0 --size 120x120 --path "$T/two_lines.txt" --path "$T/diag.txt"
+{ [ "$rc" -eq 0 ] && png_ok "$T/two.png"; }; verdict "render --path: blank lines separate polylines, repeatable"
+printf '0 0 0\n1 1\n' >"$T/badpath.txt"
+expect_fail 1 "badpath.txt:2: 2 fields \\(expected .x y z.\\)" "render --path: a line without 3 numbers" render "$D" -o "$T/x.png" --path "$T/badpath.txt"
+printf '0 0 nan\n' >"$T/nanpts.txt"
+expect_fail 1 "nanpts.txt:1: 'nan' is not a finite number" "render --points: nan" render "$D" -o "$T/x.png" --points "$T/nanpts.txt"
+expect_fail 1 "nofile.txt: cannot open" "render --path: missing file" render "$D" -o "$T/x.png" --path "$T/nofile.txt"
+{ [ ! -e "$T/x.png" ]; }; verdict "render: no picture left after a bad --path or --points"
 
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]
