@@ -363,6 +363,7 @@ static PyMethodDef db_methods[] = {
      "fmm_start, dgg_eps (method \"dgg\"; 0 for the others), n_input_vertices\n"
      "(input_distance)."},
     GSPY_DB_QUERY_METHODS,
+    GSPY_DB_PATH_METHODS,
     GSPY_DB_INPUT_METHODS,
     {NULL, NULL, 0, NULL}};
 
