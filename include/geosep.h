@@ -531,8 +531,9 @@ GS_API void gs_path_free(gs_path *path);
  * of threads at once. */
 typedef struct gs_db gs_db;
 
-/* Progress callback: stage name ("tree", "fields", "leaves", "write") and the
- * fraction done in [0,1]. Called from the building thread only. */
+/* Progress callback: stage name ("tree", "graph" (GS_METHOD_DGG only),
+ * "fields", "leaves", "write") and the fraction done in [0,1]. Called from
+ * the building thread only. */
 typedef void (*gs_progress_fn)(void *user, const char *stage, double fraction);
 
 typedef struct gs_build_options {

@@ -22,6 +22,10 @@ typedef struct gs__builder {
     uint64_t *fun_start;   /* nv+1 */
     gs__fun *funs;
     double **arenas;       /* one coefficient arena per node (or NULL)     */
+    /* GS_METHOD_DGG: one graph of the whole mesh (dgg_patch: the identity
+     * patch), nodes solve on views of it (gs__solver_dgg_view) */
+    gs_patch *dgg_patch;
+    gs_solver *dgg;
     /* progress */
     double work_total, work_done;
     /* stats */
