@@ -9,7 +9,7 @@
  * alternating rounds, each in a fresh process, so that the ratio does not
  * ride on how busy a shared machine was in each mesh's minutes; then the
  * fitted exponent of build time against n (the paper expects 1.5). Usage:
- *   bench_scale [--method exact|graph|fmm|heat] [--threads N] [--max-samples N]
+ *   bench_scale [--method exact|graph|fmm|heat|dgg] [--threads N] [--max-samples N]
  *               [--heat-refine N|auto] [--max-n N] [MESH|SPEC ...]
  * Heat fields are solved on each mesh as it is (--heat-refine 0) unless
  * asked otherwise. */

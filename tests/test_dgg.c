@@ -4,7 +4,7 @@
  * solver on curved generated meshes and on patches (d_P), surface-point
  * sources, several sources, max_distance, options, thread independence,
  * and the shared ground truth (skipped with a reason when absent).
- * GEOSEP_QUICK=1: shared meshes over 40k vertices are skipped. */
+ * GEOSEP_QUICK=1: shared meshes over 20k vertices are skipped. */
 #include "check.h"
 #include "geosep.h"
 
@@ -273,7 +273,7 @@ static int test_shared_mesh(const char *name, int quick)
         CHECK_MSG(0, "%s: %s", obj, err.message);
         return 0;
     }
-    if (quick && gs_mesh_num_vertices(m) > 40000) {
+    if (quick && gs_mesh_num_vertices(m) > 20000) { /* a graph per mesh: ~1 ms of CPU per vertex */
         printf("%-16s skipped (GEOSEP_QUICK, %u vertices)\n", name, gs_mesh_num_vertices(m));
         goto done;
     }
