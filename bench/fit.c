@@ -88,7 +88,7 @@ static void make_funs(int closed, uint32_t m, gs_fit_result *r, uint32_t *nsq)
             px += 0.1 * rnd() - 0.05, py += 0.1 * rnd() - 0.05;
         }
         samples(closed, 200, px, py, u, d);
-        if (gs_fit_distance(w, u, d, 200, closed, &r[i], NULL))
+        if (gs_fit_distance(w, u, d, 200, closed, 0, &r[i], NULL))
             exit(1);
         r[i].fun.coef = r[i].coef;
         *nsq += r[i].fun.squared;
@@ -206,7 +206,7 @@ static void bench_fit(uint32_t n, int closed)
         double t0 = now();
         for (int i = 0; i < reps; i++) {
             samples(closed, n, 4 * rnd() - 2, 4 * rnd() - 2, u, d);
-            gs_fit_distance(w, u, d, n, closed, &r, NULL);
+            gs_fit_distance(w, u, d, n, closed, 0, &r, NULL);
             deg += r.fun.degree;
         }
         t[run] = (now() - t0) / reps * 1e6;

@@ -95,16 +95,21 @@ int parse_source_point(const char *a, gs_source *s);
 /* Database commands (db_cmds.c). */
 int cmd_build(int argc, char **argv);
 int cmd_query(int argc, char **argv);
+int cmd_verify(int argc, char **argv);
 int cmd_field(int argc, char **argv);
 int cmd_eval(int argc, char **argv);
 int cmd_land(int argc, char **argv);
 int cmd_repair(int argc, char **argv);
 extern const char usage_repair[];
-extern const char usage_build[], usage_query[], usage_field[], usage_eval[], usage_land[];
+extern const char usage_build[], usage_query[], usage_verify[], usage_field[], usage_eval[], usage_land[];
 
 /* Exact paths (path_cmd.c). */
 int cmd_path(int argc, char **argv);
 extern const char usage_path[];
+
+/* Farthest-point sampling (sample_cmd.c). */
+int cmd_sample(int argc, char **argv);
+extern const char usage_sample[];
 
 /* Pictures (render_cmd.c). */
 int cmd_render(int argc, char **argv);

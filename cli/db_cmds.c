@@ -11,24 +11,26 @@ const char usage_build[] =
     "usage: geosep build MESH -o DB [--method exact|graph|fmm|heat|dgg] [--vmax N] [--mmax N] [--tol F]\n"
     "                    [--threads N] [--vertex-sources|--sample-sources] [--sampled] [--seed N]\n"
     "                    [--spacing F] [--max-samples N] [--field-memory MIB] [--heat-time M] [--heat-refine N|auto]\n"
-    "                    [--fmm-start R] [--dgg-eps E] [--leaf-exact] [--quiet] [--repair]\n"
+    "                    [--fmm-start R] [--dgg-eps E] [--no-leaf-exact] [--quiet] [--repair]\n"
     "  Build a query database (-o or --output DB): nested bisection tree\n"
     "  (leaves of at most --vmax vertices, default 30), distance fields from\n"
     "  every separator sample inside its patch (--method, default exact), and\n"
     "  per-vertex polynomial separator distance functions of degree <= --mmax\n"
     "  (20) fitted to mean relative error\n"
-    "  --tol (0.002) at the root, 1.5x looser per tree level (at most 2%).\n"
+    "  --tol (0.003) at the root, 1.5x looser per tree level (at most 2%).\n"
     "  --vertex-sources: fields from the corners of the sample\n"
     "  triangles + barycentric interpolation (the paper's way; the default for\n"
     "  fmm and heat); --sample-sources: from the samples (the default for\n"
     "  exact fields). --sampled: store\n"
     "  the sampled values (SEPsam) instead of polynomials. --spacing: separator\n"
     "  sample spacing in mean edge lengths (0.5). --max-samples: longer curves\n"
-    "  are thinned to this many samples (96; 0 = no cap). --field-memory: MiB\n"
+    "  are thinned to this many samples (192; 0 = no cap), then split into\n"
+    "  pieces of at most 48 sample intervals (each its own function). --field-memory: MiB\n"
     "  for one block of distance fields (384, also for 0; two live at a time).\n"
-    "  --leaf-exact: also store the exact distances between the vertices of each\n"
-    "  leaf (paper sec. 3.1, matrix D; at most vmax numbers per vertex) instead\n"
-    "  of answering same-leaf queries with the Euclidean distance. --threads:\n"
+    "  Exact distances between the vertices of each leaf are stored (paper sec.\n"
+    "  3.1, matrix D; at most vmax numbers per vertex); --no-leaf-exact answers\n"
+    "  same-leaf queries with the Euclidean distance instead (smaller, but off\n"
+    "  by up to 56% on curved leaves; --leaf-exact: the default). --threads:\n"
     "  build threads (0 = all cores, the default). --seed: the partitioning\n"
     "  seed (1). --heat-time,\n"
     "  --heat-refine, --fmm-start and --dgg-eps: the field method's parameters (see geosep\n"
@@ -54,7 +56,15 @@ const char usage_query[] =
     "  --mesh (the mesh the database was built from) a face id of MESH and\n"
     "  three barycentric weights. Weights: finite, >= -1e-12, summing to 1\n"
     "  within 1e-9. A vertex v is 'v v v 1 0 0' (or any face of it with\n"
-    "  weight 1 at v).\n";
+    "  weight 1 at v).\n"
+    "  The database is opened without reading it whole (its structure is\n"
+    "  checked, not its checksums: geosep verify DB checks those).\n";
+const char usage_verify[] =
+    "usage: geosep verify DB\n"
+    "  Check a database whole: its structure, every section's checksum, every\n"
+    "  function record (well formed, coefficients in range, its stored minimum\n"
+    "  not above its values), positions and leaf tables. Prints 'DB: ok' and\n"
+    "  a summary, or names the section, vertex and field that is wrong (exit 1).\n";
 const char usage_field[] =
     "usage: geosep field DB --source X [-o OUT]\n"
     "       geosep field DB --point V0,V1,V2:L0,L1,L2 [-o OUT]\n"
@@ -68,9 +78,14 @@ const char usage_field[] =
 const char usage_eval[] =
     "usage: geosep eval DB --groundtruth FILE.gt\n"
     "  Compare the database with exact distances (GEOGT1): ME and RMSE of the\n"
-    "  relative error as the paper's section 5 defines them (averaged over the\n"
-    "  sources), maximum relative error, cost (numbers stored per vertex, as\n"
-    "  Table 1 counts them), bytes per vertex, tree depth, query speed.\n";
+    "  relative error e = |d^ - d| / d as the paper's section 5 defines them\n"
+    "  (per source, averaged over the sources); over all (source, vertex) pairs:\n"
+    "  p99 and p99.9 (nearest rank), max, near-pair ME (the mean e over pairs\n"
+    "  whose exact d is below 10% of the median exact d), the largest under- and\n"
+    "  overestimate and the pairs off by more than 5%; cost (numbers stored per\n"
+    "  vertex, as Table 1 counts them), bytes per vertex, tree depth, query\n"
+    "  speed. For the maximum over all vertex pairs, give a FILE.gt with every\n"
+    "  vertex as a source (geosep solve MESH --format gt --all -o FILE.gt).\n";
 const char usage_land[] =
     "usage: geosep land MESH --landmarks M --groundtruth FILE.gt [--method exact|graph|fmm|heat|dgg]\n"
     "  The LAND baseline (Burghard & Klein 2015) with M landmarks, evaluated\n"
@@ -112,6 +127,7 @@ static int build_option(gs_build_options *o, const char **out, int *quiet, int a
     if (!strcmp(a, "--sample-sources")) return o->vertex_sources = 0, 0;
     if (!strcmp(a, "--sampled")) return o->sampled = 1, 0;
     if (!strcmp(a, "--leaf-exact")) return o->leaf_exact = 1, 0;
+    if (!strcmp(a, "--no-leaf-exact")) return o->leaf_exact = 0, 0;
     if (!strcmp(a, "--quiet")) return *quiet = 1, 0;
     if ((v = opt_value(argc, argv, i, "-o")) || (v = opt_value(argc, argv, i, "--output"))) return *out = v, 0;
     if ((v = opt_value(argc, argv, i, "--method"))) {
@@ -169,7 +185,6 @@ int cmd_build(int argc, char **argv)
 {
     gs_build_options o;
     gs_build_options_default(&o);
-    o.no_query_cache = 1; /* saved, never queried here */
     const char *mesh_path = NULL, *out = NULL;
     int quiet = 0, repair = 0;
     for (int i = 1; i < argc; ++i) {
@@ -223,6 +238,9 @@ int cmd_build(int argc, char **argv)
         printf("fields %llu (%s), functions %llu, mean degree %.2f, mean fit error %.3f%%, %llu above tol\n",
                (unsigned long long)st.n_fields, gs_method_name(o.method), (unsigned long long)st.n_functions,
                st.mean_degree, 100 * st.mean_fit_error, (unsigned long long)st.n_over_tol);
+        printf("certified fits (error <= 2%% at the samples and within their Lipschitz band between them): "
+               "all but %llu; the worst %.2f%%\n",
+               (unsigned long long)st.n_uncertified, 100 * st.max_fit_error);
         printf("time: tree %.2f s, fields %.2f s, fits %.2f s, write %.2f s, total %.2f s\n", st.seconds_tree,
                st.seconds_fields, st.seconds_fits, tw, st.seconds_total + tw);
         printf("size: %llu bytes, %.1f bytes/vertex, cost %.1f numbers/vertex\n",
@@ -277,6 +295,30 @@ static int query_file(const gs_db *db, const gs_mesh *mesh, uint32_t n, const ch
     if (!rc) rc = points ? query_points(db, mesh, &r, stdout) : query_pairs(db, n, &r, stdout);
     lines_close(&r);
     return rc;
+}
+
+int cmd_verify(int argc, char **argv)
+{
+    const char *dbp = NULL;
+    for (int i = 1; i < argc; ++i) {
+        if (is_help(argv[i])) return fputs(usage_verify, stdout), 0;
+        if (argv[i][0] == '-' && argv[i][1]) return fail(EXIT_USAGE, "verify: unknown option '%s'", argv[i]);
+        if (dbp) return fail(EXIT_USAGE, "verify: unexpected argument '%s'", argv[i]);
+        dbp = argv[i];
+    }
+    if (!dbp) return fail(EXIT_USAGE, "verify: need DB");
+    gs_db *db = NULL;
+    gs_error err = {0};
+    int rc = gs_db_open_ex(dbp, GS_DB_OPEN_VERIFY, &db, &err);
+    if (rc) return lib_fail(dbp, rc, &err);
+    gs_db_info info;
+    gs_db_get_info(db, &info, NULL);
+    printf("%s: ok (format %u, %u vertices, %llu functions, %llu bytes, %.1f bytes/vertex; checksums and records "
+           "verified)\n",
+           dbp, info.format_version, info.n_vertices, (unsigned long long)info.n_functions,
+           (unsigned long long)info.file_bytes, info.bytes_per_vertex);
+    gs_db_free(db);
+    return 0;
 }
 
 int cmd_query(int argc, char **argv)
@@ -424,13 +466,19 @@ static int land_field_fn(const void *obj, uint32_t x, double *out, gs_error *err
     return gs_land_field(obj, x, out, err);
 }
 
-static int evaluate(const gs_gt *gt, field_fn fn, const void *obj, gs_field_errors *avg, double *secs)
+/* Near pairs: exact d below this fraction of the median exact d (eval). */
+#define NEAR_FRAC 0.1
+
+static int evaluate(const gs_gt *gt, field_fn fn, const void *obj, gs_error_stats *st, double *secs)
 {
     uint32_t n = gt->n_vertices;
     double *d = malloc((n ? n : 1) * sizeof *d);
-    if (!d) return fail(EXIT_RUNTIME, "out of memory");
-    memset(avg, 0, sizeof *avg);
+    gs_error_acc *acc = NULL;
     gs_error err = {0};
+    if (!d || gs_error_acc_create(&acc, &err)) {
+        free(d);
+        return fail(EXIT_RUNTIME, "out of memory");
+    }
     int rc = 0;
     *secs = 0;
     for (uint32_t j = 0; j < gt->n_sources && !rc; ++j) {
@@ -440,27 +488,28 @@ static int evaluate(const gs_gt *gt, field_fn fn, const void *obj, gs_field_erro
             break;
         }
         *secs += now() - t0;
-        gs_field_errors e;
-        if ((rc = gs_field_errors_compute(gt->dist + (size_t)j * n, d, n, gt->sources[j], &e, &err))) {
+        if ((rc = gs_error_acc_add(acc, gt->dist + (size_t)j * n, d, n, gt->sources[j], &err)))
             rc = lib_fail("eval", rc, &err);
-            break;
-        }
-        avg->me += e.me / gt->n_sources;
-        avg->rmse += e.rmse / gt->n_sources;
-        avg->max = fmax(avg->max, e.max);
-        avg->n_used += e.n_used;
-        avg->n_skipped += e.n_skipped;
-        avg->n_invalid += e.n_invalid;
     }
+    if (!rc && (rc = gs_error_acc_result(acc, NEAR_FRAC, st, &err))) rc = lib_fail("eval", rc, &err);
+    gs_error_acc_free(acc);
     free(d);
     return rc;
 }
 
-static void print_errors(const gs_field_errors *e, uint32_t n_sources)
+static void print_errors(const gs_error_stats *e)
 {
-    printf("ME %.3f%%  RMSE %.3f%%  max %.3f%%  (%u sources, %llu pairs, %llu skipped, %llu invalid)\n",
-           100 * e->me, 100 * e->rmse, 100 * e->max, n_sources, (unsigned long long)e->n_used,
-           (unsigned long long)e->n_skipped, (unsigned long long)e->n_invalid);
+    char near[32] = "- (no near pair)";
+    if (e->n_near) snprintf(near, sizeof near, "%.3f%%", 100 * e->near_me);
+    printf("ME %.3f%%  RMSE %.3f%%  p99 %.3f%%  p99.9 %.3f%%  max %.3f%%  near-pair ME %s\n", 100 * e->me,
+           100 * e->rmse, 100 * e->p99, 100 * e->p999, 100 * e->max, near);
+    printf("  (%u sources, %llu pairs, %llu skipped, %llu invalid; ME, RMSE: per source, averaged; p99, p99.9,\n"
+           "  max: over all pairs; near pairs: exact d < %g%% of the median exact d %.6g, %llu pairs)\n",
+           e->n_fields, (unsigned long long)e->n_used, (unsigned long long)e->n_skipped,
+           (unsigned long long)e->n_invalid, 100 * e->near_frac, e->median_d, (unsigned long long)e->n_near);
+    printf("  max underestimate %.3f%%, max overestimate %.3f%%; pairs off by > 5%%: %llu under, %llu over\n",
+           100 * e->max_under, 100 * e->max_over, (unsigned long long)e->n_under_5pct,
+           (unsigned long long)e->n_over_5pct);
 }
 
 static int read_gt(const char *path, uint32_t n, gs_gt **gt)
@@ -495,10 +544,10 @@ int cmd_eval(int argc, char **argv)
     gs_db_info info;
     gs_db_get_info(db, &info, NULL);
     gs_gt *gt = NULL;
-    gs_field_errors e;
+    gs_error_stats e;
     double secs = 0;
     if (!(rc = read_gt(gtp, info.n_vertices, &gt)) && !(rc = evaluate(gt, db_field_fn, db, &e, &secs))) {
-        print_errors(&e, gt->n_sources);
+        print_errors(&e);
         printf("cost %.1f numbers/vertex, %.1f bytes/vertex, depth avg %.2f max %u, %u leaves, %u curves\n",
                info.cost, info.bytes_per_vertex, info.avg_depth, info.max_depth, info.n_leaves, info.n_curves);
         printf("query time %.1f ns per pair (through %u fields)\n",
@@ -535,14 +584,14 @@ int cmd_land(int argc, char **argv)
     gs_gt *gt = NULL;
     gs_land *land = NULL;
     gs_error err = {0};
-    gs_field_errors e;
+    gs_error_stats e;
     double secs = 0, t0 = now();
     if (!(rc = read_gt(gtp, gs_mesh_num_vertices(mesh), &gt))) {
         if ((rc = gs_land_build(mesh, m, method, &land, &err)))
             rc = lib_fail("land", rc, &err);
         else if (!(rc = evaluate(gt, land_field_fn, land, &e, &secs))) {
             printf("LAND m=%u (build %.2f s)\n", m, now() - t0 - secs);
-            print_errors(&e, gt->n_sources);
+            print_errors(&e);
         }
     }
     gs_land_free(land);

@@ -31,7 +31,7 @@ static const char usage_generate[] =
     "usage: geosep generate SPEC -o OUT.obj\n"
     "  Write a generated mesh as OBJ. SPEC is one of:\n"
     "    grid:NX,NY[,W,H]  peaks:N[,W]  plate:N  cylinder:NU,NV[,R,H]  cone:NU,NV[,R,H]\n"
-    "    cube:N[,S]  torus:NU,NV[,R,r]  sphere:N  two:N\n";
+    "    cube:N[,S]  torus:NU,NV[,R,r]  knot:NU,NV[,r]  sphere:N  two:N\n";
 
 static const char usage_subdivide[] =
     "usage: geosep subdivide MESH -o OUT.obj [--times N]\n"
@@ -44,7 +44,7 @@ static const char usage_subdivide[] =
 static const char usage_solve[] =
     "usage: geosep solve MESH --source V [--source V ...] [--source-point F:b0,b1,b2 ...]\n"
     "                    [--method exact|graph|fmm|heat|dgg] [--max-distance D] [-o OUT] [--verbose] [--repair]\n"
-    "       geosep solve MESH --format gt (--sources-from FILE.gt | --random K [--seed S]) -o OUT.gt\n"
+    "       geosep solve MESH --format gt (--sources-from FILE.gt | --random K [--seed S] | --all) -o OUT.gt\n"
     "                    [--method exact|graph|fmm|heat|dgg] [--verbose]\n"
     "       method parameters: [--heat-time M] [--heat-refine N|auto] [--fmm-start R] [--dgg-eps E]\n"
     "  Geodesic distances from the sources to every vertex. Text output: one\n"
@@ -55,7 +55,8 @@ static const char usage_solve[] =
     "  at D (vertices farther away print a value > D or inf; 0 = no bound).\n"
     "  --format gt: solve each source listed in FILE.gt (GEOGT1), or K sources\n"
     "  drawn as the shared ground truth draws them (splitmix64, --seed, default\n"
-    "  0), separately, and write all fields to OUT.gt. Files are written\n"
+    "  0), or with --all every vertex used by a face (for errors over all vertex\n"
+    "  pairs: n fields of n distances), separately, and write all fields to OUT.gt. Files are written\n"
     "  atomically. --heat-time M: heat method time step t = M h^2 (h: mean edge\n"
     "  length weighted by triangle area; default 1). --heat-refine N: solve\n"
     "  heat on the mesh subdivided 1-to-4 N times (midpoint subdivision: the\n"
@@ -90,7 +91,9 @@ static void print_usage(FILE *f)
             "  build MESH -o DB                build a query database\n"
             "  query DB X Y                    approximate geodesic distance\n"
             "  query DB --points FILE          ... between surface points (face, weights)\n"
+            "  verify DB                       check a database whole (checksums, records)\n"
             "  field DB --source X             distances from X through the database\n"
+            "  sample DB K [--seed S]          farthest-point sampling: K vertex ids\n"
             "  eval DB --groundtruth F.gt      accuracy against exact distances\n"
             "  land MESH --landmarks M ...     the LAND baseline, evaluated\n"
             "  render MESH -o OUT.png ...      a picture: field, isolines, separators\n"
@@ -223,7 +226,7 @@ typedef struct solve_opts {
     gs_method method;
     gs_solver_options sopt;
     double max_d;
-    int gt, verbose, repair;
+    int gt, verbose, all, repair;
     uint32_t random_k, seed; /* --random K --seed S (GEOGT1 output) */
     gs_source *src;
     uint32_t n_src, cap_src;
@@ -250,6 +253,7 @@ static int add_source(solve_opts *o, gs_source s, const char *arg)
 static int solve_option(solve_opts *o, int argc, char **argv, int *i)
 {
     const char *a = argv[*i], *v;
+    if (!strcmp(a, "--all")) return o->all = 1, 0;
     static const char *const with_value[] = {"--source", "--source-point", "--method", "--max-distance",
                                              "--format", "--sources-from", "--random", "--seed", "-o",
                                              "--heat-time", "--fmm-start", "--heat-refine", "--dgg-eps"};
@@ -328,8 +332,8 @@ static int check_solve_opts(const solve_opts *o)
         if (o->repair)
             return fail(EXIT_USAGE, "solve: --repair answers by input vertex in text output; --format gt is not "
                         "supported with it (repair the file with geosep repair, then solve the repaired mesh)");
-        if (!o->sources_from == !o->random_k)
-            return fail(EXIT_USAGE, "solve: --format gt needs either --sources-from FILE.gt or --random K");
+        if ((o->sources_from != NULL) + (o->random_k != 0) + o->all != 1)
+            return fail(EXIT_USAGE, "solve: --format gt needs one of --sources-from FILE.gt, --random K, --all");
         if (!o->out || !strcmp(o->out, "-")) return fail(EXIT_USAGE, "solve: --format gt needs -o OUT.gt");
         if (o->n_src) return fail(EXIT_USAGE, "solve: --format gt takes its sources from --sources-from, not --source");
         if (o->max_d != 0 && !isinf(o->max_d))
@@ -338,6 +342,7 @@ static int check_solve_opts(const solve_opts *o)
     }
     if (o->sources_from) return fail(EXIT_USAGE, "solve: --sources-from needs --format gt");
     if (o->random_k) return fail(EXIT_USAGE, "solve: --random needs --format gt");
+    if (o->all) return fail(EXIT_USAGE, "solve: --all needs --format gt");
     if (!o->n_src) return fail(EXIT_USAGE, "solve: no source given (--source V or --source-point F:b0,b1,b2)");
     return 0;
 }
@@ -489,11 +494,29 @@ static int solve_text(const solve_opts *o, run_ctx *c)
     return rc;
 }
 
-/* The sources of a GEOGT1 run: those of --sources-from, or --random K. */
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The sources of a GEOGT1 run: those of --sources-from, --random K, or
+ * --all (every vertex used by a face, in increasing id order). */
 static int gt_sources(const solve_opts *o, const gs_mesh *m, uint32_t **src, uint32_t *k)
 {
     gs_error err = {0};
     uint32_t n = gs_mesh_num_vertices(m);
+    if (o->all) {
+        gs_mesh_report r;
+        int rc = gs_mesh_get_report(m, &r, &err);
+        if (rc) return lib_fail(o->mesh, rc, &err);
+        *k = n - r.n_unreferenced;
+        if (!*k) return fail(EXIT_USAGE, "solve: --all: no vertex of %s is used by a face", o->mesh);
+        if (!(*src = malloc(*k * sizeof **src))) return fail(EXIT_RUNTIME, "out of memory");
+        if ((rc = gs_mesh_random_vertices(m, *k, 0, *src, &err))) return lib_fail(o->mesh, rc, &err);
+        qsort(*src, *k, sizeof **src, cmp_u32);
+        return 0;
+    }
     if (o->random_k) {
         *k = o->random_k;
         if (!(*src = malloc(*k * sizeof **src))) return fail(EXIT_RUNTIME, "out of memory");
@@ -578,7 +601,9 @@ static const command commands[] = {
     {"path", cmd_path, usage_path},
     {"build", cmd_build, usage_build},
     {"query", cmd_query, usage_query},
+    {"verify", cmd_verify, usage_verify},
     {"field", cmd_field, usage_field},
+    {"sample", cmd_sample, usage_sample},
     {"eval", cmd_eval, usage_eval},
     {"land", cmd_land, usage_land},
     {"render", cmd_render, usage_render},

@@ -160,6 +160,9 @@ GS_API int gs_mesh_get_report(const gs_mesh *mesh, gs_mesh_report *report,
  *                             R/4 (the apex, cut off, would be at 4H/3) [1,1]
  *   "cube:N[,S]"              closed cube surface of side S, N x N quads per face [1]
  *   "torus:NU,NV[,R,r]"       closed torus, radii R > r [1,0.4]; NU,NV >= 3
+ *   "knot:NU,NV[,r]"          closed tube of radius r <= 0.5 [0.4] around the
+ *                             trefoil ((2 + cos 3t) cos 2t, (2 + cos 3t) sin 2t,
+ *                             sin 3t): NU >= 8 rings of NV >= 3 vertices
  *   "sphere:N"                closed unit icosphere, N <= 9 subdivisions
  *   "two:N"                   two disjoint flat N x N grids (two components)
  * Integers are plain digits; sizes plain decimals ("2", "0.5", "1e-3") from
@@ -537,7 +540,7 @@ typedef struct gs_build_options {
     uint32_t vmax;           /* leaf patch size [30]                           */
     uint32_t mmax;           /* maximum polynomial degree [20]                 */
     double tol;              /* fit mean relative error target at the root     */
-                             /*   [0.002], 1.5x looser per tree level, at most */
+                             /*   [0.003], 1.5x looser per tree level, at most */
                              /*   max(tol, 2%)                                 */
     uint32_t threads;        /* 0: all cores [0]                               */
     int vertex_sources;      /* 1: fields from the corners of the triangles    */
@@ -546,7 +549,10 @@ typedef struct gs_build_options {
                              /*   method: samples for exact fields, vertices   */
                              /*   for approximate ones (measured best) [-1]    */
     int sampled;             /* 1: SEPsam (sampled values, piecewise linear)   */
-    int leaf_exact;          /* 1: store exact distances inside leaves [0]     */
+    int leaf_exact;          /* 1: store exact distances inside leaves; 0:    */
+                             /*   answer same-leaf pairs with the Euclidean    */
+                             /*   distance, which underestimates on curved     */
+                             /*   leaves (bunny-5k: 56%) [1]                   */
     uint32_t seed;           /* partitioning seed [1]                          */
     double sample_spacing;   /* separator sample spacing / mean edge length    */
                              /*   [0.5]                                        */
@@ -556,7 +562,8 @@ typedef struct gs_build_options {
     uint32_t max_samples;    /* samples per curve at most: longer curves are   */
                              /*   thinned to this many, evenly by arc length;  */
                              /*   bounds the fields per separator; 0: no cap   */
-                             /*   [96]                                         */
+                             /*   [192]; then split into pieces of at most 48  */
+                             /*   sample intervals, each a function per vertex */
     uint32_t field_memory_mib; /* memory for one block of distance fields, in  */
                              /*   MiB: a node's fields are computed block by   */
                              /*   block and folded into its samples (float),   */
@@ -565,13 +572,6 @@ typedef struct gs_build_options {
                              /*   about 2 x this + n_owned x n_samples x 4     */
                              /*   bytes for the largest node + the factors     */
                              /*   (heat) + the database [384]                  */
-    int no_query_cache;      /* 1: the database returned answers queries from  */
-                             /*   its sections, without the query cache       */
-                             /*   gs_db_open builds (3-5 times the file in     */
-                             /*   memory; its queries are several times        */
-                             /*   faster): for a build that is only saved      */
-                             /*   (geosep build), it saves that memory and the */
-                             /*   time to fill it [0]                          */
     gs_progress_fn progress; /* may be NULL                                    */
     void *progress_user;
 } gs_build_options;
@@ -584,6 +584,11 @@ typedef struct gs_build_stats {
     uint64_t n_functions;    /* separator distance functions fitted            */
     double mean_degree;
     uint64_t n_over_tol;     /* fits that missed tol even at degree mmax       */
+    uint64_t n_uncertified;  /* fits whose largest error at the samples, or    */
+                             /*   outside the band the samples allow between   */
+                             /*   them, is above 2% at every degree (the one   */
+                             /*   with the smallest is kept; doc/accuracy.md)  */
+    double max_fit_error;    /* the largest such error over all fits           */
     double mean_fit_error;   /* mean relative error of the fits on the samples */
 } gs_build_stats;
 
@@ -599,12 +604,35 @@ GS_API int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt, gs_db *
 /* Write atomically (temporary file, then rename). */
 GS_API int gs_db_save(const gs_db *db, const char *path, gs_error *err);
 
-/* Open a database file (memory-mapped). Every offset, count and checksum is
- * validated before use: a corrupt or truncated file gives GS_EPARSE with the
- * section and field that is wrong, never a crash. */
+/* Open a database file (memory-mapped, used in place: nothing is built in
+ * memory, so opening takes about the same time whatever the size). The
+ * structure is validated (header and its checksum, section table, counts,
+ * tree, record index: what makes every read of a query land inside the
+ * file): a truncated file or a corrupt structure gives GS_EPARSE naming the
+ * section and field, never a crash; a file of another format version gives
+ * GS_EFORMAT naming its version. The sections' checksums and the stored
+ * values are not read: a corrupt value in an unchecked file may give a
+ * wrong distance (never a crash, never a read outside the file); open with
+ * GS_DB_OPEN_VERIFY or call gs_db_verify to check them. *out: new database,
+ * freed with gs_db_free. Thread-safe (distinct out). */
 GS_API int gs_db_open(const char *path, gs_db **out, gs_error *err);
 
-/* Same from a caller's buffer (copied). */
+/* Flags of gs_db_open_ex. */
+#define GS_DB_OPEN_VERIFY 1u /* also gs_db_verify's full check (reads the whole file) */
+
+/* gs_db_open with flags (0 or GS_DB_OPEN_VERIFY); GS_EARG for unknown bits. */
+GS_API int gs_db_open_ex(const char *path, unsigned flags, gs_db **out, gs_error *err);
+
+/* The full check of an open database: every section's checksum, then every
+ * record (each function's block well formed, coefficients finite and in
+ * range, its minimum not above its values), positions and leaf tables.
+ * GS_OK, or GS_EPARSE naming the section, vertex and field. Reads the whole
+ * file (about 10 ms per 100 MB for the checksums, more for the records).
+ * Thread-safe; db is not modified. */
+GS_API int gs_db_verify(const gs_db *db, gs_error *err);
+
+/* Same as gs_db_open_ex(.., GS_DB_OPEN_VERIFY, ..) from a caller's buffer
+ * (copied: the database owns its copy). */
 GS_API int gs_db_open_memory(const void *data, size_t size, gs_db **out, gs_error *err);
 
 GS_API void gs_db_free(gs_db *db);
@@ -617,6 +645,9 @@ typedef struct gs_db_info {
     double cost;             /* numbers stored per vertex, as Table 1 counts */
     double bytes_per_vertex; /* whole file / n_vertices                      */
     uint64_t file_bytes;
+    uint64_t n_functions;    /* separator distance functions stored          */
+    uint64_t records_bytes;  /* of which the functions' records (minima,     */
+                             /*   blocks)                                    */
     gs_method method;
     uint32_t vmax, mmax;
     double tol;
@@ -742,6 +773,20 @@ GS_API int gs_db_point_distances(const gs_db *db, const gs_surface_point *pairs,
  * before returning) cannot be allocated. Thread-safe. */
 GS_API int gs_db_point_field(const gs_db *db, const gs_surface_point *p, double *out, gs_error *err);
 
+/* Farthest-point sampling by the database's distances (greedy): out[0] =
+ * seed_vertex, and each further out[i] is the vertex whose database
+ * distance to the nearest of out[0..i-1] is largest. A vertex unreachable
+ * from every sample so far (another component) counts as infinitely far,
+ * so each component gets a sample before any gets a second; vertices used
+ * by no face are never chosen; ties go to the lowest id. out receives k
+ * vertex ids (caller's array). GS_EARG if k exceeds the number of vertices
+ * used by faces, seed_vertex is out of range or used by no face, or an
+ * argument is NULL; GS_ENOMEM if the work arrays cannot be allocated.
+ * Cost: k calls of gs_db_field; memory: 2 x n_vertices doubles, freed
+ * before returning. Thread-safe (the database is only read). */
+GS_API int gs_db_farthest_point_sampling(const gs_db *db, uint32_t k, uint32_t seed_vertex, uint32_t *out,
+                                         gs_error *err);
+
 /* ======================================================================== */
 /* Pictures (src/render): a software rasterizer, PNG output                 */
 /* ======================================================================== */
@@ -816,6 +861,37 @@ typedef struct gs_field_errors {
 
 GS_API int gs_field_errors_compute(const double *exact, const double *approx, uint32_t n,
                             uint32_t source, gs_field_errors *out, gs_error *err);
+
+/* The tail of the errors over many fields (what a user's single answers
+ * see). me, rmse: the paper's measures, each field's ME / RMSE averaged over
+ * the fields (section 5); all the others pool every (source, y) pair used:
+ * p99, p999: nearest-rank quantiles of e (the value at rank ceil(q N));
+ * max; near_me: the mean e over the "near pairs", those whose exact d is
+ * below near_frac times the median exact d of all pairs used (the CLI and
+ * the benchmarks use near_frac = 0.1); max_under / max_over: the largest e
+ * where d^ < d / d^ > d; n_under_5pct / n_over_5pct: pairs with e > 5%.
+ * Pairs are used as gs_field_errors_compute uses them. With no pair used,
+ * every measure is NaN. */
+typedef struct gs_error_stats {
+    double me, rmse, p99, p999, max;
+    double near_me, near_frac, median_d;
+    double max_under, max_over;
+    uint64_t n_used, n_near, n_under_5pct, n_over_5pct, n_skipped, n_invalid;
+    uint32_t n_fields;       /* fields with at least one pair used          */
+} gs_error_stats;
+
+/* An accumulator of pairs' errors: 9 bytes per pair used. Create, add fields,
+ * read the result (as often as wanted), free. Not thread-safe per object. */
+typedef struct gs_error_acc gs_error_acc;
+GS_API int gs_error_acc_create(gs_error_acc **out, gs_error *err);
+/* Add one field's pairs (same arguments and rules as gs_field_errors_compute).
+ * GS_ENOMEM leaves the accumulator as it was before the call's pairs. */
+GS_API int gs_error_acc_add(gs_error_acc *acc, const double *exact, const double *approx, uint32_t n,
+                            uint32_t source, gs_error *err);
+/* The statistics of every pair added so far (near_frac >= 0: see above);
+ * needs 4 bytes per pair of scratch (GS_ENOMEM otherwise). */
+GS_API int gs_error_acc_result(const gs_error_acc *acc, double near_frac, gs_error_stats *out, gs_error *err);
+GS_API void gs_error_acc_free(gs_error_acc *acc);
 
 /* LAND (Burghard & Klein 2015), the baseline of the paper's Table 1: m
  * landmarks chosen by farthest-point sampling with geodesic distances (the

@@ -55,7 +55,7 @@ run help
 { [ "$rc" -eq 0 ] && grep -q "usage: geosep" "$T/out"; }; verdict "help exits 0"
 run help solve
 { [ "$rc" -eq 0 ] && grep -q -- "--sources-from" "$T/out"; }; verdict "help solve"
-for c in info generate subdivide solve repair; do
+for c in info generate subdivide solve repair sample; do
     run "$c" --help
     { [ "$rc" -eq 0 ] && grep -q "usage: geosep $c" "$T/out"; }; verdict "$c --help"
 done
@@ -212,7 +212,9 @@ expect_fail 1 "trunc.gt" "gt: truncated sources file" solve "$G" --format gt --s
 { [ ! -e "$T/w.gt" ]; }; verdict "gt: truncated input leaves no OUT"
 expect_fail 1 "cannot open|No such" "gt: missing sources file" solve "$G" --format gt --sources-from "$T/nope.gt" -o "$T/w.gt"
 expect_fail 2 "needs -o" "gt: no -o" solve "$G" --format gt --sources-from "$T/src.gt"
-expect_fail 2 "needs either --sources-from FILE.gt or --random K" "gt: no --sources-from" solve "$G" --format gt -o "$T/w.gt"
+expect_fail 2 "needs one of --sources-from FILE.gt, --random K, --all" "gt: no --sources-from" solve "$G" --format gt -o "$T/w.gt"
+expect_fail 2 "needs one of" "gt: --all and --random" solve "$G" --format gt --all --random 3 -o "$T/w.gt"
+expect_fail 2 "--all needs --format gt" "--all without gt" solve "$G" --all --source 0
 expect_fail 2 "not --source" "gt: with --source" solve "$G" --format gt --sources-from "$T/src.gt" --source 0 -o "$T/w.gt"
 expect_fail 2 "needs --format gt" "--sources-from without gt" solve "$G" --sources-from "$T/src.gt" --source 0
 { [ -z "$(find "$T" -name '*.tmp.*')" ]; }; verdict "gt: no temporary files left behind"
@@ -226,8 +228,8 @@ run build "$D" -o "$T/grid.gsdb" --quiet
 { [ "$rc" -eq 0 ] && [ -s "$T/grid.gsdb" ] && [ ! -s "$T/out" ]; }; verdict "build --quiet writes a database"
 run build "$D" -o "$T/grid2.gsdb" --threads 1 --vmax 20 --mmax 12 --tol 0.005 --spacing 0.4
 { [ "$rc" -eq 0 ] && grep -q "nodes" "$T/out" && grep -q "time: tree" "$T/out" && grep -q "cost" "$T/out"; }; verdict "build prints tree, times and size"
-run build "$D" -o "$T/grid3.gsdb" --leaf-exact --quiet
-{ [ "$rc" -eq 0 ] && [ "$(stat -c %s "$T/grid3.gsdb")" -gt "$(stat -c %s "$T/grid.gsdb")" ]; }; verdict "build --leaf-exact stores the leaf tables"
+run build "$D" -o "$T/grid3.gsdb" --no-leaf-exact --quiet
+{ [ "$rc" -eq 0 ] && [ "$(stat -c %s "$T/grid3.gsdb")" -lt "$(stat -c %s "$T/grid.gsdb")" ]; }; verdict "build stores the leaf tables unless --no-leaf-exact"
 # a flat grid: the database distance is close to the Euclidean one
 run query "$T/grid.gsdb" 0 399
 { [ "$rc" -eq 0 ] && awk -v d="$(cat "$T/out")" 'BEGIN { e = sqrt(2); r = (d - e) / e; if (r < 0) r = -r; exit !(r < 0.01) }'; }; verdict "query 0 399 on the unit grid is sqrt(2) within 1%"
@@ -247,7 +249,12 @@ head -c 300 "$T/grid.gsdb" >"$T/cut.gsdb"
 expect_fail 1 "cut.gsdb" "query: truncated database names the file" query "$T/cut.gsdb" 0 1
 cp "$T/grid.gsdb" "$T/flip.gsdb"
 printf '\x55' | dd of="$T/flip.gsdb" bs=1 seek=2000 conv=notrunc 2>/dev/null
-expect_fail 1 "checksum|section" "query: corrupted database is refused" query "$T/flip.gsdb" 0 1
+expect_fail 1 "flip.gsdb: section '(records|positions|curves|nodes|leaves|vertex_index)': checksum mismatch" "verify: a corrupted database is refused, naming the section" verify "$T/flip.gsdb"
+run verify "$T/grid.gsdb"
+{ [ "$rc" -eq 0 ] && grep -q "grid.gsdb: ok (format 3, 400 vertices" "$T/out"; }; verdict "verify: a good database is ok"
+printf '\x02' | dd of="$T/flip.gsdb" bs=1 seek=8 conv=notrunc 2>/dev/null
+expect_fail 1 "format_version 2; this geosep reads version 3 only" "query: another format version is named" query "$T/flip.gsdb" 0 1
+expect_fail 2 "verify: need DB" "verify: no database" verify
 run field "$T/grid.gsdb" --source 0 -o "$T/f0.txt"
 { [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/f0.txt")" -eq 400 ] && [ "$(head -1 "$T/f0.txt")" = "0" ]; }; verdict "field writes one distance per vertex"
 { [ "$(sed -n 400p "$T/f0.txt")" = "$("$BIN" query "$T/grid.gsdb" 0 399)" ]; }; verdict "field agrees with query"
@@ -339,6 +346,11 @@ done
 expect_fail 2 "expected F:b0,b1,b2" "field --source-point with an empty field: refused" field "$T/grid.gsdb" --mesh "$D" --source-point 0:0.2,0.3,0.5,
 run eval "$T/grid.gsdb" --groundtruth "$T/grid.gt"
 { [ "$rc" -eq 0 ] && awk '/^ME / { me = $2 + 0; ok = (me < 0.5) } END { exit !ok }' "$T/out" && grep -q "^cost" "$T/out"; }; verdict "eval: ME below 0.5% on the grid, cost printed"
+{ grep -q "p99 .* p99.9 .* max .* near-pair ME" "$T/out" && grep -q "near pairs: exact d < 10% of the median" "$T/out"; }; verdict "eval: prints the tail and defines near pairs"
+run solve "$D" --format gt --all -o "$T/all.gt"
+{ [ "$rc" -eq 0 ] && [ "$(stat -c %s "$T/all.gt")" -eq $((16 + 400 * (4 + 8 * 400))) ]; }; verdict "solve --all writes a field from every vertex"
+run eval "$T/grid.gsdb" --groundtruth "$T/all.gt"
+{ [ "$rc" -eq 0 ] && grep -q "(400 sources, 159600 pairs" "$T/out"; }; verdict "eval over all vertex pairs"
 run land "$D" --landmarks 8 --groundtruth "$T/grid.gt"
 { [ "$rc" -eq 0 ] && grep -q "^LAND m=8" "$T/out" && grep -q "^ME " "$T/out"; }; verdict "land evaluates the baseline"
 expect_fail 2 "incomplete option '--groundtruth'" "eval: --groundtruth without a value" eval "$T/grid.gsdb" --groundtruth
@@ -494,6 +506,30 @@ expect_fail 1 "broken.obj" "repair: a malformed file is still an error naming it
 printf 'v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n' >"$T/flat.obj"
 expect_fail 1 "nothing is left" "repair: only zero-area faces" repair "$T/flat.obj" -o "$T/bad.obj"
 { [ ! -e "$T/bad.obj" ] && [ -z "$(find "$T" -name '*.tmp.*')" ]; }; verdict "repair: failures leave no file"
+
+# ---- sample (farthest-point sampling) ----------------------------------------
+run sample "$T/grid.gsdb" 4
+{ [ "$rc" -eq 0 ] && [ "$(head -2 "$T/out" | tr '\n' ' ')" = "0 399 " ] && [ "$(wc -l <"$T/out")" -eq 4 ] &&
+  [ "$(sed -n 3,4p "$T/out" | sort -n | tr '\n' ' ')" = "19 380 " ]; }
+verdict "sample: from corner 0 of the grid, the opposite corner, then the other two"
+run sample "$T/grid.gsdb" 400 --seed 210 -o "$T/s.txt"
+{ [ "$rc" -eq 0 ] && [ ! -s "$T/out" ] && [ "$(head -1 "$T/s.txt")" = 210 ] && [ "$(sort -n "$T/s.txt" | uniq | wc -l)" -eq 400 ]; }
+verdict "sample --seed -o: every vertex once, the seed first"
+run sample "$T/grid.gsdb" 3 --seed 210
+{ [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = "$(head -3 "$T/s.txt")" ]; }; verdict "sample: K samples are the first K of more"
+run sample "$T/grid.gsdb" 0
+{ [ "$rc" -eq 0 ] && [ ! -s "$T/out" ]; }; verdict "sample: K = 0 prints nothing"
+run generate two:6 -o "$T/two_s.obj"  # two:3 fits one leaf, which answers Euclidean distances across its components
+run build "$T/two_s.obj" -o "$T/two_s.gsdb" --quiet
+run sample "$T/two_s.gsdb" 2
+{ [ "$rc" -eq 0 ] && [ "$("$BIN" query "$T/two_s.gsdb" $(tr '\n' ' ' <"$T/out"))" = inf ]; }
+verdict "sample: two components: the second sample is in the other one"
+expect_fail 2 "exceeds the 400 vertices" "sample: K above the vertex count" sample "$T/grid.gsdb" 401
+expect_fail 2 "seed vertex 400" "sample: seed out of range" sample "$T/grid.gsdb" 2 --seed 400
+expect_fail 2 "not a count" "sample: bad K" sample "$T/grid.gsdb" x
+expect_fail 2 "need DB K" "sample: missing K" sample "$T/grid.gsdb"
+expect_fail 2 "unknown or incomplete option" "sample: unknown option" sample "$T/grid.gsdb" 2 --k 3
+expect_fail 1 "nope.gsdb" "sample: missing database" sample "$T/nope.gsdb" 2
 
 # ---- path (exact paths) ------------------------------------------------------
 run generate grid:5,5 -o "$T/g55.obj"

@@ -12,6 +12,7 @@
 #include "fit/cheb.h"
 #include "fit/fit.h"
 #include "fit/fun.h"
+#include "query/pair_grid.h"
 
 #define DENSE 20000
 #define MAXN 1024
@@ -128,7 +129,7 @@ static void test_poly_reproduction(void)
         uniform_u(u, 100, 0);
         for (int k = 0; k < 100; k++)
             d[k] = gs_cheb_eval(c, m, u[k]);
-        CHECK(gs_fit_distance(w, u, d, 100, 0, &r, NULL) == GS_OK);
+        CHECK(gs_fit_distance(w, u, d, 100, 0, 0, &r, NULL) == GS_OK);
         CHECK_MSG(r.fun.degree == m && !r.fun.squared, "m %u: got %u sq %u", m, r.fun.degree,
                   r.fun.squared);
         for (uint32_t k = 0; k <= m && r.fun.degree == m; k++)
@@ -149,7 +150,7 @@ static void test_segment(void)
         uniform_u(u, 60, 0);
         for (int k = 0; k < 60; k++)
             d[k] = hypot(u[k] - a, b);
-        CHECK(gs_fit_distance(w, u, d, 60, 0, &r, NULL) == GS_OK);
+        CHECK(gs_fit_distance(w, u, d, 60, 0, 0, &r, NULL) == GS_OK);
         CHECK_MSG(r.fun.degree == 2 && r.fun.squared == 1, "deg %u sq %u", r.fun.degree,
                   r.fun.squared);
         CHECK(r.mean_rel_err < 1e-12);
@@ -181,7 +182,7 @@ static void test_loops(void)
         double rad = trial % 2 ? urand(0.0, 0.7) : urand(1.3, 3.0), ang = urand(0, 2 * M_PI);
         uint32_t n = 64 + (uint32_t)(rnd() * 200);
         circle_samples(rad * cos(ang), rad * sin(ang), 1.0, n, u, d);
-        CHECK(gs_fit_distance(w, u, d, n, 1, &r, NULL) == GS_OK);
+        CHECK(gs_fit_distance(w, u, d, n, 1, 0, &r, NULL) == GS_OK);
         uint32_t kmax = 0;
         for (uint32_t k = 1; k < n; k++)
             kmax = d[k] > d[kmax] ? k : kmax;
@@ -215,12 +216,12 @@ static void test_escalation(void)
         for (int k = 0; k < 200; k++)
             d[k] = hypot(px - u[k], py - 0.2 * sin(f * u[k]));
         gs_fit_work *w = make_work(2, 12, 0.002);
-        CHECK(gs_fit_distance(w, u, d, 200, 0, &r, NULL) == GS_OK);
+        CHECK(gs_fit_distance(w, u, d, 200, 0, 0, &r, NULL) == GS_OK);
         gs_fit_work_free(w);
         if (r.mean_rel_err >= 0.002 || r.fun.degree <= 2)
             continue;
         w = make_work(2, r.fun.degree - 1, 0.002);
-        CHECK(gs_fit_distance(w, u, d, 200, 0, &r2, NULL) == GS_OK);
+        CHECK(gs_fit_distance(w, u, d, 200, 0, 0, &r2, NULL) == GS_OK);
         CHECK_MSG(r2.mean_rel_err >= 0.002, "degree %u already below tol", r2.fun.degree);
         gs_fit_work_free(w);
         checked++;
@@ -243,7 +244,7 @@ static void test_near_zero(void)
                 d[k] = closed ? hypot(cos(M_PI * u[k]) - cos(M_PI * u[k0]) * (1 + off),
                                       sin(M_PI * u[k]) - sin(M_PI * u[k0]) * (1 + off))
                               : hypot(u[k] - u[k0], off);
-            CHECK(gs_fit_distance(w, u, d, n, closed, &r, NULL) == GS_OK);
+            CHECK(gs_fit_distance(w, u, d, n, closed, 0, &r, NULL) == GS_OK);
             for (uint32_t k = 0; k <= r.fun.degree; k++)
                 CHECK(isfinite(r.coef[k]));
             CHECK(r.fun.minval >= 0.0 && r.fun.minval < 0.02);
@@ -260,27 +261,27 @@ static void test_tiny_and_bad(void)
     gs_fit_result r;
     for (uint32_t n = 1; n <= 4; n++) {
         double uu[4] = {-1, 1};
-        CHECK(gs_fit_distance(w, n == 2 ? uu : u, d, n, 0, &r, NULL) == GS_OK);
+        CHECK(gs_fit_distance(w, n == 2 ? uu : u, d, n, 0, 0, &r, NULL) == GS_OK);
         CHECK(r.fun.degree <= n - 1 && isfinite(r.fun.minval));
         if (n <= 3) {
-            CHECK(gs_fit_distance(w, ul, d, n, 1, &r, NULL) == GS_OK);
+            CHECK(gs_fit_distance(w, ul, d, n, 1, 0, &r, NULL) == GS_OK);
             CHECK(r.fun.degree <= n - 1 && isfinite(r.fun.minval));
         }
     }
     double zero[4] = {0, 0, 0, 0};
-    CHECK(gs_fit_distance(w, u, zero, 4, 0, &r, NULL) == GS_OK);
+    CHECK(gs_fit_distance(w, u, zero, 4, 0, 0, &r, NULL) == GS_OK);
     CHECK(r.fun.minval == 0.0 && gs_fun_value(&r.fun, 0.3) == 0.0);
     gs_error err;
     double bad[4] = {1, NAN, 1, 1}, neg[4] = {1, -1, 1, 1}, uinf[4] = {-1, INFINITY, 0, 1};
     double unord[4] = {-1, 0.5, 0.2, 1};
-    CHECK(gs_fit_distance(w, u, bad, 4, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(w, u, neg, 4, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(w, uinf, d, 4, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(w, unord, d, 4, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(w, u, d, 0, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(w, u, d, 4, 1, &r, &err) == GS_EARG); /* loop: u = 1 */
-    CHECK(gs_fit_distance(w, u, d, MAXN + 5, 0, &r, &err) == GS_EARG);
-    CHECK(gs_fit_distance(NULL, u, d, 4, 0, &r, &err) == GS_EARG);
+    CHECK(gs_fit_distance(w, u, bad, 4, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs_fit_distance(w, u, neg, 4, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs_fit_distance(w, uinf, d, 4, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs_fit_distance(w, unord, d, 4, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs_fit_distance(w, u, d, 0, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs_fit_distance(w, u, d, 4, 1, 0, &r, &err) == GS_EARG); /* loop: u = 1 */
+    CHECK(gs_fit_distance(w, u, d, MAXN + 5, 0, 0, &r, &err) == GS_EARG);
+    CHECK(gs_fit_distance(NULL, u, d, 4, 0, 0, &r, &err) == GS_EARG);
     gs_fit_options o = {5, 3, 0.005};
     gs_fit_work *w2 = NULL;
     CHECK(gs_fit_work_create(100, &o, &w2, &err) == GS_EARG && w2 == NULL);
@@ -375,7 +376,7 @@ static void make_fset(const curve *c, uint32_t nf, uint32_t m_max, fset *s, doub
         }
         for (uint32_t k = 0; k < c->n; k++)
             d[k] = dist(c, px, py, k);
-        CHECK(gs_fit_distance(w, u, d, c->n, c->closed, &s->r[i], NULL) == GS_OK);
+        CHECK(gs_fit_distance(w, u, d, c->n, c->closed, 0, &s->r[i], NULL) == GS_OK);
         s->r[i].fun.coef = s->r[i].coef;
         *mean_err += s->r[i].mean_rel_err / nf;
         *n_sq += s->r[i].fun.squared;
@@ -434,25 +435,24 @@ typedef struct pstats {
 
 static long cell_diff, cell_loops; /* grid_pair_min with and without the seam cells */
 
-/* The query engine's minimiser: grid values as the database caches them.
+/* The query engine's minimiser: grid values as the query computes them.
  * For loops it also runs with the seam cells given, as the cache gives
  * them, and counts any answer or minimiser that is not the same bit for
  * bit (cell_diff). */
 static double grid_pair_min(const gs_fun *a, const gs_fun *b, double *u)
 {
     uint32_t m = a->degree > b->degree ? a->degree : b->degree, g = gs_fun_grid_points(m);
-    uint16_t qa[GS_FUN_GRID_MAX], qb[GS_FUN_GRID_MAX];
-    gs_fun_grid ga = {qa, 0, 0}, gb = {qb, 0, 0};
-    gs_fun_grid_fill(a, g, qa, &ga.base, &ga.step, NULL, NULL);
-    gs_fun_grid_fill(b, g, qb, &gb.base, &gb.step, NULL, NULL);
+    float ga[GS_FUN_GRID_MAX], gb[GS_FUN_GRID_MAX];
+    gs__grid_values(a, g, ga);
+    gs__grid_values(b, g, gb);
     gs_fun_dip da, db;
     gs_fun_dip_find(a, &da), gs_fun_dip_find(b, &db);
     CHECK(da.seam_cell == GS_FUN_NO_CELL && db.seam_cell == GS_FUN_NO_CELL);
-    double r = gs_fun_pair_min_grid(a, b, &ga, &gb, g, &da, &db, u);
+    double r = gs_fun_pair_min_grid(a, b, ga, gb, g, &da, &db, u);
     if (a->closed && b->closed) {
         double u2 = 0.0;
         da.seam_cell = gs_fun_seam_cell(a, g), db.seam_cell = gs_fun_seam_cell(b, g);
-        double r2 = gs_fun_pair_min_grid(a, b, &ga, &gb, g, &da, &db, &u2);
+        double r2 = gs_fun_pair_min_grid(a, b, ga, gb, g, &da, &db, &u2);
         cell_diff += memcmp(&r, &r2, sizeof r) != 0 || (u && memcmp(u, &u2, sizeof u2) != 0);
         cell_loops++;
     }
@@ -670,38 +670,43 @@ static void test_grid_loops(void)
 
 /* The tolerance schedule over tree depth: tol at the root, 1.5x per level,
  * capped at max(tol, 2%). */
-/* The cache's 16-bit grid: every decoded value within half a level (plus
- * float rounding) of the function's value, the padding above every level,
- * the lowest exact value reported, and no grid (step NaN) for values a
- * float cannot hold. */
-static void test_grid_fill(void)
+/* The query's grid values (src/query/pair_grid.c): a path's within float
+ * rounding of the function's values; a loop's, interpolated (cubic) from its
+ * own variable's uniform points, within the interpolation bound 3/128 h^4
+ * max|p''''| (exact when the shift falls on the grid); values beyond float
+ * range give a minimiser answer all the same (the robust one). */
+static void test_grid_values(void)
 {
-    double c[4] = {2.0, -0.7, 0.4, 0.05}, big[2] = {1e60, 1e59};
-    for (int closed = 0; closed < 2; ++closed) {
-        gs_fun f = {GS_FUN_CHEBYSHEV, 3, closed, closed, closed ? 0.37 : 0.0, 0.0, c};
+    double c[7] = {2.0, -0.7, 0.4, 0.05, 0.03, -0.01, 0.004}, big[2] = {1e60, 1e59};
+    static const double shifts[3] = {0.0, 0.37, -1.5};
+    for (int t = 0; t < 4; ++t) {
+        int closed = t > 0;
+        gs_fun f = {GS_FUN_CHEBYSHEV, 6, (uint32_t)(t & 1), (uint32_t)closed, closed ? shifts[t - 1] : 0.0, 0.0, c};
         uint32_t g = gs_fun_grid_points(f.degree);
-        uint16_t q[GS_FUN_GRID_MAX];
-        float base, step;
-        double vmin, umin, worst = 0.0, lo = INFINITY;
-        gs_fun_grid_fill(&f, g, q, &base, &step, &vmin, &umin);
-        CHECK(step > 0.0f && base >= 0.0f);
-        for (uint32_t j = 0; j < g; ++j) {
-            double u = closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1), v = gs_fun_value(&f, u);
-            worst = fmax(worst, fabs((double)(base + step * (float)q[j]) - v));
-            lo = fmin(lo, v);
-            CHECK(q[j] <= 65534u);
+        float v[GS_FUN_GRID_MAX];
+        gs__grid_values(&f, g, v);
+        double h = 2.0 / g, p4 = 0.0, worst = 0.0;
+        for (uint32_t k = 4; k <= f.degree; ++k) {
+            double k2 = (double)k * k;
+            p4 += fabs(c[k]) * k2 * (k2 - 1) * (k2 - 4) * (k2 - 9) / 105.0;
         }
-        for (uint32_t j = g; j < gs_fun_grid_padded(g); ++j) CHECK(q[j] == 0xFFFFu);
-        CHECK_MSG(worst <= 0.5 * step + 1e-6 * lo, "grid decoding off by %.3g (step %.3g)", worst, (double)step);
-        CHECK(vmin == lo && gs_fun_value(&f, umin) == lo);
-        printf("  16-bit grid (%s, %u points): worst decoding error %.3g, step %.3g\n", closed ? "loop" : "path", g,
-               worst, (double)step);
+        double bound = closed && f.shift != 0.0 ? 3.0 / 128.0 * h * h * h * h * p4 + 1e-6 : 1e-6;
+        for (uint32_t j = 0; j < g; ++j) {
+            double u = closed ? -1.0 + 2.0 * j / g : -1.0 + 2.0 * j / (g - 1);
+            gs_fun sq = f;
+            sq.squared = 0; /* the bound is on the series: compare p, then its root */
+            double pv = gs_fun_value(&sq, u), e = fabs((double)v[j] - gs_fun_value(&f, u));
+            if (f.squared) e = fabs((double)v[j] * v[j] - pv);
+            worst = fmax(worst, e);
+        }
+        CHECK_MSG(worst <= bound * (1 + 1e-3) + 1e-6, "grid (%s, shift %g): off by %.3g, bound %.3g",
+                  closed ? "loop" : "path", f.shift, worst, bound);
+        printf("  grid values (%s, shift %g, %u points): worst error %.3g (bound %.3g)\n", closed ? "loop" : "path",
+               f.shift, g, worst, bound);
     }
-    gs_fun h = {GS_FUN_CHEBYSHEV, 1, 0, 0, 0.0, 0.0, big};
-    uint16_t q[GS_FUN_GRID_MAX];
-    float base, step;
-    gs_fun_grid_fill(&h, 33, q, &base, &step, NULL, NULL);
-    CHECK(step != step); /* no grid: queries take the robust minimiser */
+    gs_fun a = {GS_FUN_CHEBYSHEV, 1, 0, 0, 0.0, 0.0, big}, b = a;
+    double r = gs_fun_pair_min(&a, &b, NULL), rg = grid_pair_min(&a, &b, NULL);
+    CHECK(r == rg); /* no float grid: the robust minimiser */
 }
 
 static void test_depth_tol(void)
@@ -713,6 +718,60 @@ static void test_depth_tol(void)
     for (uint32_t d = 0; d < 5; d++) /* looser than the cap at the root: kept */
         CHECK_NEAR(gs_fit_tol_at_depth(0.05, d), 0.05, 0);
     CHECK_NEAR(gs_fit_tol_at_depth(0.015, 1), 0.02, 0);
+}
+
+/* The certificate between samples (fit.h): a vertex at height h over a
+ * straight path of length L (flat: d(s) = sqrt(h^2 + (s - s0)^2) exactly)
+ * with few samples, for dips at many places. Without the certificate
+ * (ulen 0) high-degree fits of samples that pass at the samples swing
+ * between them; with it, the kept fit stays within the samples' Lipschitz
+ * band wherever it reports so (cert_err), and its true error between the
+ * samples is far smaller. */
+/* The certificate between samples (fit.h): few samples (21) of a distance
+ * with a kink, d(s) = 0.05 + |s - s0| (1-Lipschitz in arc length, like
+ * every separator distance function; the kind a vertex beyond a curve's
+ * bend sees), kinks at many places. Without the certificate (ulen 0) the
+ * degree climbs until the samples are met and the series swings between
+ * them; with it, the kept fit stays within the samples' Lipschitz band
+ * wherever it reports so (cert_err), and its true error is smaller. */
+static void test_certificate(void)
+{
+    gs_fit_work *w = make_work(2, 20, 0.002);
+    enum { N = 21, FINE = 4000 };
+    double u[N], d[N], L = 2.0, worst_cert = 0, worst_plain = 0, band_plain = 0;
+    uniform_u(u, N, 0);
+    for (int q = 0; q < 40; ++q) {
+        double s0 = L * (0.013 + 0.024 * q);
+        for (int k = 0; k < N; ++k) d[k] = 0.05 + fabs((u[k] + 1) * L / 2 - s0);
+        gs_fit_result rc, rp;
+        CHECK(gs_fit_distance(w, u, d, N, 0, L / 2, &rc, NULL) == GS_OK);
+        CHECK(gs_fit_distance(w, u, d, N, 0, 0, &rp, NULL) == GS_OK);
+        CHECK(rp.cert_err == 0 && rc.cert_err >= 0);
+        double ec = 0, ep = 0, band = 0, bandp = 0;
+        for (int i = 0; i <= FINE; ++i) {
+            double t = -1 + 2.0 * i / FINE, s = (t + 1) * L / 2, dt = 0.05 + fabs(s - s0);
+            double vc = gs_fun_value(&rc.fun, t), vp = gs_fun_value(&rp.fun, t);
+            int k = (int)((t + 1) / 2 * (N - 1)); /* the samples k, k+1 around t */
+            if (k > N - 2) k = N - 2;
+            double da = (t - u[k]) * L / 2, db = (u[k + 1] - t) * L / 2;
+            double lo = fmax(d[k] - da, d[k + 1] - db), hi = fmin(d[k] + da, d[k + 1] + db);
+            band = fmax(band, vc < lo ? (lo - vc) / lo : vc > hi ? (vc - hi) / hi : 0);
+            bandp = fmax(bandp, vp < lo ? (lo - vp) / lo : vp > hi ? (vp - hi) / hi : 0);
+            ec = fmax(ec, fabs(vc - dt) / dt);
+            ep = fmax(ep, fabs(vp - dt) / dt);
+        }
+        /* checked at 3 points per interval: allow a little more at others */
+        CHECK_MSG(band <= fmax(rc.cert_err, GS_FIT_MAX_ERR) * 1.5 + 1e-9, "kink at %g: band %g, reported %g", s0,
+                  band, rc.cert_err);
+        worst_cert = fmax(worst_cert, ec);
+        worst_plain = fmax(worst_plain, ep);
+        band_plain = fmax(band_plain, bandp);
+    }
+    printf("  certificate: worst true error %.2f%% certified, %.2f%% without (outside the band by %.2f%%)\n",
+           100 * worst_cert, 100 * worst_plain, 100 * band_plain);
+    CHECK_MSG(band_plain > 2 * GS_FIT_MAX_ERR, "the uncertified fits stay in the band (%g): no test", band_plain);
+    CHECK_MSG(worst_cert < 0.5 * worst_plain, "certified %g vs plain %g", worst_cert, worst_plain);
+    gs_fit_work_free(w);
 }
 
 int main(void)
@@ -728,6 +787,7 @@ int main(void)
     test_near_zero();
     test_tiny_and_bad();
     test_depth_tol();
+    test_certificate();
     printf("pair minimum vs dense scan\n");
     test_pairs_real();
     test_grid_loops();
@@ -735,7 +795,7 @@ int main(void)
     CHECK_MSG(cell_diff == 0 && cell_loops > 1000, "seam cells given: %ld of %ld loop pairs differ", cell_diff,
               cell_loops);
     test_seam_cell();
-    test_grid_fill();
+    test_grid_values();
     test_infinity();
     test_sampled();
     return gs_test_finish("test_fit");

@@ -93,6 +93,7 @@ static void test_counts(void)
         {"cube:1,2", 8, 12, 1, 0, 0, 45},
         {"torus:24,12", 288, 576, 1, 0, 1, 25},
         {"torus:3,3,2,1", 9, 18, 1, 0, 1, 5},
+        {"knot:120,12", 1440, 2880, 1, 0, 1, 25},
         {"sphere:0", 12, 20, 1, 0, 0, 59.9},
         {"sphere:3", 642, 1280, 1, 0, 0, 45},
         {"two:5", 50, 64, 2, 2, 0, 45},
@@ -160,6 +161,9 @@ static void test_geometry(void)
     check_closed("cube:3,2", 8, 1e-14);
     check_closed("sphere:4", 4 * M_PI / 3, 0.01);
     check_closed("torus:64,32,1,0.4", 2 * M_PI * M_PI * 1 * 0.4 * 0.4, 0.01);
+    /* a tube of radius r around a curve of length L (31.8986 for the trefoil,
+     * numerically) encloses pi r^2 L while it does not cross itself */
+    check_closed("knot:600,48,0.3", M_PI * 0.3 * 0.3 * 31.8986, 0.01);
     check_tube("cylinder:16,5,2,3");
     check_tube("cone:16,5,2,3");
 
@@ -241,7 +245,8 @@ static void test_bad_specs(void)
         "grid:5,5,1,x", "grid:5,,5", "grid:5,5,", "grid:5.5,5", "grid:a,b", "grid:+5,5",
         "grid:5,5,nan,1", "grid:5,5,inf,1", "grid:5,5,1,1,1", " grid:5,5", "GRID:5,5", "blob:3",
         "grid:99999999999,5", "torus:10,10,1,2", "torus:10,10,1,1", "sphere:10", "cube:0",
-        "cube:2,0", "plate:10", "peaks:1", "peaks:5,0", "peaks:5,-6", "peaks:5,6,6", "two:1", "cylinder:2,5", "cone:5,1", "torus:5,2", "sphere:-1",
+        "cube:2,0", "plate:10", "peaks:1", "peaks:5,0", "peaks:5,-6", "peaks:5,6,6", "two:1", "cylinder:2,5", "cone:5,1", "torus:5,2", "sphere:-1", "knot:7,5",
+        "knot:10,10,0.6", "knot:10,10,0.4,1",
         "grid:5 ,5", "grid:5,5,1e400,1",
         /* strict sizes: blanks, signs, hex, inf/nan words, out of [1e-30, 1e30] */
         "grid:3,3, 1,1", "grid:3,3,1 ,1", "grid:3,3,1,\t1", "grid:3,3,+1,1", "grid:3,3,0x1p1,1",

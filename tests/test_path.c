@@ -230,6 +230,23 @@ static void test_plane(void)
     CHECK(gs_solver_path(c.s, &v3, &v3, &p, &err) == GS_OK);
     CHECK(gs_path_num_points(p) == 1 && gs_path_length(p) == 0 && gs_path_faces(p)[0] < gs_mesh_num_faces(c.m));
     gs_path_free(p);
+    /* several sources: the path leads to the nearest */
+    {
+        gs_source two[2] = {gs_source_vertex(0), gs_source_point(50, 0.1, 0.2, 0.7)};
+        CHECK(gs_solver_solve(c.s, two, 2, 0, c.dist, &err) == GS_OK);
+        for (uint32_t v = 0; v < gs_mesh_num_vertices(c.m); v += 3) {
+            gs_source t = gs_source_vertex(v);
+            CHECK(gs_solver_trace(c.s, &t, &p, &err) == GS_OK);
+            if (p) check_path(c.m, p, c.dist[v], NULL, P + 3 * v, "plane, two sources");
+            gs_path_free(p);
+        }
+        /* a bounded solve: vertices beyond the bound are refused */
+        CHECK(gs_solver_solve(c.s, two, 1, 0.3, c.dist, &err) == GS_OK);
+        gs_source far = gs_source_vertex(b);
+        CHECK(gs_solver_trace(c.s, &far, &p, &err) == GS_EARG || (p && gs_path_num_points(p) == 0));
+        gs_path_free(p);
+        p = NULL;
+    }
     /* errors */
     gs_source bad = gs_source_vertex(100000);
     CHECK(gs_solver_path(c.s, &pa, &bad, &p, &err) == GS_EARG && p == NULL && strstr(err.message, "target"));

@@ -12,7 +12,6 @@
  * batch = the single queries (with bad pairs among them) and the field =
  * the single queries. */
 #include "check.h"
-#include "db/db_internal.h" /* gs__qslot_min_bytes: the large cache layout */
 #include "geosep.h"
 
 #include <math.h>
@@ -20,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static uint64_t rng_state = 0x9E3779B97F4A7C15ull;
 static double urand(void)
@@ -195,9 +195,9 @@ static void check_pair(const meshinfo *mi, const gs_db *db, const tpoint *a, con
     }
 }
 
-/* Every property on n random point pairs and nfields fields; slots: the
- * database reopened with the query cache's large layout. */
-static void run_ex(const char *spec, const gs_build_options *o, const char *what, int n, int nfields, int slots)
+/* Every property on n random point pairs and nfields fields; reopen: the
+ * database saved to memory and opened again (with the full check). */
+static void run_ex(const char *spec, const gs_build_options *o, const char *what, int n, int nfields, int reopen)
 {
     gs_mesh *m = NULL;
     gs_db *db = NULL;
@@ -209,14 +209,16 @@ static void run_ex(const char *spec, const gs_build_options *o, const char *what
     CHECK_MSG(gs_mesh_generate(spec, &m, &e) == GS_OK, "%s: %s", spec, e.message);
     if (!m) goto done;
     CHECK_MSG(gs_db_build(m, o, &db, NULL, &e) == GS_OK, "%s (%s): build: %s", spec, what, e.message);
-    if (db && slots) {
+    if (db && reopen) {
         gs_db *built = db;
-        uint64_t keep = gs__qslot_min_bytes;
-        gs__qslot_min_bytes = 0;
         db = NULL;
-        CHECK(gs_db_open_memory(built->bytes, (size_t)built->size, &db, &e) == GS_OK);
-        CHECK(!db || db->qlev == GS_QSLOT_LEVELS);
-        gs__qslot_min_bytes = keep;
+        char path[] = "/tmp/geosep-props-XXXXXX";
+        int fd = mkstemp(path);
+        CHECK(fd >= 0);
+        if (fd >= 0) close(fd);
+        CHECK(gs_db_save(built, path, &e) == GS_OK);
+        CHECK_MSG(gs_db_open_ex(path, GS_DB_OPEN_VERIFY, &db, &e) == GS_OK, "%s", e.message);
+        remove(path);
         gs_db_free(built);
     }
     if (!db || info_init(&mi, m)) goto done;
@@ -285,10 +287,9 @@ static void run(const char *spec, const gs_build_options *o, const char *what, i
 
 int main(void)
 {
-    gs_build_options def, small, exact, sampled, bare;
+    gs_build_options def, small, exact, sampled;
     gs_build_options_default(&def);
     small = def, small.vmax = 6;
-    bare = def, bare.no_query_cache = 1;
     exact = def, exact.leaf_exact = 1;
     sampled = def, sampled.sampled = 1, sampled.vmax = 12;
     const char *q = getenv("GEOSEP_QUICK");
@@ -304,8 +305,7 @@ int main(void)
     run("cube:3", &small, "vmax 6", n, 8);
     run("two:5", &def, "two components", n, 8);
     run("two:5", &exact, "two, leaf tables", n, 8);
-    run("peaks:16", &bare, "no query cache", n, 8);
-    run_ex("peaks:16", &small, "large cache", n, 8, 1);
-    run_ex("two:8", &small, "two, large cache", n, 8, 1);
+    run_ex("peaks:16", &small, "reopened", n, 8, 1);
+    run_ex("two:8", &small, "two, reopened", n, 8, 1);
     return gs_test_finish("test_points_props");
 }

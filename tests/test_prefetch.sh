@@ -30,10 +30,11 @@ total=$(awk '$1 == "TOTAL" { print $2 }' <<<"$counts")
 single=$(awk '$1 ~ /^gs_db_distance($|\.)/ { s += $2 } END { print s + 0 }' <<<"$counts")
 batch=$(awk '$1 == "gs_db_distances" { print $2 }' <<<"$counts")
 batch=${batch:-0}
-# single query: its two slot heads (a loop and its last line each), the
-# coordinates of small caches; the batch: the headers and the pairs' stages
-if [ "$single" -lt 4 ]; then echo "FAIL: gs_db_distance has $single prefetches (want >= 4)"; fail=1; fi
-if [ "$batch" -lt 8 ]; then echo "FAIL: gs_db_distances has $batch prefetches (want >= 8)"; fail=1; fi
-if [ "$total" -lt 24 ]; then echo "FAIL: query.c has $total prefetches (want >= 24)"; fail=1; fi
+# single query: the two records' first lines (a loop and its last line
+# each) and the two positions; the batch: the leaves and index entries of
+# pairs ahead, then their records and positions
+if [ "$single" -lt 6 ]; then echo "FAIL: gs_db_distance has $single prefetches (want >= 6)"; fail=1; fi
+if [ "$batch" -lt 12 ]; then echo "FAIL: gs_db_distances has $batch prefetches (want >= 12)"; fail=1; fi
+if [ "$total" -lt 18 ]; then echo "FAIL: query.c has $total prefetches (want >= 18)"; fail=1; fi
 [ $fail -eq 0 ] && echo "OK: $total prefetch instructions in the query code ($single in the single query, $batch in the batch)"
 exit $fail

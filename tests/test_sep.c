@@ -22,16 +22,19 @@ typedef struct target {
 
 /* The paper prints one decimal of a percentage: 0.1 covers values < 0.15.
  * The asserted guards are the paper's values where we meet them, else the
- * level this version reaches with a margin (doc/accuracy.md: the gap to the paper). */
+ * level this version reaches with a margin (doc/accuracy.md: the gap to the paper).
+ * Costs: the fits certified between their samples and the long curves fitted
+ * in pieces (doc/accuracy.md) store more numbers than the paper's fits,
+ * checked only at their samples; guards at the measured cost + ~5%. */
 static const target targets[] = {
-    {"Square (grid 30x30)", "grid:30,30", NULL, NULL, 0.0015, 0.0025, 16.8, 0.0015, 0.0025, 16.8},
-    {"Holes (plate, ~1400 v)", "plate:1400", NULL, NULL, 0.0015, 0.0065, 26.0, 0.0015, 0.0065, 26.0},
-    {"Peaks (50x50)", "peaks:50", NULL, NULL, 0.0025, 0.0035, 37.5, 0.0030, 0.0055, 60},
+    {"Square (grid 30x30)", "grid:30,30", NULL, NULL, 0.0015, 0.0025, 16.8, 0.0015, 0.0025, 19.4},
+    {"Holes (plate, ~1400 v)", "plate:1400", NULL, NULL, 0.0015, 0.0065, 26.0, 0.0015, 0.0065, 29.0},
+    {"Peaks (50x50)", "peaks:50", NULL, NULL, 0.0025, 0.0035, 37.5, 0.0030, 0.0055, 66},
     /* the same heights on MATLAB's surf(peaks(50)) grid (x, y = 1..50): the
      * paper does not say which Peaks it used (doc/accuracy.md) */
     {"Peaks, surf coordinates", "peaks:50,49", NULL, NULL, 0.0025, 0.0035, 37.5, 0.0025, 0.0035, 37.5},
     {"Bunny (bunny-5k)", NULL, "meshes/bunny-5k.obj", "groundtruth/bunny-5k.gt", 0.0045, 0.0135, 72.2,
-     0.0045, 0.0135, 72.2},
+     0.0045, 0.0135, 88},
 };
 
 static void exact_fields(const gs_mesh *m, const uint32_t *src, uint32_t k, double *out)

@@ -1,6 +1,7 @@
 /* test_threads.c - one database queried from several threads at once: every
  * kind of query (gs_db_distance, gs_db_distances batches, gs_db_field,
- * gs_db_point_distance, gs_db_point_distances, gs_db_point_field) answered
+ * gs_db_point_distance, gs_db_point_distances, gs_db_point_field,
+ * gs_db_farthest_point_sampling) answered
  * by each thread, in its own order, must equal bit for bit the answers
  * computed by one thread beforehand. Run on a database built in memory and
  * on the same database saved and opened again (memory-mapped) and opened
@@ -27,6 +28,7 @@
 #define N_POINT_PAIRS 400
 #define N_POINT_FIELDS 3
 #define BATCH 64
+#define N_SAMPLES 6
 
 typedef struct work {
     const gs_db *db;
@@ -38,6 +40,7 @@ typedef struct work {
     gs_surface_point points[2 * N_POINT_PAIRS];
     double want_points[N_POINT_PAIRS];
     double *want_point_fields; /* N_POINT_FIELDS * n */
+    uint32_t want_samples[N_SAMPLES]; /* farthest-point sampling from sources[0] */
 } work;
 
 typedef struct thread_arg {
@@ -94,6 +97,12 @@ static void *run(void *p)
             a->wrong += memcmp(field, w->want_fields + (size_t)s * n, (size_t)n * sizeof *field) != 0;
             a->checked++;
         }
+        /* farthest-point sampling (fields folded into its own work arrays) */
+        uint32_t samples[N_SAMPLES];
+        if (gs_db_farthest_point_sampling(w->db, N_SAMPLES, w->sources[0], samples, &err) != GS_OK)
+            a->failed++;
+        else
+            a->wrong += memcmp(samples, w->want_samples, sizeof samples) != 0, a->checked++;
         /* surface points: single, batch, fields */
         for (uint32_t k = 0; k < N_POINT_PAIRS; ++k) {
             uint32_t i = (k + 31 * t) % N_POINT_PAIRS;
@@ -139,6 +148,7 @@ static void check_db(const gs_db *db, const gs_mesh *m, const char *what)
         w->sources[s] = irand(n);
         CHECK(gs_db_field(db, w->sources[s], w->want_fields + (size_t)s * n, &err) == GS_OK);
     }
+    CHECK(gs_db_farthest_point_sampling(db, N_SAMPLES, w->sources[0], w->want_samples, &err) == GS_OK);
     for (uint32_t i = 0; i < 2 * N_POINT_PAIRS; ++i) {
         double b0 = (irand(1000) + 0.5) / 1000.0, b1 = (1 - b0) * (irand(1000) / 1000.0);
         CHECK(gs_surface_point_from_face(m, irand(nf), b0, b1, 1 - b0 - b1, &w->points[i], &err) == GS_OK);

@@ -3,10 +3,11 @@
 # build (all tests, ground truth in full when ../shared exists), the Python
 # package (installed into a virtual environment under build/, its pytest
 # tests, which also run examples/python), and then an AddressSanitizer +
-# UndefinedBehaviorSanitizer build (GEOSEP_QUICK=1: fewer sources per mesh,
-# same checks), a ThreadSanitizer build of tests/test_threads.c (one
-# database queried from several threads), and a short run of every fuzz
-# target of fuzz/ (tools/fuzz.sh, clang: about 8 s each).
+# UndefinedBehaviorSanitizer build (GEOSEP_TEST_QUICK: ctest runs the tests
+# with GEOSEP_QUICK=1, fewer sources per mesh, same checks), a
+# ThreadSanitizer build of tests/test_threads.c (one database queried from
+# several threads), and a short run of every fuzz target of fuzz/
+# (tools/fuzz.sh, clang: 8 s each).
 set -euo pipefail
 top=$(cd "$(dirname "$0")/.." && pwd)
 "$top/tools/install-deps.sh"
@@ -16,8 +17,9 @@ echo "== Release build and tests"
 echo "== Python package and tests"
 "$top/tools/test-python.sh" "$top/build/python-venv"
 echo "== Sanitizer build (address, undefined) and tests"
-"$top/tools/build.sh" "$top/build-asan" -DGEOSEP_SANITIZE=ON -DGEOSEP_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
-(cd "$top/build-asan" && GEOSEP_QUICK=1 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+"$top/tools/build.sh" "$top/build-asan" -DGEOSEP_SANITIZE=ON -DGEOSEP_TEST_QUICK=ON -DGEOSEP_BENCH=OFF \
+  -DCMAKE_BUILD_TYPE=RelWithDebInfo
+(cd "$top/build-asan" && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
    ctest --output-on-failure -j2)
 echo "== ThreadSanitizer build: one database queried from several threads"
 cmake -S "$top" -B "$top/build-tsan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGEOSEP_SANITIZE_THREAD=ON \

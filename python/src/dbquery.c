@@ -339,3 +339,53 @@ done:
     Py_XDECREF(B.bary);
     return result;
 }
+
+const char gspy_db_farthest_point_sampling_doc[] =
+    "farthest_point_sampling($self, /, k, seed=0)\n--\n\n"
+    "Returns a (k,) int64 array of vertex ids:\n"
+    "farthest-point sampling by the database's distances. The first sample is\n"
+    "seed; each next one is the vertex farthest from the samples so far (a\n"
+    "vertex of a component without a sample yet counts as infinitely far, so\n"
+    "every component is sampled first); ties go to the lowest id; vertices used\n"
+    "by no face are never chosen. Costs k fields (field()). ValueError if k\n"
+    "exceeds the vertices used by faces or seed is used by no face, IndexError\n"
+    "for a seed out of range. Runs without the GIL.";
+
+PyObject *gspy_db_farthest_point_sampling(PyObject *self_obj, PyObject *args, PyObject *kwargs)
+{
+    gspy_Database *self = (gspy_Database *)self_obj;
+    static char *kw[] = {"k", "seed", NULL};
+    PyObject *k_obj, *seed_obj = NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|O:farthest_point_sampling", kw, &k_obj, &seed_obj)) return NULL;
+    Py_ssize_t k = PyNumber_AsSsize_t(k_obj, PyExc_OverflowError);
+    if (k == -1 && PyErr_Occurred()) return NULL;
+    if (k < 0 || (uint64_t)k > self->n_vertices) {
+        PyErr_Format(PyExc_ValueError, "k = %zd: must be between 0 and the %u vertices", k, self->n_vertices);
+        return NULL;
+    }
+    uint32_t seed = 0;
+    if (seed_obj && gspy_index(seed_obj, self->n_vertices, "seed vertex", &seed) < 0) return NULL;
+    uint32_t *ids = PyMem_New(uint32_t, (size_t)k + 1);
+    if (!ids) return PyErr_NoMemory();
+    gs_error err = {0};
+    int rc;
+    Py_BEGIN_ALLOW_THREADS
+    rc = gs_db_farthest_point_sampling(self->db, (uint32_t)k, seed, ids, &err);
+    Py_END_ALLOW_THREADS
+    PyObject *out = NULL;
+    if (rc == GS_EARG) {
+        const char *p = strstr(err.message, ": ");
+        PyErr_SetString(PyExc_ValueError, p ? p + 2 : err.message);
+    } else if (rc) {
+        gspy_raise(rc, &err, GSPY_CTX_OTHER, NULL, 0);
+    } else {
+        npy_intp dims[1] = {k};
+        out = PyArray_SimpleNew(1, dims, NPY_INT64);
+        if (out) {
+            int64_t *o = PyArray_DATA((PyArrayObject *)out);
+            for (Py_ssize_t i = 0; i < k; i++) o[i] = ids[i];
+        }
+    }
+    PyMem_Free(ids);
+    return out;
+}

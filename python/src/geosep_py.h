@@ -77,7 +77,8 @@ int gspy_max_distance(PyObject *obj, double *out);
 
 typedef struct {
     PyObject_HEAD
-    gs_mesh *mesh; /* owned, immutable */
+    gs_mesh *mesh;     /* owned, immutable */
+    gs_repair *repair; /* owned: what repair=True did, or NULL */
 } gspy_Mesh;
 
 typedef struct {
@@ -126,13 +127,16 @@ PyObject *gspy_db_distance(PyObject *self, PyObject *args);
 PyObject *gspy_db_pairwise(PyObject *self, PyObject *args, PyObject *kwargs);
 PyObject *gspy_db_field(PyObject *self, PyObject *arg);
 PyObject *gspy_db_point_distance(PyObject *self, PyObject *args, PyObject *kwargs);
+PyObject *gspy_db_farthest_point_sampling(PyObject *self, PyObject *args, PyObject *kwargs);
 extern const char gspy_db_distance_doc[], gspy_db_pairwise_doc[], gspy_db_field_doc[],
-    gspy_db_point_distance_doc[];
+    gspy_db_point_distance_doc[], gspy_db_farthest_point_sampling_doc[];
 #define GSPY_DB_QUERY_METHODS                                                                                 \
     {"distance", (PyCFunction)gspy_db_distance, METH_VARARGS, gspy_db_distance_doc},                          \
         {"pairwise", (PyCFunction)(void (*)(void))gspy_db_pairwise, METH_VARARGS | METH_KEYWORDS,             \
          gspy_db_pairwise_doc},                                                                               \
         {"field", (PyCFunction)gspy_db_field, METH_O, gspy_db_field_doc},                                     \
+        {"farthest_point_sampling", (PyCFunction)(void (*)(void))gspy_db_farthest_point_sampling,             \
+         METH_VARARGS | METH_KEYWORDS, gspy_db_farthest_point_sampling_doc},                                  \
     {                                                                                                         \
         "point_distance", (PyCFunction)(void (*)(void))gspy_db_point_distance, METH_VARARGS | METH_KEYWORDS,  \
             gspy_db_point_distance_doc                                                                        \

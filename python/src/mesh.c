@@ -29,6 +29,15 @@ PyObject *gspy_mesh_wrap(PyTypeObject *type, gs_mesh *mesh)
     return (PyObject *)self;
 }
 
+/* gspy_mesh_wrap keeping what the repair did (steals both). */
+static PyObject *mesh_wrap_repaired(PyTypeObject *type, gs_mesh *mesh, gs_repair *rep)
+{
+    PyObject *r = gspy_mesh_wrap(type, mesh);
+    if (r) ((gspy_Mesh *)r)->repair = rep;
+    else gs_repair_free(rep);
+    return r;
+}
+
 /* Shape (k, 3) and a dtype of the right kind, else ValueError saying what
  * was expected: `expect` describes the argument. */
 static PyArrayObject *table(PyObject *obj, const char *name, const char *expect, int integers)
@@ -53,9 +62,10 @@ static PyArrayObject *table(PyObject *obj, const char *name, const char *expect,
 
 static PyObject *mesh_new(PyTypeObject *type, PyObject *args, PyObject *kwargs)
 {
-    static char *kw[] = {"V", "F", NULL};
+    static char *kw[] = {"V", "F", "repair", NULL};
     PyObject *V_obj, *F_obj;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "OO:Mesh", kw, &V_obj, &F_obj)) return NULL;
+    int repair = 0;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "OO|p:Mesh", kw, &V_obj, &F_obj, &repair)) return NULL;
     PyArrayObject *V = table(V_obj, "V", "an (n, 3) array of floats (vertex positions)", 0);
     if (!V) return NULL;
     PyArrayObject *F = table(F_obj, "F", "an (m, 3) array of int32 or int64 (the vertex ids of each face)", 1);
@@ -86,12 +96,16 @@ static PyObject *mesh_new(PyTypeObject *type, PyObject *args, PyObject *kwargs)
         tri[i] = (uint32_t)f[i];
     }
     gs_mesh *mesh = NULL;
+    gs_repair *rep = NULL;
     gs_error err = {0};
     int rc;
     Py_BEGIN_ALLOW_THREADS
-    rc = gs_mesh_create(PyArray_DATA(V), (uint32_t)nv, tri, (uint32_t)nf, &mesh, &err);
+    if (repair)
+        rc = gs_mesh_repair(PyArray_DATA(V), (uint32_t)nv, tri, (uint32_t)nf, &mesh, &rep, &err);
+    else
+        rc = gs_mesh_create(PyArray_DATA(V), (uint32_t)nv, tri, (uint32_t)nf, &mesh, &err);
     Py_END_ALLOW_THREADS
-    result = rc ? gspy_raise(rc, &err, GSPY_CTX_MESH, NULL, 0) : gspy_mesh_wrap(type, mesh);
+    result = rc ? gspy_raise(rc, &err, GSPY_CTX_MESH, NULL, 0) : mesh_wrap_repaired(type, mesh, rep);
 done:
     PyMem_Free(tri);
     Py_DECREF(V);
@@ -102,14 +116,16 @@ done:
 static void mesh_dealloc(gspy_Mesh *self)
 {
     gs_mesh_free(self->mesh);
+    gs_repair_free(self->repair);
     Py_TYPE(self)->tp_free((PyObject *)self);
 }
 
 static PyObject *mesh_load(PyObject *cls, PyObject *args, PyObject *kwargs)
 {
-    static char *kw[] = {"path", "format", NULL};
+    static char *kw[] = {"path", "format", "repair", NULL};
     PyObject *path_obj, *fmt_obj = Py_None;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|O:load", kw, &path_obj, &fmt_obj)) return NULL;
+    int repair = 0;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|Op:load", kw, &path_obj, &fmt_obj, &repair)) return NULL;
     gs_mesh_format fmt = GS_FORMAT_AUTO;
     if (fmt_obj != Py_None) {
         static const char *names[] = {"obj", "off", "ply", "stl"};
@@ -127,14 +143,16 @@ static PyObject *mesh_load(PyObject *cls, PyObject *args, PyObject *kwargs)
     if (!path) return NULL;
     const char *p = PyBytes_AS_STRING(path);
     gs_mesh *mesh = NULL;
+    gs_repair *rep = NULL;
     gs_error err = {0};
     int rc, saved_errno;
     Py_BEGIN_ALLOW_THREADS
     errno = 0;
-    rc = gs_mesh_load(p, fmt, &mesh, &err);
+    rc = repair ? gs_mesh_repair_file(p, fmt, &mesh, &rep, &err) : gs_mesh_load(p, fmt, &mesh, &err);
     saved_errno = errno;
     Py_END_ALLOW_THREADS
-    PyObject *r = rc ? gspy_raise(rc, &err, GSPY_CTX_MESH, p, saved_errno) : gspy_mesh_wrap((PyTypeObject *)cls, mesh);
+    PyObject *r = rc ? gspy_raise(rc, &err, GSPY_CTX_MESH, p, saved_errno)
+                     : mesh_wrap_repaired((PyTypeObject *)cls, mesh, rep);
     Py_DECREF(path);
     return r;
 }
@@ -260,6 +278,103 @@ static PyObject *mesh_n_faces(gspy_Mesh *self, void *Py_UNUSED(closure))
     return PyLong_FromUnsignedLong(gs_mesh_num_faces(self->mesh));
 }
 
+/* Short names of the kinds of change, in gs_repair_kind order: the keys of
+ * repair_report["counts"]. */
+static const char *const repair_kind_key[] = {
+    "repeated_corner",    "duplicate_face",     "zero_area_collapsed", "zero_area_split", "zero_area_needle",
+    "zero_area_boundary", "zero_area_dropped",  "seam_edge",           "seam_ambiguous",  "welded_vertex",
+    "nonmanifold_edge",   "flipped_face",       "orientation_cut",     "sheet_cut",       "split_vertex"};
+_Static_assert(sizeof repair_kind_key / sizeof *repair_kind_key == GS_REPAIR_NUM_KINDS,
+               "a name for every gs_repair_kind");
+
+static PyObject *id_or_none(uint32_t v)
+{
+    return v == GS_NONE ? Py_NewRef(Py_None) : PyLong_FromUnsignedLong(v);
+}
+
+static PyObject *mesh_repair_report(gspy_Mesh *self, void *Py_UNUSED(closure))
+{
+    const gs_repair *r = self->repair;
+    if (!r) Py_RETURN_NONE;
+    PyObject *d = PyDict_New(), *counts = PyDict_New(), *examples = PyDict_New();
+    if (!d || !counts || !examples) goto fail;
+    for (int k = 0; k < GS_REPAIR_NUM_KINDS; k++) {
+        if (set_item(counts, repair_kind_key[k], PyLong_FromUnsignedLongLong(r->count[k])) < 0) goto fail;
+        if (!r->n_examples[k]) continue;
+        PyObject *list = PyList_New(r->n_examples[k]);
+        if (!list) goto fail;
+        for (uint32_t i = 0; i < r->n_examples[k]; i++) {
+            const gs_repair_example *e = &r->example[k][i];
+            PyObject *ex = PyDict_New();
+            if (!ex) {
+                Py_DECREF(list);
+                goto fail;
+            }
+            PyList_SET_ITEM(list, i, ex);
+            PyObject *vs = Py_BuildValue("(NNN)", id_or_none(e->vertex[0]), id_or_none(e->vertex[1]),
+                                         id_or_none(e->vertex[2]));
+            if (set_item(ex, "face", id_or_none(e->face)) < 0 || set_item(ex, "line", id_or_none(e->line)) < 0 ||
+                set_item(ex, "vertices", vs) < 0) {
+                Py_DECREF(list);
+                goto fail;
+            }
+        }
+        if (set_item(examples, repair_kind_key[k], list) < 0) goto fail;
+    }
+    size_t n = gs_repair_format(r, NULL, 0);
+    char *text = PyMem_Malloc(n + 1);
+    if (!text) {
+        PyErr_NoMemory();
+        goto fail;
+    }
+    gs_repair_format(r, text, n + 1);
+    PyObject *t = PyUnicode_DecodeUTF8(text, (Py_ssize_t)n, "replace");
+    PyMem_Free(text);
+    if (set_item(d, "text", t) < 0 || set_item(d, "n_input_vertices", PyLong_FromUnsignedLong(r->n_input_vertices)) < 0 ||
+        set_item(d, "n_input_faces", PyLong_FromUnsignedLong(r->n_input_faces)) < 0 ||
+        set_item(d, "n_vertices", PyLong_FromUnsignedLong(r->n_vertices)) < 0 ||
+        set_item(d, "n_faces", PyLong_FromUnsignedLong(r->n_faces)) < 0)
+        goto fail;
+    int rc = PyDict_SetItemString(d, "counts", counts) | PyDict_SetItemString(d, "examples", examples);
+    Py_DECREF(counts);
+    Py_DECREF(examples);
+    if (rc) {
+        Py_DECREF(d);
+        return NULL;
+    }
+    return d;
+fail:
+    Py_XDECREF(d);
+    Py_XDECREF(counts);
+    Py_XDECREF(examples);
+    return NULL;
+}
+
+static PyObject *mesh_vertex_map(gspy_Mesh *self, void *Py_UNUSED(closure))
+{
+    if (!self->repair) Py_RETURN_NONE;
+    npy_intp dims[1] = {self->repair->n_input_vertices};
+    return gspy_readonly_view((PyObject *)self, 1, dims, NPY_UINT32, self->repair->vertex_map);
+}
+
+static PyObject *mesh_input_aliases(gspy_Mesh *self, PyObject *v_obj)
+{
+    const gs_repair *r = self->repair;
+    uint32_t v;
+    if (gspy_index(v_obj, r ? r->n_input_vertices : gs_mesh_num_vertices(self->mesh), "input vertex id", &v) < 0)
+        return NULL;
+    if (!r) { /* not repaired: every vertex is its own only alias */
+        npy_intp dims[1] = {1};
+        PyObject *a = PyArray_SimpleNew(1, dims, NPY_UINT32);
+        if (!a) return NULL;
+        *(uint32_t *)PyArray_DATA((PyArrayObject *)a) = v;
+        PyArray_CLEARFLAGS((PyArrayObject *)a, NPY_ARRAY_WRITEABLE);
+        return a;
+    }
+    npy_intp dims[1] = {(npy_intp)r->alias_start[v + 1] - (npy_intp)r->alias_start[v]};
+    return gspy_readonly_view((PyObject *)self, 1, dims, NPY_UINT32, r->alias + r->alias_start[v]);
+}
+
 static PyObject *mesh_repr(gspy_Mesh *self)
 {
     return PyUnicode_FromFormat("<geosep.Mesh with %u vertices and %u faces>", gs_mesh_num_vertices(self->mesh),
@@ -277,16 +392,35 @@ static PyGetSetDef mesh_getset[] = {
      NULL},
     {"n_vertices", (getter)mesh_n_vertices, NULL, "Number of vertices (used by faces or not).", NULL},
     {"n_faces", (getter)mesh_n_faces, NULL, "Number of triangles.", NULL},
+    {"repair_report", (getter)mesh_repair_report, NULL,
+     "What repair=True did (doc/repair.md), or None if the mesh was not repaired.\n"
+     "A dict: counts (every kind of change by name, with its count: repeated_corner,\n"
+     "duplicate_face, zero_area_collapsed, zero_area_split, zero_area_needle,\n"
+     "zero_area_boundary, zero_area_dropped, seam_edge, seam_ambiguous,\n"
+     "welded_vertex, nonmanifold_edge, flipped_face, orientation_cut, sheet_cut,\n"
+     "split_vertex), examples (for each kind made, up to five dicts of face, line\n"
+     "and vertices: input ids, None where absent), text (the report as geosep\n"
+     "repair prints it), n_input_vertices, n_input_faces, n_vertices, n_faces.",
+     NULL},
+    {"vertex_map", (getter)mesh_vertex_map, NULL,
+     "None if the mesh was not repaired; else a read-only (n_input_vertices,)\n"
+     "uint32 array: the vertex each input vertex became (itself, or for a welded\n"
+     "vertex the one it was welded into). Input vertices keep their ids and\n"
+     "positions; copies made by splitting a vertex are appended (input_aliases).",
+     NULL},
     {NULL, NULL, NULL, NULL, NULL}};
 
 static PyMethodDef mesh_methods[] = {
     {"load", (PyCFunction)(void (*)(void))mesh_load, METH_VARARGS | METH_KEYWORDS | METH_CLASS,
-     "load($type, /, path, format=None)\n--\n\n"
+     "load($type, /, path, format=None, repair=False)\n--\n\n"
      "Read and validate a mesh file (.obj, .off, .ply, .stl; format=None: by the\n"
      "extension, then by the content). Polygons are fan-triangulated; vertex ids\n"
      "are the file's order. Raises OSError if the file cannot be read and\n"
      "MeshError naming the line or element if it is malformed or the mesh is\n"
-     "invalid (non-manifold, inconsistently oriented, degenerate, ...)."},
+     "invalid (non-manifold, inconsistently oriented, degenerate, ...).\n"
+     "repair=True repairs an invalid mesh instead, as Mesh(V, F, repair=True)\n"
+     "does (examples in repair_report name the file's lines); parse errors\n"
+     "stay errors."},
     {"generate", (PyCFunction)mesh_generate, METH_VARARGS | METH_CLASS,
      "generate($type, spec, /)\n--\n\n"
      "A test or demo mesh from a spec string, e.g. \"grid:20,20\" (flat 20 x 20\n"
@@ -305,6 +439,13 @@ static PyMethodDef mesh_methods[] = {
      "Returns a (k,) uint32 array:\n"
      "k distinct vertices used by faces, drawn deterministically from seed (the\n"
      "procedure of the shared ground-truth files)."},
+    {"input_aliases", (PyCFunction)mesh_input_aliases, METH_O,
+     "input_aliases($self, v, /)\n--\n\n"
+     "Returns a read-only uint32 array:\n"
+     "every vertex of this mesh that carries corners of input vertex v, the\n"
+     "vertex_map one first (a vertex split by repair: itself and its copies; a\n"
+     "welded one: the vertex it was welded into). The distance to an input\n"
+     "vertex is the least over its aliases. For a mesh not repaired: [v]."},
     {"report", (PyCFunction)mesh_report, METH_NOARGS,
      "report($self, /)\n--\n\n"
      "A dict of\n"
@@ -319,7 +460,7 @@ PyTypeObject gspy_MeshType = {
     PyVarObject_HEAD_INIT(NULL, 0).tp_name = "geosep.Mesh",
     .tp_basicsize = sizeof(gspy_Mesh),
     .tp_flags = Py_TPFLAGS_DEFAULT,
-    .tp_doc = "Mesh(V, F)\n--\n\n"
+    .tp_doc = "Mesh(V, F, repair=False)\n--\n\n"
               "An immutable, validated triangle mesh. V: (n, 3) array of floats (vertex\n"
               "positions); F: (m, 3) array of int32 or int64 vertex ids (zero-based,\n"
               "counter-clockwise). Both are copied. The mesh is validated as a mesh file\n"
@@ -328,6 +469,13 @@ PyTypeObject gspy_MeshType = {
               "oriented neighbours raise MeshError with the library's message; a wrong\n"
               "shape or dtype raises ValueError. Several components, boundaries and\n"
               "unreferenced vertices are accepted (see report()).\n\n"
+              "repair=True repairs what validation would refuse, knowingly\n"
+              "(doc/repair.md): duplicate faces and faces repeating a vertex dropped,\n"
+              "zero-area faces removed, unwelded seams glued, extra faces of an edge\n"
+              "detached, components oriented, non-manifold vertices split. Every input\n"
+              "vertex keeps its id and position; copies are appended. repair_report,\n"
+              "vertex_map and input_aliases() say what was done and where each input\n"
+              "vertex went; out-of-range ids and non-finite coordinates still raise.\n\n"
               "A Mesh is immutable and may be shared between threads.",
     .tp_new = mesh_new,
     .tp_dealloc = (destructor)mesh_dealloc,

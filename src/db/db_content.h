@@ -8,15 +8,7 @@
 #define GS_DB_CONTENT_H
 
 #include "../fit/fun.h"
-#include "../core/internal.h"
-
-typedef struct gs_db_node {
-    uint32_t parent;       /* GS_NONE for the root (node 0)                 */
-    uint32_t depth;
-    uint32_t curve_start;  /* its separator's curves: [start, start+n)      */
-    uint32_t n_curves;
-    uint32_t curve_prefix; /* curves of all proper ancestors                */
-} gs_db_node;
+#include "format.h"
 
 typedef struct gs_db_curve {
     uint32_t node;
@@ -60,8 +52,6 @@ typedef struct gs_db_content {
     uint32_t heat_refine;         /* gs_solver_options, 0..3                 */
     double avg_depth;
     uint32_t max_depth, n_leaves;
-    uint32_t no_query_cache;      /* 1: the packed database gets no query    */
-                                  /*   cache (gs_build_options)              */
 } gs_db_content;
 
 #endif

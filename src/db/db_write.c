@@ -1,303 +1,339 @@
-/* db_write.c - the database writer: the format's checksum and layout, the
- * packer that serialises a gs_db_content (paper sec. 3.1) into the on-disk
- * bytes of doc/database-format.md, and the atomic save. */
+/* db_write.c - the database writer: packs a gs_db_content (paper sec. 3.1)
+ * into format version 3 (doc/database-format.md) and attaches the bytes;
+ * the atomic save. Each function is stored compactly: 16-bit coefficients
+ * against a power-of-two step when that keeps the stored function within
+ * GS__DB_QREL of its minimum (else float32), its minimum as a float rounded
+ * down below the stored function, and for a sharp dip (a vertex near the
+ * curve) the dip the query's minimiser starts from. */
 #include "db_internal.h"
 #include "../io/atomic_file.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#define HASH_P 0x9E3779B97F4A7C15ull
+/* 16-bit coefficients when the stored function then differs from the
+ * fitted one by at most this much relative to its minimum (half the
+ * tightest fit tolerance, GS_BUILD default tol 0.002; measured on bunny-5k:
+ * ME, RMSE, p99.9, max and near-pair ME unchanged to the digits printed,
+ * also at 2e-3), else float32 coefficients. */
+#define GS__DB_QREL 1e-3
 
-/* ---- checksum ----------------------------------------------------------- */
+/* ---- one function ---------------------------------------------------- */
 
-static uint64_t load_le64(const unsigned char *p)
+/* A float at most v (v finite or +inf). */
+static float float_below(double v)
 {
-    uint64_t w;
-    memcpy(&w, p, 8);
-#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
-    w = __builtin_bswap64(w);
-#endif
-    return w;
+    if (v > FLT_MAX) return v == INFINITY ? INFINITY : FLT_MAX;
+    float f = (float)v;
+    if (f > v) f = nextafterf(f, -INFINITY);
+    return f;
 }
 
-typedef struct hash_state {
-    uint64_t lane[4];
-    unsigned j;             /* lane of the next word                  */
-    unsigned char part[8];  /* pending partial word                   */
-    unsigned n_part;
-    uint64_t length;
-} hash_state;
-
-static void hash_init(hash_state *h)
+/* Quantise c[0..m] to int16 q with step 2^*e; returns the largest sum of
+ * the absolute errors (0 when exact). */
+static double quantise16(const double *c, uint32_t m, int16_t *q, int *e)
 {
-    memset(h, 0, sizeof *h);
-    for (unsigned j = 0; j < 4; ++j) h->lane[j] = 0x243F6A8885A308D3ull + j * 0x13198A2E03707344ull;
-}
-
-static void hash_word(hash_state *h, uint64_t w)
-{
-    h->lane[h->j] = (h->lane[h->j] ^ w) * HASH_P;
-    h->j = (h->j + 1) & 3u;
-}
-
-static void hash_bytes(hash_state *h, const unsigned char *p, size_t n)
-{
-    h->length += n;
-    while (n && h->n_part) { /* finish a partial word first */
-        h->part[h->n_part++] = *p++;
-        --n;
-        if (h->n_part == 8) {
-            hash_word(h, load_le64(h->part));
-            h->n_part = 0;
+    double a = 0.0;
+    for (uint32_t k = 0; k <= m; ++k) a = fabs(c[k]) > a ? fabs(c[k]) : a;
+    int ex = GS__FB_EXP_MIN;
+    if (a > 0.0) {
+        int t;
+        frexp(a / 32767.0, &t); /* a / 32767 < 2^t */
+        ex = t < GS__FB_EXP_MIN ? GS__FB_EXP_MIN : t;
+    }
+    for (;; ++ex) {
+        double s = ldexp(1.0, ex), err = 0.0;
+        int ok = ex <= GS__FB_EXP_MAX;
+        for (uint32_t k = 0; k <= m && ok; ++k) {
+            double r = nearbyint(c[k] / s);
+            if (fabs(r) > 32767.0) ok = 0;
+            else q[k] = (int16_t)r, err += fabs(r * s - c[k]);
+        }
+        if (ok) {
+            *e = ex;
+            return err;
+        }
+        if (ex >= GS__FB_EXP_MAX) {
+            *e = GS__FB_F32;
+            return INFINITY;
         }
     }
-    if (h->j == 0) { /* fast path: four lanes in step */
-        uint64_t a = h->lane[0], b = h->lane[1], c = h->lane[2], d = h->lane[3];
-        for (; n >= 32; n -= 32, p += 32) {
-            a = (a ^ load_le64(p)) * HASH_P;
-            b = (b ^ load_le64(p + 8)) * HASH_P;
-            c = (c ^ load_le64(p + 16)) * HASH_P;
-            d = (d ^ load_le64(p + 24)) * HASH_P;
+}
+
+/* Encode f into out (NULL: only the size); *entry receives its minimum as
+ * stored; *numbers adds the numbers it costs (coefficients and a loop's
+ * shift, as Table 1 counts). g: its curve's grid (0: none). Returns the
+ * block's size in bytes (0: unreachable, no block). */
+static uint32_t encode(const gs_fun *f, uint32_t g, unsigned char *out, float *entry, uint64_t *numbers, int *bad)
+{
+    if (!f->coef || !(f->minval < INFINITY)) {
+        *entry = INFINITY;
+        return 0;
+    }
+    uint32_t m = f->degree, sampled = f->kind == GS_FUN_SAMPLED;
+    unsigned char head[24];
+    uint32_t n = 2;
+    double dec[GS_FUN_MAX_DEGREE + 1];
+    int16_t q[GS_FUN_MAX_DEGREE + 1];
+    int e = GS__FB_F32;
+    float shift = (float)(f->closed ? f->shift : 0.0);
+    gs_fun fd = *f;
+    fd.shift = shift;
+    float dip[4] = {0};
+    int has_dip = 0;
+    if (sampled) {
+        float lo = INFINITY;
+        for (uint32_t k = 0; k <= m; ++k) {
+            if (!(fabs(f->coef[k]) <= 1e30)) *bad = 1;
+            float v = (float)f->coef[k];
+            lo = v < lo ? v : lo;
         }
-        h->lane[0] = a, h->lane[1] = b, h->lane[2] = c, h->lane[3] = d;
+        *entry = float_below(lo < f->minval ? lo : f->minval);
+    } else {
+        double err = quantise16(f->coef, m, q, &e);
+        double mv = f->minval;
+        int ok16 = e != GS__FB_F32 && mv > 0.0 &&
+                   (f->squared ? err <= GS__DB_QREL * 2.0 * mv * mv : err <= GS__DB_QREL * mv);
+        if (!ok16) e = GS__FB_F32;
+        for (uint32_t k = 0; k <= m && !ok16; ++k)
+            if (!(fabs(f->coef[k]) <= 1e30)) *bad = 1; /* beyond what float32 blocks may hold */
+        for (uint32_t k = 0; k <= m; ++k) dec[k] = ok16 ? q[k] * ldexp(1.0, e) : (double)(float)f->coef[k];
+        fd.coef = dec;
+        /* the stored function's own minimum, a little lower, as a float
+         * rounded down: the quick reject's bound stays a bound */
+        double lo = gs_fun_min(&fd, NULL);
+        lo = lo < f->minval ? lo : f->minval;
+        lo = lo > 0.0 ? lo * (1.0 - 1e-7) : lo;
+        *entry = float_below(lo);
+        fd.minval = *entry;
+        if (g && gs_fun_is_sharp(&fd)) {
+            gs_fun_dip d;
+            gs_fun_dip_find(&fd, &d);
+            if (d.u == d.u) {
+                /* offsets from u as a float, pulled in a little (as the
+                 * edges must not move by u's rounding) */
+                float uf = (float)d.u;
+                dip[0] = uf;
+                dip[1] = (float)((d.lo - uf) * (1 - 1e-6));
+                dip[2] = (float)((d.hi - uf) * (1 - 1e-6));
+                dip[3] = (float)d.slope;
+                has_dip = 1;
+            }
+        }
     }
-    for (; n >= 8; n -= 8, p += 8) hash_word(h, load_le64(p));
-    while (n--) h->part[h->n_part++] = *p++;
-}
-
-static uint64_t hash_final(hash_state *h)
-{
-    if (h->n_part) {
-        memset(h->part + h->n_part, 0, 8 - h->n_part);
-        hash_word(h, load_le64(h->part));
+    head[0] = (unsigned char)((sampled ? GS__FB_SAMPLED : m) | (f->squared && !sampled ? GS__FB_SQUARED : 0) |
+                              (f->closed ? GS__FB_CLOSED : 0) | (has_dip ? GS__FB_DIP : 0));
+    head[1] = (unsigned char)(signed char)e;
+    if (sampled) {
+        uint16_t mm = (uint16_t)m;
+        memcpy(head + 2, &mm, 2);
+        n = 4;
     }
-    uint64_t r = h->length * HASH_P;
-    for (unsigned j = 0; j < 4; ++j) {
-        r = (r ^ h->lane[j]) * HASH_P;
-        r ^= r >> 29;
+    if (f->closed) memcpy(head + n, &shift, 4), n += 4;
+    if (has_dip) memcpy(head + n, dip, 16), n += 16;
+    uint32_t cb = (m + 1) * (e == GS__FB_F32 ? 4u : 2u);
+    *numbers += m + 1 + (f->closed ? 1u : 0u);
+    if (out) {
+        memcpy(out, head, n);
+        for (uint32_t k = 0; k <= m; ++k) {
+            if (e == GS__FB_F32) {
+                float v = (float)f->coef[k];
+                memcpy(out + n + 4 * k, &v, 4);
+            } else {
+                memcpy(out + n + 2 * k, &q[k], 2);
+            }
+        }
     }
-    return r;
+    return n + cb;
 }
 
-uint64_t gs__db_checksum(const void *a, size_t na, const void *b, size_t nb)
+/* ---- records ------------------------------------------------------------ */
+
+/* Vertex x's record into out (NULL: only its size, in bytes, a multiple of
+ * 8). */
+static uint64_t encode_vertex(const gs_db_content *c, const uint32_t *grid, const uint32_t *fcurve, uint32_t x,
+                              unsigned char *out, uint64_t *numbers, int *bad)
 {
-    hash_state h;
-    hash_init(&h);
-    hash_bytes(&h, a, na);
-    if (b && nb) hash_bytes(&h, b, nb);
-    return hash_final(&h);
-}
-
-/* ---- layout ------------------------------------------------------------- */
-
-int gs__db_host_little_endian(void)
-{
-    const uint32_t one = 1;
-    unsigned char c;
-    memcpy(&c, &one, 1);
-    return c == 1;
-}
-
-static uint64_t pad8(uint64_t b) { return (b + 7) & ~(uint64_t)7; }
-
-int gs__db_layout(uint32_t nv, uint32_t n_nodes, uint32_t n_curves, uint64_t n_functions,
-                  uint64_t n_words, uint64_t leaf_entries, int tables, uint64_t size[12])
-{
-    const uint64_t lim = (uint64_t)1 << 58; /* counts * 16 stay below 2^62 */
-    if (n_functions > lim || n_words > lim || leaf_entries > lim) return 0;
-    memset(size, 0, 12 * sizeof *size);
-    size[GS_SEC_POSITIONS] = 24 * (uint64_t)nv;
-    size[GS_SEC_LEAVES] = pad8(4 * (uint64_t)nv);
-    size[GS_SEC_NODES] = pad8(20 * (uint64_t)n_nodes);
-    size[GS_SEC_CURVES] = 24 * (uint64_t)n_curves;
-    size[GS_SEC_VERTEX_DIR] = 16 * ((uint64_t)nv + 1);
-    size[GS_SEC_FUNCTIONS] = 16 * n_functions;
-    size[GS_SEC_WORDS] = 8 * n_words;
-    if (tables) {
-        size[GS_SEC_LEAF_VSTART] = pad8(4 * ((uint64_t)n_nodes + 1));
-        size[GS_SEC_LEAF_LOCAL] = pad8(4 * (uint64_t)nv);
-        size[GS_SEC_LEAF_DSTART] = 8 * ((uint64_t)n_nodes + 1);
-        size[GS_SEC_LEAF_DIST] = 8 * leaf_entries;
+    uint64_t k0 = c->fun_start[x], nf = c->fun_start[x + 1] - k0, at = 4 * nf;
+    for (uint64_t k = 0; k < nf; ++k) {
+        float entry;
+        uint32_t g = grid[fcurve[k0 + k]] ? gs_fun_grid_points(grid[fcurve[k0 + k]] - 1) : 0;
+        uint32_t b = encode(&c->funs[k0 + k], g, out ? out + at : NULL, &entry, numbers, bad);
+        if (out) memcpy(out + 4 * k, &entry, 4);
+        at += b;
     }
-    return 1;
+    return gs__pad8(at);
 }
 
-/* ---- packing ------------------------------------------------------------ */
-
-static uint64_t record_words(const gs_fun *f)
+/* The curve of every function (fcurve) and each curve's degree1: 1 + the
+ * highest degree of its Chebyshev functions, 0 when one is sampled or none
+ * is reachable. */
+static int curve_grids(const gs_db_content *c, uint32_t *grid, uint32_t *fcurve, gs_error *err)
 {
-    if (f->minval == INFINITY) return 0;
-    return (uint64_t)f->closed + f->degree + 1;
-}
-
-static uint32_t record_meta(const gs_fun *f)
-{
-    uint32_t closed = f->closed ? 1u : 0u;
-    if (f->minval == INFINITY) return closed << 19;
-    return (f->degree & 0xFFFFu) | (f->kind & 3u) << 16 | (f->squared ? 1u : 0u) << 18 |
-           closed << 19;
-}
-
-/* Words of all records; fails if a vertex's records exceed 2^32 words. */
-static int count_words(const gs_db_content *c, uint64_t *n_words, gs_error *err)
-{
-    uint64_t total = 0;
+    uint32_t *path = gs__malloc((size_t)c->n_nodes + 1, sizeof *path);
+    uint32_t *deg = gs__calloc((size_t)c->n_curves + 1, sizeof *deg);
+    if (!path || !deg) {
+        free(path), free(deg);
+        return gs__fail(err, GS_ENOMEM, "database: out of memory");
+    }
     for (uint32_t x = 0; x < c->nv; ++x) {
-        uint64_t w = 0;
-        for (uint64_t k = c->fun_start[x]; k < c->fun_start[x + 1]; ++k) w += record_words(&c->funs[k]);
-        if (w >= ((uint64_t)1 << 32))
-            return gs__fail(err, GS_ELIMIT, "database: vertex %u has %llu words of functions (max 2^32)",
-                            x, (unsigned long long)w);
-        total += w;
+        uint32_t l = c->leaf[x], n = 0;
+        if (l == GS_NONE) continue;
+        for (uint32_t a = c->nodes[l].parent; a != GS_NONE && n < c->n_nodes; a = c->nodes[a].parent) path[n++] = a;
+        uint64_t k = c->fun_start[x];
+        while (n--) {
+            const gs_db_node *a = &c->nodes[path[n]];
+            for (uint32_t j = 0; j < a->n_curves && k < c->fun_start[x + 1]; ++j, ++k) {
+                uint32_t cv = a->curve_start + j;
+                const gs_fun *f = &c->funs[k];
+                fcurve[k] = cv;
+                if (!f->coef || !(f->minval < INFINITY)) continue;
+                if (f->kind == GS_FUN_SAMPLED) deg[cv] = UINT32_MAX;
+                else if (deg[cv] != UINT32_MAX && f->degree + 1 > deg[cv]) deg[cv] = f->degree + 1;
+            }
+        }
     }
-    *n_words = total;
+    for (uint32_t j = 0; j < c->n_curves; ++j)
+        grid[j] = deg[j] == UINT32_MAX ? 0 : deg[j];
+    free(path), free(deg);
     return GS_OK;
 }
 
-static void put32(unsigned char *p, uint32_t v) { memcpy(p, &v, 4); }
-static void put64(unsigned char *p, uint64_t v) { memcpy(p, &v, 8); }
-static void putf(unsigned char *p, double v) { memcpy(p, &v, 8); }
-
 static void write_header(unsigned char *b, const gs_db_content *c, uint32_t n_sec, uint64_t file_bytes,
-                         uint64_t n_words, uint64_t leaf_entries, int tables)
+                         uint64_t records_bytes, uint64_t leaf_entries, int tables, uint64_t numbers)
 {
-    uint64_t n_functions = c->fun_start[c->nv];
-    memcpy(b, GS_DB_MAGIC, 8);
-    put32(b + 8, GS_DB_VERSION);
-    put32(b + 12, GS_DB_ENDIAN_TAG);
-    put32(b + 16, tables ? GS_DB_FLAG_LEAF_EXACT : 0);
-    put32(b + 20, GS_DB_HEADER_BYTES + GS_DB_ENTRY_BYTES * n_sec);
-    put64(b + 24, file_bytes);
-    put32(b + 32, c->nv);
-    put32(b + 36, c->n_nodes);
-    put32(b + 40, c->n_curves);
-    put32(b + 44, c->n_leaves);
-    put64(b + 48, n_functions);
-    put64(b + 56, n_words);
-    put32(b + 64, n_sec);
-    put32(b + 68, c->max_depth);
-    putf(b + 72, c->avg_depth);
-    put32(b + 80, c->method);
-    put32(b + 84, c->vmax);
-    put32(b + 88, c->mmax);
-    put32(b + 92, (c->vertex_sources ? GS_DB_BUILD_VERTEX_SOURCES : 0) |
-                      (c->sampled ? GS_DB_BUILD_SAMPLED : 0) |
-                      ((c->heat_refine << GS_DB_BUILD_HEAT_REFINE_SHIFT) & GS_DB_BUILD_HEAT_REFINE_MASK));
-    putf(b + 96, c->tol);
-    put64(b + 104, leaf_entries);
+    memcpy(b, GS__DB_MAGIC, 8);
+    gs__put32(b + GS__H_VERSION, GS__DB_VERSION);
+    gs__put32(b + GS__H_ENDIAN, GS__DB_ENDIAN_TAG);
+    gs__put32(b + GS__H_FLAGS, tables ? GS__DB_FLAG_LEAF_EXACT : 0);
+    gs__put32(b + GS__H_HEADER_BYTES, GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * n_sec);
+    gs__put64(b + GS__H_FILE_BYTES, file_bytes);
+    gs__put32(b + GS__H_NV, c->nv);
+    gs__put32(b + GS__H_NODES, c->n_nodes);
+    gs__put32(b + GS__H_CURVES, c->n_curves);
+    gs__put32(b + GS__H_LEAVES, c->n_leaves);
+    gs__put64(b + GS__H_FUNCTIONS, c->fun_start[c->nv]);
+    gs__put64(b + GS__H_RECORDS_BYTES, records_bytes);
+    gs__put32(b + GS__H_SECTIONS, n_sec);
+    gs__put32(b + GS__H_MAX_DEPTH, c->max_depth);
+    gs__putf64(b + GS__H_AVG_DEPTH, c->avg_depth);
+    gs__put32(b + GS__H_METHOD, c->method);
+    gs__put32(b + GS__H_VMAX, c->vmax);
+    gs__put32(b + GS__H_MMAX, c->mmax);
+    gs__put32(b + GS__H_BUILD_FLAGS,
+              (c->vertex_sources ? GS__DB_BUILD_VERTEX_SOURCES : 0) | (c->sampled ? GS__DB_BUILD_SAMPLED : 0) |
+                  ((c->heat_refine << GS__DB_BUILD_HEAT_REFINE_SHIFT) & GS__DB_BUILD_HEAT_REFINE_MASK));
+    gs__putf64(b + GS__H_TOL, c->tol);
+    gs__put64(b + GS__H_LEAF_ENTRIES, leaf_entries);
     /* Table 1 counts what describes the functions: coefficients and loop
-     * shifts; minima and meta words are index overhead (bytes/vertex). */
-    putf(b + 112, c->nv ? (double)n_words / c->nv : 0.0);
-    putf(b + 120, c->sample_spacing);
-    put32(b + 128, c->seed);
-    put32(b + 132, c->max_samples);
-    putf(b + 136, c->heat_time);
-    putf(b + 144, c->fmm_exact_start);
+     * shifts; minima and block heads are index overhead (bytes/vertex). */
+    gs__putf64(b + GS__H_COST, c->nv ? (double)numbers / c->nv : 0.0);
+    gs__putf64(b + GS__H_SPACING, c->sample_spacing);
+    gs__put32(b + GS__H_SEED, c->seed);
+    gs__put32(b + GS__H_MAX_SAMPLES, c->max_samples);
+    gs__putf64(b + GS__H_HEAT_TIME, c->heat_time);
+    gs__putf64(b + GS__H_FMM_START, c->fmm_exact_start);
 }
 
-static void write_functions(unsigned char *fsec, unsigned char *wsec, unsigned char *vsec,
-                            const gs_db_content *c)
+static void write_tree(unsigned char *const sec[], const gs_db_content *c, const uint32_t *grid)
 {
-    uint64_t word = 0;
-    for (uint32_t x = 0; x <= c->nv; ++x) {
-        gs_db_vdir vd = {c->fun_start[x], word};
-        memcpy(vsec + 16 * (uint64_t)x, &vd, 16);
-        if (x == c->nv) break;
-        uint64_t rel = 0;
-        for (uint64_t k = c->fun_start[x]; k < c->fun_start[x + 1]; ++k) {
-            const gs_fun *f = &c->funs[k];
-            gs_db_fentry e = {f->minval, (uint32_t)rel, record_meta(f)};
-            memcpy(fsec + 16 * k, &e, 16);
-            uint64_t n = record_words(f);
-            if (n) {
-                unsigned char *r = wsec + 8 * (word + rel);
-                if (f->closed) putf(r, f->shift), r += 8;
-                memcpy(r, f->coef, 8 * ((size_t)f->degree + 1));
-            }
-            rel += n;
-        }
-        word += rel;
-    }
-}
-
-static void write_nodes_curves(unsigned char *nsec, unsigned char *csec, const gs_db_content *c)
-{
-    for (uint32_t i = 0; i < c->n_nodes; ++i) {
-        const gs_db_node *n = &c->nodes[i];
-        uint32_t v[5] = {n->parent, n->depth, n->curve_start, n->n_curves, n->curve_prefix};
-        memcpy(nsec + 20 * (uint64_t)i, v, 20);
-    }
+    memcpy(sec[GS__SEC_POSITIONS], c->xyz, 24 * (size_t)c->nv);
+    memcpy(sec[GS__SEC_LEAVES], c->leaf, 4 * (size_t)c->nv);
+    for (uint32_t i = 0; i < c->n_nodes; ++i) memcpy(sec[GS__SEC_NODES] + 20 * (uint64_t)i, &c->nodes[i], 20);
     for (uint32_t j = 0; j < c->n_curves; ++j) {
-        gs_db_disk_curve d = {c->curves[j].node, c->curves[j].closed, c->curves[j].n_samples, 0,
+        gs_db_disk_curve d = {c->curves[j].node, c->curves[j].closed, c->curves[j].n_samples, grid[j],
                               c->curves[j].length};
-        memcpy(csec + 24 * (uint64_t)j, &d, 24);
+        memcpy(sec[GS__SEC_CURVES] + 24 * (uint64_t)j, &d, 24);
     }
 }
 
-static void write_leaf_tables(unsigned char *const sec[12], const gs_db_content *c)
+static void write_leaf_tables(unsigned char *const sec[], const gs_db_content *c)
 {
-    memcpy(sec[GS_SEC_LEAF_VSTART], c->leaf_vstart, 4 * ((size_t)c->n_nodes + 1));
-    memcpy(sec[GS_SEC_LEAF_DSTART], c->leaf_dstart, 8 * ((size_t)c->n_nodes + 1));
-    memcpy(sec[GS_SEC_LEAF_DIST], c->leaf_dist, 8 * (size_t)c->leaf_dstart[c->n_nodes]);
-    unsigned char *loc = sec[GS_SEC_LEAF_LOCAL];
-    for (uint32_t x = 0; x < c->nv; ++x) put32(loc + 4 * (uint64_t)x, GS_NONE);
+    memcpy(sec[GS__SEC_LEAF_VSTART], c->leaf_vstart, 4 * ((size_t)c->n_nodes + 1));
+    memcpy(sec[GS__SEC_LEAF_DSTART], c->leaf_dstart, 8 * ((size_t)c->n_nodes + 1));
+    memcpy(sec[GS__SEC_LEAF_DIST], c->leaf_dist, 8 * (size_t)c->leaf_dstart[c->n_nodes]);
+    unsigned char *loc = sec[GS__SEC_LEAF_LOCAL];
+    for (uint32_t x = 0; x < c->nv; ++x) gs__put32(loc + 4 * (uint64_t)x, GS_NONE);
     for (uint32_t l = 0; l < c->n_nodes; ++l)
         for (uint32_t k = c->leaf_vstart[l]; k < c->leaf_vstart[l + 1]; ++k)
-            if (c->leaf_verts[k] < c->nv) put32(loc + 4 * (uint64_t)c->leaf_verts[k], k - c->leaf_vstart[l]);
+            if (c->leaf_verts[k] < c->nv) gs__put32(loc + 4 * (uint64_t)c->leaf_verts[k], k - c->leaf_vstart[l]);
 }
 
-static void write_sections(unsigned char *buf, const gs_db_content *c, const uint64_t size[12],
-                           uint32_t n_sec)
+static void write_table(unsigned char *buf, unsigned char *const sec[], const uint64_t size[], uint32_t n_sec)
 {
-    unsigned char *sec[12] = {0};
-    uint64_t off = GS_DB_HEADER_BYTES + GS_DB_ENTRY_BYTES * n_sec;
-    for (uint32_t s = 1; s <= n_sec; ++s) sec[s] = buf + off, off += size[s];
-    memcpy(sec[GS_SEC_POSITIONS], c->xyz, 24 * (size_t)c->nv);
-    memcpy(sec[GS_SEC_LEAVES], c->leaf, 4 * (size_t)c->nv);
-    write_nodes_curves(sec[GS_SEC_NODES], sec[GS_SEC_CURVES], c);
-    write_functions(sec[GS_SEC_FUNCTIONS], sec[GS_SEC_WORDS], sec[GS_SEC_VERTEX_DIR], c);
-    if (n_sec == GS_SEC_COUNT_FULL) write_leaf_tables(sec, c);
-    unsigned char *t = buf + GS_DB_HEADER_BYTES;
-    for (uint32_t s = 1; s <= n_sec; ++s, t += GS_DB_ENTRY_BYTES) {
-        put32(t, s);
-        put32(t + 4, 0);
-        put64(t + 8, (uint64_t)(sec[s] - buf));
-        put64(t + 16, size[s]);
-        put64(t + 24, gs__db_checksum(sec[s], size[s], NULL, 0));
+    unsigned char *t = buf + GS__DB_HEADER_BYTES;
+    for (uint32_t s = 1; s <= n_sec; ++s, t += GS__DB_ENTRY_BYTES) {
+        gs__put32(t, s);
+        gs__put32(t + 4, 0);
+        gs__put64(t + 8, (uint64_t)(sec[s] - buf));
+        gs__put64(t + 16, size[s]);
+        gs__put64(t + 24, gs__db_checksum(sec[s], size[s], NULL, 0));
     }
-    put64(buf + GS_DB_CHECKSUM_AT,
-          gs__db_checksum(buf, GS_DB_CHECKSUM_AT, buf + GS_DB_HEADER_BYTES, GS_DB_ENTRY_BYTES * n_sec));
+    gs__put64(buf + GS__DB_CHECKSUM_AT,
+              gs__db_checksum(buf, GS__DB_CHECKSUM_AT, buf + GS__DB_HEADER_BYTES, GS__DB_ENTRY_BYTES * n_sec));
 }
 
-int gs_db_pack(const gs_db_content *c, gs_db **out, gs_error *err)
+int gs__db_pack(const gs_db_content *c, gs_db **out, gs_error *err)
 {
     if (!c || !out || !c->fun_start || (c->nv && (!c->xyz || !c->leaf)) || !c->nodes)
-        return gs__fail(err, GS_EARG, "gs_db_pack: missing content");
+        return gs__fail(err, GS_EARG, "gs__db_pack: missing content");
     *out = NULL;
-    if (c->heat_refine > GS_DB_BUILD_HEAT_REFINE_MASK >> GS_DB_BUILD_HEAT_REFINE_SHIFT)
-        return gs__fail(err, GS_EARG, "gs_db_pack: heat_refine %u does not fit the header", c->heat_refine);
+    if (c->heat_refine > GS__DB_BUILD_HEAT_REFINE_MASK >> GS__DB_BUILD_HEAT_REFINE_SHIFT)
+        return gs__fail(err, GS_EARG, "gs__db_pack: heat_refine %u does not fit the header", c->heat_refine);
     if (!gs__db_host_little_endian())
         return gs__fail(err, GS_EFORMAT, "database: big-endian hosts are not supported");
     int tables = c->leaf_dist && c->leaf_vstart && c->leaf_verts && c->leaf_dstart;
-    uint64_t n_words = 0, size[12];
-    int rc = count_words(c, &n_words, err);
-    if (rc) return rc;
-    uint64_t leaf_entries = tables ? c->leaf_dstart[c->n_nodes] : 0;
-    uint32_t n_sec = tables ? GS_SEC_COUNT_FULL : GS_SEC_COUNT_BASE;
-    if (!gs__db_layout(c->nv, c->n_nodes, c->n_curves, c->fun_start[c->nv], n_words, leaf_entries,
-                       tables, size))
-        return gs__fail(err, GS_ELIMIT, "database: too many functions or words");
-    uint64_t total = GS_DB_HEADER_BYTES + GS_DB_ENTRY_BYTES * n_sec;
-    for (uint32_t s = 1; s <= n_sec; ++s) total += size[s];
-    if (total > SIZE_MAX) return gs__fail(err, GS_ELIMIT, "database: %llu bytes", (unsigned long long)total);
-    unsigned char *buf = gs__calloc((size_t)total, 1);
-    if (!buf) return gs__fail(err, GS_ENOMEM, "database: out of memory (%llu bytes)", (unsigned long long)total);
-    write_header(buf, c, n_sec, total, n_words, leaf_entries, tables);
-    write_sections(buf, c, size, n_sec);
-    rc = gs__db_attach(buf, (size_t)total, 0, "built database", !c->no_query_cache, out, err);
-    if (rc) free(buf);
+    uint64_t nfun = c->fun_start[c->nv];
+    uint32_t *grid = gs__calloc((size_t)c->n_curves + 1, sizeof *grid);
+    uint32_t *fcurve = gs__calloc(nfun + 1, sizeof *fcurve);
+    uint32_t *index = gs__malloc((size_t)c->nv + 1, sizeof *index);
+    uint64_t *rsize = gs__malloc((size_t)c->nv + 1, sizeof *rsize);
+    int rc = grid && fcurve && index && rsize ? GS_OK : gs__fail(err, GS_ENOMEM, "database: out of memory");
+    if (!rc) rc = curve_grids(c, grid, fcurve, err);
+    uint64_t numbers = 0, records = 0;
+    int bad = 0;
+    if (!rc) {
+#pragma omp parallel for schedule(dynamic, 512) reduction(+ : numbers) reduction(| : bad)
+        for (uint32_t x = 0; x < c->nv; ++x) rsize[x] = encode_vertex(c, grid, fcurve, x, NULL, &numbers, &bad);
+        if (bad) rc = gs__fail(err, GS_ELIMIT, "database: a function's coefficients exceed 1e30 or are not finite");
+        for (uint32_t x = 0; x < c->nv && !rc; ++x) {
+            index[x] = (uint32_t)(records / 8);
+            records += rsize[x];
+            if (records > GS__DB_MAX_RECORDS_BYTES)
+                rc = gs__fail(err, GS_ELIMIT, "database: the records exceed %llu bytes (format limit)",
+                              (unsigned long long)GS__DB_MAX_RECORDS_BYTES);
+        }
+        index[c->nv] = (uint32_t)(records / 8);
+    }
+    uint64_t leaf_entries = tables ? c->leaf_dstart[c->n_nodes] : 0, size[GS__SEC_COUNT_FULL + 1];
+    uint32_t n_sec = tables ? GS__SEC_COUNT_FULL : GS__SEC_COUNT_BASE;
+    if (!rc && !gs__db_layout(c->nv, c->n_nodes, c->n_curves, records, leaf_entries, tables, size))
+        rc = gs__fail(err, GS_ELIMIT, "database: too many records or leaf entries");
+    uint64_t total = GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * n_sec;
+    for (uint32_t s = 1; s <= n_sec && !rc; ++s) total += size[s];
+    if (!rc && total > SIZE_MAX) rc = gs__fail(err, GS_ELIMIT, "database: %llu bytes", (unsigned long long)total);
+    unsigned char *buf = rc ? NULL : gs__calloc((size_t)total, 1);
+    if (!rc && !buf) rc = gs__fail(err, GS_ENOMEM, "database: out of memory (%llu bytes)", (unsigned long long)total);
+    if (!rc) {
+        unsigned char *sec[GS__SEC_COUNT_FULL + 1] = {0};
+        uint64_t off = GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * n_sec;
+        for (uint32_t s = 1; s <= n_sec; ++s) sec[s] = buf + off, off += size[s];
+        write_header(buf, c, n_sec, total, records, leaf_entries, tables, numbers);
+        write_tree(sec, c, grid);
+        memcpy(sec[GS__SEC_INDEX], index, 4 * ((size_t)c->nv + 1));
+        uint64_t unused = 0;
+        int unused_bad = 0;
+#pragma omp parallel for schedule(dynamic, 512) reduction(+ : unused) reduction(| : unused_bad)
+        for (uint32_t x = 0; x < c->nv; ++x)
+            encode_vertex(c, grid, fcurve, x, sec[GS__SEC_RECORDS] + 8 * (uint64_t)index[x], &unused, &unused_bad);
+        if (tables) write_leaf_tables(sec, c);
+        write_table(buf, sec, size, n_sec);
+        rc = gs__db_attach(buf, (size_t)total, 0, "built database", 0, out, err);
+        if (rc) free(buf);
+    }
+    free(grid), free(fcurve), free(index), free(rsize);
     return rc;
 }
 

@@ -21,6 +21,8 @@ struct gs_fit_work {
     double *val;         /* scratch: fitted values at the rows                */
     double *va, *vb;     /* reflection data of qa / qb (see householder)      */
     double *wt;          /* row weights 1/d                                    */
+    double ulen;         /* the current curve's arc length per unit of u,     */
+                         /*   over dmax (normalised units); 0: no certificate */
 };
 
 /* One candidate fit (coefficients on normalised distances). */
@@ -28,6 +30,8 @@ typedef struct cand {
     double c[GS_FUN_MAX_DEGREE + 1];
     uint32_t m, sq;
     double mean, max;
+    double viol;         /* the certificate: largest relative step outside   */
+                         /*   the samples' Lipschitz band between samples    */
 } cand;
 
 void gs_fit_options_default(gs_fit_options *o)
@@ -226,13 +230,53 @@ static void measure(gs_fit_work *w, uint32_t rows, uint32_t n, cand *f)
     f->mean = sum / n, f->max = mx;
 }
 
-/* Degree escalation: the better of d / d^2 per degree; the first below tol
- * wins, else the lowest mean error seen. */
+/* The certificate between samples. Along the curve, d(x, .) is 1-Lipschitz
+ * in arc length (|d(x,a) - d(x,b)| <= d(a,b) <= the arc between them), so
+ * at a point at arcs da, db from the samples k, k+1 around it the true
+ * distance lies in the band [max(d_k - da, d_k+1 - db), min(d_k + da,
+ * d_k+1 + db)]. The fit is evaluated at GS_FIT_CERT_POINTS points inside
+ * every interval; f->viol receives its largest step outside the band,
+ * relative to the band's edge (floored like the errors). 0 without ulen. */
+static void certify(const gs_fit_work *w, uint32_t rows, cand *f)
+{
+    f->viol = 0.0;
+    if (!(w->ulen > 0.0))
+        return;
+    double mx = 0.0;
+    for (uint32_t r = 0; r + 1 < rows; r++) {
+        double t0 = w->t[r], t1 = w->t[r + 1], y0 = w->y[r], y1 = w->y[r + 1];
+        for (uint32_t q = 1; q <= GS_FIT_CERT_POINTS; q++) {
+            double t = t0 + (t1 - t0) * q / (GS_FIT_CERT_POINTS + 1);
+            double da = (t - t0) * w->ulen, db = (t1 - t) * w->ulen;
+            double lo = fmax(y0 - da, y1 - db), hi = fmin(y0 + da, y1 + db);
+            double p = gs_cheb_eval(f->c, f->m, t);
+            p = p > 0.0 ? p : 0.0;
+            double v = f->sq ? sqrt(p) : p, e = 0.0;
+            if (v < lo) e = (lo - v) / fmax(lo, GS_FIT_DFLOOR);
+            else if (v > hi) e = (v - hi) / fmax(hi, GS_FIT_DFLOOR);
+            mx = e > mx ? e : mx;
+        }
+    }
+    f->viol = mx;
+}
+
+/* How far a candidate is from being trusted: its largest error at the
+ * samples or outside the band between them. */
+static double worst(const cand *f)
+{
+    return f->max > f->viol ? f->max : f->viol;
+}
+
+/* Degree escalation, d and d^2 at each degree: the first degree where a
+ * candidate has mean error below tol and, at the samples and between them
+ * (certify), no error above GS_FIT_MAX_ERR wins (of two, the lower mean);
+ * else the candidate with the smallest such worst error seen. */
 static void escalate(gs_fit_work *w, uint32_t rows, uint32_t n, uint32_t mlo, uint32_t mhi,
                      cand *best)
 {
     cand ca, cb;
     best->mean = INFINITY;
+    best->max = best->viol = INFINITY;
     uint32_t done = 0; /* columns factored */
     build_columns(w, rows, 0, mlo);
     for (uint32_t m = mlo; m <= mhi; m++) {
@@ -245,11 +289,17 @@ static void escalate(gs_fit_work *w, uint32_t rows, uint32_t n, uint32_t mlo, ui
         solve_degree(w->qb, w->rb, rows, m, cb.c);
         measure(w, rows, n, &ca);
         measure(w, rows, n, &cb);
-        const cand *c = cb.mean < ca.mean ? &cb : &ca;
-        if (c->mean < best->mean || c->mean < w->opt.tol)
-            *best = *c;
-        if (c->mean < w->opt.tol)
+        certify(w, rows, &ca);
+        certify(w, rows, &cb);
+        int oka = ca.mean < w->opt.tol && worst(&ca) < GS_FIT_MAX_ERR;
+        int okb = cb.mean < w->opt.tol && worst(&cb) < GS_FIT_MAX_ERR;
+        if (oka || okb) {
+            *best = (oka && okb) ? (cb.mean < ca.mean ? cb : ca) : (oka ? ca : cb);
             return;
+        }
+        const cand *c = worst(&cb) < worst(&ca) ? &cb : &ca;
+        if (worst(c) < worst(best) || (worst(c) == worst(best) && c->mean < best->mean))
+            *best = *c;
     }
 }
 
@@ -265,13 +315,13 @@ static int store_result(const cand *b, double dmax, double shift, int closed, gs
     }
     res->fun = (gs_fun){GS_FUN_CHEBYSHEV, b->m, b->sq, closed ? 1u : 0u, shift, 0.0, res->coef};
     res->fun.minval = gs_fun_min(&res->fun, NULL);
-    res->mean_rel_err = b->mean, res->max_rel_err = b->max;
+    res->mean_rel_err = b->mean, res->max_rel_err = b->max, res->cert_err = b->viol;
     res->cost = gs_fun_cost(&res->fun);
     return GS_OK;
 }
 
 int gs_fit_distance(gs_fit_work *w, const double *u, const double *d, uint32_t n, int closed,
-                    gs_fit_result *res, gs_error *err)
+                    double ulen, gs_fit_result *res, gs_error *err)
 {
     if (!w || !u || !d || !res || n == 0 || n + 1 > w->cap)
         return gs__fail(err, GS_EARG, "gs_fit_distance: bad arguments (n = %u)", n);
@@ -281,10 +331,13 @@ int gs_fit_distance(gs_fit_work *w, const double *u, const double *d, uint32_t n
     double dmax = 0.0, shift = 0.0;
     for (uint32_t k = 0; k < n; k++)
         dmax = fmax(dmax, d[k]);
-    cand best = {{0.0}, 0, 0, 0.0, 0.0};
+    cand best = {{0.0}, 0, 0, 0.0, 0.0, 0.0};
+    if (!(ulen >= 0.0) || !isfinite(ulen))
+        return gs__fail(err, GS_EARG, "gs_fit_distance: arc length per unit %g is not finite and >= 0", ulen);
     if (dmax == 0.0) /* every sample on the curve: d = 0 */
         return store_result(&best, 1.0, closed ? u[0] : 0.0, closed, res, err);
     uint32_t rows = prepare_rows(w, u, d, n, closed, dmax, &shift);
+    w->ulen = ulen / dmax;
     uint32_t mhi = w->opt.m_max < n - 1 ? w->opt.m_max : n - 1;
     uint32_t mlo = w->opt.m_min < mhi ? w->opt.m_min : mhi;
     build_rhs(w, rows);

@@ -22,6 +22,9 @@ typedef struct gs_fit_result {
     gs_fun fun;                             /* fun.coef points into coef[] */
     double coef[GS_FUN_MAX_DEGREE + 1];
     double mean_rel_err, max_rel_err;       /* on the samples              */
+    double cert_err;                        /* between them: the largest   */
+                                            /*   relative step outside the */
+                                            /*   samples' Lipschitz band   */
     uint32_t cost;                          /* doubles to store: gs_fun_cost */
 } gs_fit_result;
 
@@ -39,6 +42,15 @@ typedef struct gs_fit_result {
 #define GS_FIT_TOL_CAP 0.02
 double gs_fit_tol_at_depth(double tol, uint32_t depth);
 
+/* The certificate (fit.c, certify): between two samples, the true distance
+ * lies in the band the 1-Lipschitz bound allows around them; the fit is
+ * checked at GS_FIT_CERT_POINTS points of every interval. A fit is kept at
+ * the first degree whose mean error is below tol and whose largest error,
+ * at the samples or outside that band, is below GS_FIT_MAX_ERR (else the
+ * candidate with the smallest such error). */
+#define GS_FIT_CERT_POINTS 3
+#define GS_FIT_MAX_ERR 0.02
+
 /* Scratch space for fitting, one per thread. */
 typedef struct gs_fit_work gs_fit_work;
 int gs_fit_work_create(uint32_t max_samples, const gs_fit_options *o, gs_fit_work **out,
@@ -48,9 +60,11 @@ void gs_fit_work_free(gs_fit_work *w);
 /* Fit n samples: u[k] in [-1,1] increasing (curve parameter; for loops in
  * [-1,1), spacing uniform), d[k] > 0 the distances (d[k] == 0 allowed: the
  * vertex lies on the curve; non-finite values are an error). closed: loop.
- * The result's fun.coef points into res->coef. */
+ * ulen: the curve's arc length per unit of u (length / 2), for the
+ * certificate between samples (0: none). The result's fun.coef points into
+ * res->coef. */
 int gs_fit_distance(gs_fit_work *w, const double *u, const double *d, uint32_t n,
-                    int closed, gs_fit_result *res, gs_error *err);
+                    int closed, double ulen, gs_fit_result *res, gs_error *err);
 
 /* SEPsam: a function holding the n >= 1 sample values d[k] >= 0 (finite) at
  * uniform u (paths: u_k = -1 + 2k/(n-1); loops: u_k = -1 + 2k/n), evaluated

@@ -108,32 +108,8 @@ void gs_fun_dip_find(const gs_fun *f, gs_fun_dip *d);
  * (j + 1 taken modulo g), by the rule gs_fun_pair_min_grid uses. */
 uint32_t gs_fun_seam_cell(const gs_fun *f, uint32_t g);
 
-/* A function's values on a curve's uniform grid of g points in u (paths:
- * u_j = -1 + 2j/(g-1); loops: u_j = -1 + 2j/g), quantised to 16 bits:
- * value_j ~ base + step q[j], within step/2 (relative to the function's
- * range on the grid, 1/131068); 2 bytes a point instead of a float's 4, so
- * that a query's records span fewer cache lines. step NaN: no usable grid
- * (values beyond float range). */
-typedef struct gs_fun_grid {
-    const uint16_t *q;  /* g values, readable up to a multiple of 8        */
-    float base, step;
-} gs_fun_grid;
-
-/* Points of a grid of g, rounded up to the multiple of 8 the query reads. */
-static inline uint32_t gs_fun_grid_padded(uint32_t g)
-{
-    return (g + 7u) / 8u * 8u;
-}
-
-/* Tabulate f on the grid of g points (<= GS_FUN_GRID_MAX) into q
- * (gs_fun_grid_padded(g) entries: the padding holds 0xFFFF), *base and
- * *step; *vmin and *umin (may be NULL) receive the lowest exact value on
- * the grid and its u. */
-void gs_fun_grid_fill(const gs_fun *f, uint32_t g, uint16_t *q, float *base, float *step, double *vmin,
-                      double *umin);
-
 /* The query hot path: min over u of a(u) + b(u) given both functions'
- * quantised values on the same grid of g points (gs_fun_grid_fill) and each
+ * values on the same grid of g points (src/query/pair_grid.h) and each
  * function's dip (da, db: gs_fun_dip_find; NULL or u = NaN: none). The
  * grid cell of the minimum is found from the tables and refined by a
  * parabola through the three values around it, where the exact sum is
@@ -146,7 +122,7 @@ void gs_fun_grid_fill(const gs_fun *f, uint32_t g, uint16_t *q, float *base, flo
  * functions reach (tests compare it with gs_fun_pair_min). Sampled and
  * unreachable functions, grids without a step, two seams close together
  * and windows that bracket nothing clearly (rare) go to gs_fun_pair_min. */
-double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const gs_fun_grid *ga, const gs_fun_grid *gb,
-                            uint32_t g, const gs_fun_dip *da, const gs_fun_dip *db, double *u_at);
+double gs_fun_pair_min_grid(const gs_fun *a, const gs_fun *b, const float *ga, const float *gb, uint32_t g,
+                            const gs_fun_dip *da, const gs_fun_dip *db, double *u_at);
 
 #endif

@@ -1,5 +1,6 @@
 /* generate.c - gs_mesh_generate: synthetic meshes for tests and demos (grid,
- * peaks, plate with holes, cylinder, frustum, cube, torus, icosphere, two
+ * peaks, plate with holes, cylinder, frustum, cube, torus, trefoil-knot
+ * tube, icosphere, two
  * grids), parsed strictly from a spec string. Every mesh is consistently
  * oriented: faces are counter-clockwise seen from +z (flat meshes) or from
  * outside (closed and tube-like surfaces). Validated like any other mesh. */
@@ -388,6 +389,55 @@ static int make_torus(gen *g, const gen_args *a, gs_error *err)
     return GS_OK;
 }
 
+/* ---- knot: a tube around a (2,3) torus knot (trefoil) -------------------
+ * Centre line c(t) = ((2 + cos 3t) cos 2t, (2 + cos 3t) sin 2t, sin 3t),
+ * t in [0, 2 pi): NU rings along it, NV vertices around each, at distance r
+ * in the plane of its Frenet normal and binormal (the curvature never
+ * vanishes, so the frame is smooth and closes up). The tube winds and bends
+ * tightly: a hard case for separator functions and same-leaf distances. */
+
+static void knot_frame(double t, double c[3], double n[3], double b[3])
+{
+    double s3 = sin(3 * t), c3 = cos(3 * t), s2 = sin(2 * t), c2 = cos(2 * t), rr = 2 + c3;
+    double d1[3] = {-3 * s3 * c2 - 2 * rr * s2, -3 * s3 * s2 + 2 * rr * c2, 3 * c3};
+    double d2[3] = {-9 * c3 * c2 + 12 * s3 * s2 - 4 * rr * c2, -9 * c3 * s2 - 12 * s3 * c2 - 4 * rr * s2,
+                    -9 * s3};
+    c[0] = rr * c2, c[1] = rr * s2, c[2] = s3;
+    double bx[3] = {d1[1] * d2[2] - d1[2] * d2[1], d1[2] * d2[0] - d1[0] * d2[2], d1[0] * d2[1] - d1[1] * d2[0]};
+    double lb = sqrt(bx[0] * bx[0] + bx[1] * bx[1] + bx[2] * bx[2]);
+    double lt = sqrt(d1[0] * d1[0] + d1[1] * d1[1] + d1[2] * d1[2]);
+    for (int k = 0; k < 3; ++k) b[k] = bx[k] / lb;
+    n[0] = (b[1] * d1[2] - b[2] * d1[1]) / lt;
+    n[1] = (b[2] * d1[0] - b[0] * d1[2]) / lt;
+    n[2] = (b[0] * d1[1] - b[1] * d1[0]) / lt;
+}
+
+static int make_knot(gen *g, const gen_args *a, gs_error *err)
+{
+    uint32_t nu = a->n[0], nv = a->n[1];
+    double r = a->r[0];
+    if (!(r <= 0.5))
+        return gs__fail(err, GS_EARG, "mesh spec \"%s\": the tube radius r = %g must be at most 0.5 "
+                        "(the tube would cross itself); expected knot:NU,NV[,r]", a->spec, r);
+    uint64_t n = (uint64_t)nu * nv;
+    int rc = check_size(n, 2 * n, a->spec, err);
+    if (rc) return rc;
+    for (uint32_t i = 0; i < nu; ++i) {
+        double c[3], nn[3], b[3];
+        knot_frame(2 * M_PI * i / nu, c, nn, b);
+        for (uint32_t j = 0; j < nv; ++j) {
+            double v = 2 * M_PI * j / nv, cv = r * cos(v), sv = r * sin(v);
+            gen_vertex(g, c[0] + cv * nn[0] + sv * b[0], c[1] + cv * nn[1] + sv * b[1], c[2] + cv * nn[2] + sv * b[2]);
+        }
+    }
+    for (uint32_t i = 0; i < nu; ++i)
+        for (uint32_t j = 0; j < nv; ++j) {
+            uint32_t i1 = (i + 1) % nu, j1 = (j + 1) % nv;
+            gen_quad(g, i * nv + j, i * nv + j1, i1 * nv + j1, i1 * nv + j); /* outward */
+        }
+    return GS_OK;
+}
+
 /* ---- cube: six N x N grids welded along the edges ----------------------- */
 
 /* Per face: origin and the two lattice directions u, v with u x v outward. */
@@ -546,6 +596,7 @@ static const gen_kind kinds[] = {
     {"cone", "cone:NU,NV[,R,H]", 2, {3, 2}, 1u << 24, 2, {1, 1}, make_cone},
     {"cube", "cube:N[,S]", 1, {1, 0}, 1u << 12, 1, {1, 0}, make_cube},
     {"torus", "torus:NU,NV[,R,r]", 2, {3, 3}, 1u << 24, 2, {1, 0.4}, make_torus},
+    {"knot", "knot:NU,NV[,r]", 2, {8, 3}, 1u << 24, 1, {0.4, 0}, make_knot},
     {"sphere", "sphere:N", 1, {0, 0}, 9, 0, {0, 0}, make_sphere},
     {"two", "two:N", 1, {2, 0}, 1u << 24, 0, {0, 0}, make_two},
 };
@@ -553,7 +604,7 @@ static const gen_kind kinds[] = {
 
 static const char accepted[] =
     "accepted: grid:NX,NY[,W,H] peaks:N[,W] plate:N cylinder:NU,NV[,R,H] cone:NU,NV[,R,H] "
-    "cube:N[,S] torus:NU,NV[,R,r] sphere:N two:N";
+    "cube:N[,S] torus:NU,NV[,R,r] knot:NU,NV[,r] sphere:N two:N";
 
 /* Split s (after the colon) into comma-separated tokens; 0 on success. */
 static int split_args(const char *s, char tok[GEN_MAX_ARGS][64], int *n)

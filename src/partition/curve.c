@@ -576,12 +576,13 @@ static int filter_samples(const gs_part_node *nd, gs_sep_sample *sm, uint32_t n,
 
 /* Regular samples along the final curve, its crossings and its record. */
 static int emit(const gs_part_node *nd, curve_work *w, double spacing, uint32_t filter_iters,
-                gs_part_out *out)
+                uint32_t min_samples, gs_part_out *out)
 {
     double len = arc_lengths(nd, w);
     double r = spacing > 0 ? len / spacing : 0;
     uint32_t n = (r > 1e8) ? 100000000u : (uint32_t)floor(r + 0.5);
     n = w->closed ? (n < 3 ? 3 : n) : (n < 1 ? 2 : n + 1);
+    if (n < min_samples) n = min_samples;
     if (gs__part_reserve((void **)&out->samples, &out->cap_samples, out->n_samples + n,
                          sizeof *out->samples) ||
         gs__part_reserve((void **)&out->cross, &out->cap_cross, out->n_cross + w->np,
@@ -627,7 +628,7 @@ static int finish_curve(const gs_part_node *nd, const gs_tree_options *opt, doub
     else
         straighten(nd, w);
     smooth(nd, w, opt->smooth_iters, FILTER_WIDTH * mean_edge);
-    return emit(nd, w, opt->sample_spacing * mean_edge, opt->filter_iters, out);
+    return emit(nd, w, opt->sample_spacing * mean_edge, opt->filter_iters, opt->min_samples, out);
 }
 
 /* Paths first (from a crossed face with a cut edge on the boundary), then

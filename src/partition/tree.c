@@ -18,7 +18,13 @@ void gs_tree_options_default(gs_tree_options *o)
                           * points back onto the cut edges re-kinks them */
     o->seed = 1;
     o->level_iters = 16;
-    o->filter_iters = 20;
+    /* 0: the samples stay on the separator, the zero level of phi that
+     * decides the sides. Filtered samples leave it (inside the strip of
+     * crossed faces), and a pair of neighbours on either side then sees no
+     * curve between them: answered through a detour (measured on a trefoil
+     * tube: near pairs off by up to 172%, 8% without filtering) */
+    o->filter_iters = 0;
+    o->min_samples = 3;
     o->cut_seeds = 4;
     o->bisector = 1;
     o->level_bias = 1.25;
@@ -400,6 +406,8 @@ int gs_tree_build(const gs_mesh *mesh, const gs_tree_options *opt, gs_tree **out
         return gs__fail(err, GS_EARG, "gs_tree_build: threads %u out of range", opt->threads);
     if (opt->cut_seeds > 1024)
         return gs__fail(err, GS_EARG, "gs_tree_build: cut_seeds %u out of range", opt->cut_seeds);
+    if (opt->min_samples > (1u << 20))
+        return gs__fail(err, GS_EARG, "gs_tree_build: min_samples %u out of range", opt->min_samples);
     if (!(opt->sample_spacing > 0) || opt->sample_spacing > 1e6)
         return gs__fail(err, GS_EARG, "gs_tree_build: sample_spacing %g out of range",
                         opt->sample_spacing);

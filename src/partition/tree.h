@@ -78,7 +78,11 @@ typedef struct gs_tree_options {
     uint32_t smooth_iters;  /* strip curves: filter-and-project-onto-cut-   */
                             /*   edge iterations (level_iters = 0 only)     */
     uint32_t filter_iters;  /* filter the samples and project them onto the */
-                            /*   surface (paper 4.1), after resampling      */
+                            /*   surface (paper 4.1), after resampling (0:  */
+                            /*   else they leave the separator)             */
+    uint32_t min_samples;   /* at least this many samples per curve (3):   */
+                            /*   short curves sampled densely enough for    */
+                            /*   fits of the degree the builder allows      */
     uint32_t seed;          /* METIS seed (deterministic builds)            */
     uint32_t level_iters;   /* diffusion rounds of the level-set separator  */
                             /*   (0: curves pulled taut in the METIS strip) */

@@ -1,23 +1,22 @@
 /* query.c - online point-to-point queries (paper sec. 3.2, eq. 4-5, Theorem
  * 2.1): same leaf -> Euclidean (or the stored exact table); otherwise the
  * minimum over the curves of the common ancestors, with the quick reject on
- * the stored minima. The hot path: no allocation, no locks. */
+ * the stored minima. Reads the file's records in place (format version 3):
+ * each vertex's minima, then its functions' blocks, decoded as needed; the
+ * two functions of a curve are tabulated on the curve's grid and their sum
+ * minimised (src/fit/fun.c gs_fun_pair_min_grid). Every read stays inside
+ * the vertex's record (a malformed block gives NaN). The hot path: no
+ * allocation, no locks. */
 #include "../db/db_internal.h"
+#include "pair_grid.h"
 
 #include <math.h>
 
 #define FIELD_MAX_DEPTH 512 /* x's ancestors by depth kept on the stack     */
 
-/* x's coordinates: large caches keep a copy in x's slot, which the query
- * reads anyway. */
-static inline const double *coords(const gs_db *db, uint32_t x)
-{
-    return db->qlev ? db->qroot + (size_t)x * db->qslot + GS_QSLOT_XYZ : db->xyz + 3 * (size_t)x;
-}
-
 static double euclidean(const gs_db *db, uint32_t x, uint32_t y)
 {
-    const double *p = coords(db, x), *q = coords(db, y);
+    const double *p = db->xyz + 3 * (size_t)x, *q = db->xyz + 3 * (size_t)y;
     double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
     return sqrt(dx * dx + dy * dy + dz * dz);
 }
@@ -34,7 +33,8 @@ static double same_leaf(const gs_db *db, uint32_t l, uint32_t x, uint32_t y)
 {
     if (db->leaf_dist) { /* never below the straight segment, as cross-leaf answers */
         uint64_t n = (uint64_t)db->leaf_vstart[l + 1] - db->leaf_vstart[l];
-        return at_least_euclidean(db, x, y, db->leaf_dist[db->leaf_dstart[l] + db->leaf_local[x] * n + db->leaf_local[y]]);
+        return at_least_euclidean(db, x, y,
+                                  db->leaf_dist[db->leaf_dstart[l] + db->leaf_local[x] * n + db->leaf_local[y]]);
     }
     return euclidean(db, x, y);
 }
@@ -49,16 +49,6 @@ static uint32_t lowest_common_ancestor(const gs_db_node *nodes, uint32_t a, uint
     return a;
 }
 
-/* The lowest common ancestor of two different leaves from the slots'
- * headers: the first depth where their ancestors differ (both have the
- * root at depth 0); the tree walk when they agree down to GS_QANC - 1. */
-static uint32_t lca_of_slots(const gs_db *db, const gs_qvert *hx, const gs_qvert *hy)
-{
-    for (uint32_t d = 1; d < GS_QANC; ++d)
-        if (hx->anc[d] != hy->anc[d]) return hx->anc[d - 1];
-    return lowest_common_ancestor(db->nodes, hx->leaf, hy->leaf);
-}
-
 /* Candidate curves of a query: the lower bound minval_x + minval_y of each
  * common curve, and the curve's function index. */
 typedef struct candidate {
@@ -71,21 +61,17 @@ typedef struct candidate {
 /* Gather the common curves of `top` and its ancestors, bottom-up, sorted by
  * their quick-reject bound (stable: bottom-up order breaks ties). Visiting
  * the most promising curve first makes the quick reject skip more pair
- * minimisations than the paper's plain bottom-up order (bunny-5k: 1.41
- * instead of 2.05 per query) and gives the same minimum. ex, ey: the two
- * vertices' entries (the file's, minval first, stride `stride` bytes, or
- * the cache's floats: flt). Returns the number gathered; *rest is the node
- * where gathering stopped (GS_NONE: all). */
-static inline uint32_t gather_t(const gs_db *db, const char *ex, const char *ey, size_t stride, int flt, uint32_t top,
-                                candidate *c, uint32_t *rest)
+ * minimisations than the paper's plain bottom-up order and gives the same
+ * minimum. ex, ey: the two vertices' minima. Returns the number gathered;
+ * *rest is the node where gathering stopped (GS_NONE: all). */
+static uint32_t gather(const gs_db *db, const float *ex, const float *ey, uint32_t top, candidate *c, uint32_t *rest)
 {
     uint32_t n = 0, a = top;
     for (; a != GS_NONE; a = db->nodes[a].parent) {
         uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
         if (n + (k1 - k0) > MAX_CANDIDATES) break;
         for (uint32_t k = k0; k < k1; ++k) {
-            double b = flt ? (double)((const float *)ex)[k] + (double)((const float *)ey)[k]
-                           : *(const double *)(ex + k * stride) + *(const double *)(ey + k * stride);
+            double b = (double)ex[k] + (double)ey[k];
             uint32_t i = n++;
             for (; i > 0 && c[i - 1].bound > b; --i) c[i] = c[i - 1];
             c[i].bound = b, c[i].k = k, c[i].curve = db->nodes[a].curve_start + (k - k0);
@@ -95,61 +81,167 @@ static inline uint32_t gather_t(const gs_db *db, const char *ex, const char *ey,
     return n;
 }
 
-/* the file's entries (minval first, stride `stride` bytes) */
-static uint32_t gather(const gs_db *db, const char *ex, const char *ey, size_t stride, uint32_t top, candidate *c,
-                       uint32_t *rest)
+/* ---- a vertex's record: minima, then blocks ---- */
+
+#define CURSOR_MAX 64 /* block positions remembered (deeper: walked again) */
+
+/* Finds function k's block by walking the blocks before it (their heads
+ * only), remembering the positions it passes. */
+typedef struct cursor {
+    const float *ent;                 /* the minima                        */
+    const unsigned char *first, *end; /* the first block, the record's end */
+    const unsigned char *next;        /* the block of function n (walked)  */
+    uint32_t n;
+    const unsigned char *at[CURSOR_MAX];
+} cursor;
+
+static inline void cursor_init(const gs_db *db, uint32_t x, uint32_t nf, cursor *c)
 {
-    return gather_t(db, ex, ey, stride, 0, top, c, rest);
+    const unsigned char *p = gs__db_record(db, x, &c->end);
+    c->ent = (const float *)(const void *)p; /* records start 8-aligned */
+    c->first = c->next = p + 4 * (size_t)nf;
+    c->n = 0;
 }
 
-/* the cache's entries (floats) */
-static uint32_t gather_cached(const gs_db *db, const float *ex, const float *ey, uint32_t top, candidate *c,
-                              uint32_t *rest)
+/* The size of the block at p (0: malformed, or past the record's end). */
+static inline uint32_t block_bytes(const unsigned char *p, const unsigned char *end)
 {
-    return gather_t(db, (const char *)ex, (const char *)ey, sizeof(float), 1, top, c, rest);
+    gs_db_fblock b;
+    return gs__db_fblock_parse(p, (uint64_t)(end - p), &b) ? b.bytes : 0;
 }
 
-/* ---- with the query cache (src/query/grid.c) ---- */
-
-/* A vertex's view of the query cache (src/db/db_internal.h): its slot s
- * (header, the shallow curves' entries and records), its block b (all
- * entries, the other records), nf and ns. */
-typedef struct qview {
-    const double *s, *b;
-    uint32_t nf, ns;
-} qview;
-
-static inline const double *slot_of(const gs_db *db, uint32_t x)
+/* Function k's block (k reachable: its minimum finite), NULL if the walk
+ * meets a malformed block. */
+static const unsigned char *cursor_block(cursor *c, uint32_t k)
 {
-    return db->qroot + (size_t)x * db->qslot;
+    if (k < c->n) return c->at[k];
+    const unsigned char *p = c->next;
+    uint32_t i = c->n;
+    if (k >= CURSOR_MAX && c->n >= CURSOR_MAX) { /* deep: from the last remembered */
+        p = c->at[CURSOR_MAX - 1], i = CURSOR_MAX - 1;
+        if (c->ent[i] != INFINITY) {
+            uint32_t b = block_bytes(p, c->end);
+            if (!b) return NULL;
+            p += b;
+        }
+        ++i;
+    }
+    for (; i < k; ++i) {
+        if (i < CURSOR_MAX) c->at[i] = p;
+        if (c->ent[i] == INFINITY) continue; /* unreachable: no block */
+        uint32_t b = block_bytes(p, c->end);
+        if (!b) return NULL;
+        p += b;
+    }
+    if (k < CURSOR_MAX) {
+        c->at[k] = p;
+        if (k + 1 > c->n) {
+            uint32_t b = c->ent[k] == INFINITY ? 0 : block_bytes(p, c->end);
+            if (!b && c->ent[k] != INFINITY) return NULL;
+            c->n = k + 1;
+            c->next = p + b;
+        }
+    }
+    return p;
 }
 
-static inline qview view_of(const gs_db *db, uint32_t x)
+/* A block as a function: coefficients decoded into coef (Chebyshev), the
+ * dip (if stored), the minimum from the entry. Returns 0 if malformed. */
+typedef struct dfun {
+    gs_fun f;
+    gs_fun_dip dip;
+    gs_db_fblock b;
+    double coef[GS_FUN_MAX_DEGREE + 1];
+} dfun;
+
+static int decode(const unsigned char *p, const unsigned char *end, float minval, dfun *d)
 {
-    const double *s = slot_of(db, x);
-    const gs_qvert *h = (const gs_qvert *)s;
-    qview v = {s, db->qbuf + h->start, h->nf, db->qlev ? h->ns : 0};
-    return v;
+    if (!p || !gs__db_fblock_parse(p, (uint64_t)(end - p), &d->b)) return 0;
+    const gs_db_fblock *b = &d->b;
+    d->f.kind = b->sampled ? GS_FUN_SAMPLED : GS_FUN_CHEBYSHEV;
+    d->f.degree = b->degree;
+    d->f.squared = b->squared;
+    d->f.closed = b->closed;
+    d->f.shift = b->shift;
+    d->f.minval = minval;
+    d->f.coef = d->coef;
+    d->dip.u = d->dip.lo = d->dip.hi = NAN;
+    d->dip.slope = 0.0;
+    d->dip.seam = NAN;
+    d->dip.seam_cell = GS_FUN_NO_CELL;
+    if (b->has_dip) {
+        d->dip.u = b->dip[0];
+        d->dip.lo = d->dip.u + b->dip[1];
+        d->dip.hi = d->dip.u + b->dip[2];
+        d->dip.slope = b->dip[3];
+    }
+    return b->sampled || gs__db_fblock_coef(b, d->coef);
 }
 
-/* The record of function k (curve c) of a vertex: in the slot for the
- * shallow curves, else in the block. */
-static inline const double *record_of(const gs_db *db, const qview *v, uint32_t k, uint32_t c)
+/* A sampled block's value at u (piecewise linear, as gs_fun_value). */
+static double sampled_at(const gs_db_fblock *b, double u)
 {
-    return k < v->ns ? v->s + gs__qrec_in_slot(db, c) : v->b + gs__qrec_in_block(db, v->nf, c);
+    uint32_t n = b->degree + 1, k, k1;
+    double x;
+    if (b->closed) {
+        x = (gs_fun_wrap(u) + 1.0) * 0.5 * n;
+        k = x >= n ? n - 1 : (uint32_t)x;
+        k1 = k + 1 == n ? 0 : k + 1;
+    } else {
+        u = u < -1.0 ? -1.0 : (u > 1.0 ? 1.0 : u);
+        x = (u + 1.0) * 0.5 * (n - 1);
+        k = x >= n - 1 ? n - 2 : (uint32_t)x;
+        k1 = k + 1;
+    }
+    double a = gs__ldf(b->coef + 4 * (size_t)k), c = gs__ldf(b->coef + 4 * (size_t)k1);
+    return a + (x - k) * (c - a);
 }
 
-/* The function of a record (reachable: minval finite); g its grid. */
-static inline void cached_fun(const double *rec, uint32_t g, gs_fun *f)
+static double dfun_at(const dfun *d, double u)
 {
-    uint32_t m = gs__qrec_meta(rec);
-    f->kind = GS_META_KIND(m);
-    f->degree = GS_META_DEGREE(m);
-    f->squared = GS_META_SQUARED(m);
-    f->closed = GS_META_CLOSED(m);
-    f->minval = rec[5];
-    f->shift = rec[0];
-    f->coef = gs__qrec_coef(rec, g);
+    return d->b.sampled ? sampled_at(&d->b, u) : gs_fun_value(&d->f, u);
+}
+
+static double sample_u(const gs_db_fblock *b, uint32_t k)
+{
+    uint32_t n = b->degree + 1;
+    return b->closed ? -1.0 + 2.0 * k / n : -1.0 + 2.0 * k / (n - 1);
+}
+
+/* SEPsam: every sample of either function (exact for two of them: a
+ * piecewise-linear sum is minimal at a breakpoint); a mix with a Chebyshev
+ * function (not written by geosep) adds a uniform scan of 513 points. */
+static double sampled_pair(const dfun *a, const dfun *b)
+{
+    double best = INFINITY;
+    const dfun *f[2] = {a, b};
+    for (int i = 0; i < 2; i++)
+        for (uint32_t k = 0; f[i]->b.sampled && k <= f[i]->b.degree; k++) {
+            double u = sample_u(&f[i]->b, k), v = dfun_at(a, u) + dfun_at(b, u);
+            best = v < best ? v : best;
+        }
+    for (int k = 0; k <= 512 && a->b.sampled != b->b.sampled; k++) {
+        double u = -1.0 + k / 256.0, v = dfun_at(a, u) + dfun_at(b, u);
+        best = v < best ? v : best;
+    }
+    return best;
+}
+
+/* min over curve c of f_x + f_y (function k of both; x < y: the order of
+ * the two functions makes d(x,y) == d(y,x) bit for bit). NaN: malformed. */
+static double pair_min(const gs_db *db, cursor *cx, cursor *cy, uint32_t k, uint32_t c)
+{
+    dfun a, b;
+    if (!decode(cursor_block(cx, k), cx->end, cx->ent[k], &a) || !decode(cursor_block(cy, k), cy->end, cy->ent[k], &b))
+        return NAN;
+    if (a.b.sampled || b.b.sampled) return sampled_pair(&a, &b);
+    uint32_t d1 = db->curves[c].degree1;
+    if (!d1) return gs_fun_pair_min(&a.f, &b.f, NULL);
+    uint32_t g = gs_fun_grid_points(d1 - 1);
+    float va[GS_FUN_GRID_MAX + 8], vb[GS_FUN_GRID_MAX + 8];
+    gs__grid_values(&a.f, g, va);
+    gs__grid_values(&b.f, g, vb);
+    return gs_fun_pair_min_grid(&a.f, &b.f, va, vb, g, &a.dip, &b.dip, NULL);
 }
 
 /* The prefetch helpers are always inlined: GCC counts __builtin_prefetch
@@ -169,112 +261,38 @@ static PREFETCH_FN void prefetch_lines(const void *p, size_t bytes)
     __builtin_prefetch(e);
 }
 
-/* Start fetching the record of curve c (not a shallow one: those come
- * with the slot) in a vertex's block: all its lines (head, grid and
- * coefficients), so that the coefficients arrive while the grid is
- * scanned. */
-static PREFETCH_FN void prefetch_record(const gs_db *db, const qview *v, uint32_t c)
+/* The first lines of x's record: the minima and the first blocks (the
+ * root's curves, which hold most random pairs' minimum). */
+#define RECORD_AHEAD 192
+
+static PREFETCH_FN void prefetch_record(const gs_db *db, uint32_t x)
 {
-    /* small caches (qlev 0) keep every record in the block: no need to look
-     * up the curve's depth */
-    if (!db->qlev || db->nodes[db->curves[c].node].depth >= db->qlev)
-        prefetch_lines(v->b + gs__qrec_in_block(db, v->nf, c), 8 * (size_t)db->qclen[c]);
+    const unsigned char *end, *p = gs__db_record(db, x, &end);
+    size_t n = (size_t)(end - p);
+    prefetch_lines(p, n < RECORD_AHEAD ? n : RECORD_AHEAD);
 }
 
-/* min over curve c (function k) of f_x + f_y; x < y (the order of the two
- * functions makes d(x,y) == d(y,x) bit for bit). */
-static double cached_pair(const gs_db *db, const qview *vx, const qview *vy, uint32_t k, uint32_t c)
+/* eq. 4-5 with the quick reject, x < y. */
+static double cross(const gs_db *db, uint32_t x, uint32_t y, uint32_t top, uint32_t nfx, uint32_t nfy)
 {
-    gs_fun fx, fy;
-    const double *rx = record_of(db, vx, k, c), *ry = record_of(db, vy, k, c);
-    uint32_t g = db->qgrid[c];
-    cached_fun(rx, g, &fx), cached_fun(ry, g, &fy);
-    if (!g) return gs_fun_pair_min(&fx, &fy, NULL);
-    gs_fun_dip dx, dy;
-    gs__qrec_dip(rx, &dx);
-    gs__qrec_dip(ry, &dy);
-    gs_fun_grid gx = gs__qrec_values(rx), gy = gs__qrec_values(ry);
-    return gs_fun_pair_min_grid(&fx, &fy, &gx, &gy, g, &dx, &dy, NULL);
-}
-
-/* Start fetching what cross_cached reads beyond the slots' heads: the rest
- * of the slots (top below the root) and, for a top at least qlev deep, the
- * entries gather reads and the records of top's first curves, which hold
- * the minimum most often (they come while the entries arrive). Returns
- * whether top is that deep (its curves' entries are in the blocks). */
-static PREFETCH_FN int prefetch_cross(const gs_db *db, const qview *vx, const qview *vy, uint32_t top)
-{
-    int deep = db->nodes[top].depth >= db->qlev;
-    if (db->nodes[top].depth && db->qslot0 < db->qslot) /* below the root: the rest of the slots */
-        prefetch_lines(vx->s + db->qslot0, 8 * (size_t)(db->qslot - db->qslot0)),
-            prefetch_lines(vy->s + db->qslot0, 8 * (size_t)(db->qslot - db->qslot0));
-    if (deep) { /* the entries of top's curves and its ancestors' */
-        size_t ne = sizeof(float) * ((size_t)db->nodes[top].curve_prefix + db->nodes[top].n_curves);
-        prefetch_lines(vx->b, ne), prefetch_lines(vy->b, ne);
-    }
-    for (uint32_t j = 0; deep && j < db->nodes[top].n_curves && j < 2; ++j) {
-        uint32_t c = db->nodes[top].curve_start + j;
-        prefetch_record(db, vx, c), prefetch_record(db, vy, c);
-    }
-    return deep;
-}
-
-/* eq. 4-5 with the quick reject, x < y. When the lowest common ancestor
- * is shallower than db->qlev, the slots hold all that is needed. */
-static double cross_cached(const gs_db *db, uint32_t x, uint32_t y, uint32_t top)
-{
-    qview vx = view_of(db, x), vy = view_of(db, y);
-    int deep = prefetch_cross(db, &vx, &vy, top);
-    const float *ex = (const float *)(deep ? vx.b : vx.s + GS_QSLOT_HEAD);
-    const float *ey = (const float *)(deep ? vy.b : vy.s + GS_QSLOT_HEAD);
+    cursor cx, cy;
+    cursor_init(db, x, nfx, &cx);
+    cursor_init(db, y, nfy, &cy);
     candidate c[MAX_CANDIDATES];
-    uint32_t rest, n = gather_cached(db, ex, ey, top, c, &rest);
-    if (n && db->curves[c[0].curve].node != top) prefetch_record(db, &vx, c[0].curve), prefetch_record(db, &vy, c[0].curve);
+    uint32_t rest, n = gather(db, cx.ent, cy.ent, top, c, &rest);
     double best = INFINITY;
     for (uint32_t i = 0; i < n; ++i) {
         if (c[i].bound >= best) break; /* sorted: all others rejected too (and unreachable) */
-        if (i + 1 < n) prefetch_record(db, &vx, c[i + 1].curve), prefetch_record(db, &vy, c[i + 1].curve);
-        double d = cached_pair(db, &vx, &vy, c[i].k, c[i].curve);
+        double d = pair_min(db, &cx, &cy, c[i].k, c[i].curve);
+        if (d != d) return NAN;
         if (d < best) best = d;
     }
     for (uint32_t a = rest; a != GS_NONE; a = db->nodes[a].parent) { /* > 64 curves: rare */
         uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
         for (uint32_t k = k0; k < k1; ++k) {
-            if ((double)ex[k] + (double)ey[k] >= best) continue;
-            double d = cached_pair(db, &vx, &vy, k, db->nodes[a].curve_start + (k - k0));
-            if (d < best) best = d;
-        }
-    }
-    return best;
-}
-
-/* ---- without it (absurdly deep trees): the file's sections ---- */
-
-static double file_pair(const gs_db *db, uint32_t x, uint32_t y, uint32_t k)
-{
-    gs_fun fx, fy;
-    gs__db_fun(db, x, k, &fx);
-    gs__db_fun(db, y, k, &fy);
-    return gs_fun_pair_min(&fx, &fy, NULL);
-}
-
-static double cross_file(const gs_db *db, uint32_t x, uint32_t y, uint32_t top)
-{
-    const gs_db_fentry *ex = db->funs + db->vdir[x].first_function;
-    const gs_db_fentry *ey = db->funs + db->vdir[y].first_function;
-    candidate c[MAX_CANDIDATES];
-    uint32_t rest, n = gather(db, (const char *)ex, (const char *)ey, sizeof *ex, top, c, &rest);
-    double best = INFINITY;
-    for (uint32_t i = 0; i < n; ++i) {
-        if (c[i].bound >= best) break;
-        double d = file_pair(db, x, y, c[i].k);
-        if (d < best) best = d;
-    }
-    for (uint32_t a = rest; a != GS_NONE; a = db->nodes[a].parent) {
-        uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
-        for (uint32_t k = k0; k < k1; ++k) {
-            if (ex[k].minval + ey[k].minval >= best) continue;
-            double d = file_pair(db, x, y, k);
+            if ((double)cx.ent[k] + (double)cy.ent[k] >= best) continue;
+            double d = pair_min(db, &cx, &cy, k, db->nodes[a].curve_start + (k - k0));
+            if (d != d) return NAN;
             if (d < best) best = d;
         }
     }
@@ -283,83 +301,47 @@ static double cross_file(const gs_db *db, uint32_t x, uint32_t y, uint32_t top)
 
 /* Cross-leaf distance of x != y (any order), top their leaves' lowest common
  * ancestor: the two go in vertex-id order so that d(x,y) == d(y,x). */
-static double cross_leaf(const gs_db *db, uint32_t x, uint32_t y, uint32_t top)
+static double cross_leaf(const gs_db *db, uint32_t x, uint32_t y, uint32_t lx, uint32_t ly, uint32_t top)
 {
-    uint32_t lo = x < y ? x : y, hi = x < y ? y : x;
-    double d = db->qbuf ? cross_cached(db, lo, hi, top) : cross_file(db, lo, hi, top);
-    return at_least_euclidean(db, x, y, d);
-}
-
-/* With the query cache: start fetching the heads of x's and y's slots (their
- * addresses need no lookup) and, for small caches, the coordinates. */
-static PREFETCH_FN void prefetch_slots(const gs_db *db, uint32_t x, uint32_t y)
-{
-    prefetch_lines(slot_of(db, x), 8 * (size_t)db->qslot0), prefetch_lines(slot_of(db, y), 8 * (size_t)db->qslot0);
-    if (!db->qlev) __builtin_prefetch(db->xyz + 3 * (size_t)x), __builtin_prefetch(db->xyz + 3 * (size_t)y);
-}
-
-/* The batch's first stage: the first line of x's and y's slots, their
- * headers (nothing for an out-of-range id). */
-static PREFETCH_FN void prefetch_headers(const gs_db *db, uint32_t x, uint32_t y)
-{
-    if (x < db->nv && y < db->nv) __builtin_prefetch(slot_of(db, x)), __builtin_prefetch(slot_of(db, y));
-}
-
-/* Header-only slots (qlev 0), different leaves: start fetching the blocks'
- * entries and root records. */
-static PREFETCH_FN void prefetch_blocks(const gs_db *db, const gs_qvert *hx, const gs_qvert *hy)
-{
-    prefetch_lines(db->qbuf + hx->start, 8 * (gs__qent_doubles(hx->nf) + db->qhead));
-    prefetch_lines(db->qbuf + hy->start, 8 * (gs__qent_doubles(hy->nf) + db->qhead));
-}
-
-static inline uint32_t lca_cached(const gs_db *db, const gs_qvert *hx, const gs_qvert *hy)
-{
-    return db->qlev ? lca_of_slots(db, hx, hy) : lowest_common_ancestor(db->nodes, hx->leaf, hy->leaf);
+    uint32_t nfx = db->nodes[lx].curve_prefix, nfy = db->nodes[ly].curve_prefix;
+    double d = x < y ? cross(db, x, y, top, nfx, nfy) : cross(db, y, x, top, nfy, nfx);
+    return d != d ? d : at_least_euclidean(db, x, y, d);
 }
 
 double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y)
 {
     if (!db || x >= db->nv || y >= db->nv) return NAN;
     if (x == y) return 0.0;
-    if (!db->qbuf) {
-        uint32_t lx = db->leaf[x], ly = db->leaf[y];
-        if (lx == GS_NONE || ly == GS_NONE) return INFINITY;
-        if (lx == ly) return same_leaf(db, lx, x, y);
-        return cross_leaf(db, x, y, lowest_common_ancestor(db->nodes, lx, ly));
-    }
-    prefetch_slots(db, x, y);
-    const gs_qvert *hx = (const gs_qvert *)slot_of(db, x), *hy = (const gs_qvert *)slot_of(db, y);
-    uint32_t lx = hx->leaf, ly = hy->leaf;
+    uint32_t lx = db->leaf[x], ly = db->leaf[y];
     if (lx == GS_NONE || ly == GS_NONE) return INFINITY;
     if (lx == ly) return same_leaf(db, lx, x, y);
-    if (!db->qlev) prefetch_blocks(db, hx, hy);
-    return cross_leaf(db, x, y, lca_cached(db, hx, hy));
+    prefetch_record(db, x), prefetch_record(db, y);
+    __builtin_prefetch(db->xyz + 3 * (size_t)x), __builtin_prefetch(db->xyz + 3 * (size_t)y);
+    return cross_leaf(db, x, y, lx, ly, lowest_common_ancestor(db->nodes, lx, ly));
 }
 
-/* The batch's second stage for a pair whose slot headers were requested
- * earlier: the rest of the slot heads and, from the headers (there by now,
- * most often), what its query will read next (gs_db_distance's and
- * cross_cached's prefetches, done ahead). */
+/* Pipeline of the batch: while pair i is answered, the leaves and index
+ * entries of pair i + 2 BATCH_AHEAD are requested, and the records and
+ * positions of pair i + BATCH_AHEAD (their addresses known by then, most
+ * often): a batch waits for memory in parallel over several pairs, where a
+ * single query waits for its misses one after the other. The answers are
+ * gs_db_distance's, bit for bit (only prefetches are added). */
+enum { BATCH_AHEAD = 4 };
+
+static PREFETCH_FN void prefetch_ids(const gs_db *db, uint32_t x, uint32_t y)
+{
+    if (x >= db->nv || y >= db->nv) return;
+    __builtin_prefetch(db->leaf + x), __builtin_prefetch(db->leaf + y);
+    __builtin_prefetch(db->index + x), __builtin_prefetch(db->index + y);
+}
+
 static PREFETCH_FN void prefetch_pair(const gs_db *db, uint32_t x, uint32_t y)
 {
     if (x >= db->nv || y >= db->nv || x == y) return;
-    prefetch_slots(db, x, y);
-    const gs_qvert *hx = (const gs_qvert *)slot_of(db, x), *hy = (const gs_qvert *)slot_of(db, y);
-    if (hx->leaf == GS_NONE || hy->leaf == GS_NONE || hx->leaf == hy->leaf) return;
-    if (!db->qlev) prefetch_blocks(db, hx, hy);
-    qview vx = view_of(db, x), vy = view_of(db, y);
-    prefetch_cross(db, &vx, &vy, lca_cached(db, hx, hy));
+    __builtin_prefetch(db->xyz + 3 * (size_t)x), __builtin_prefetch(db->xyz + 3 * (size_t)y);
+    if (db->leaf[x] == db->leaf[y]) return;
+    prefetch_record(db, x), prefetch_record(db, y);
 }
-
-/* Pipeline of the batch: while pair i is answered, the slot headers (one
- * line each) of pair i + 2 BATCH_AHEAD are requested, and pair i +
- * BATCH_AHEAD's second stage (prefetch_pair) runs: so a batch waits for
- * memory in parallel over several pairs, where a single query waits for
- * its misses one after the other. Requesting whole slot heads at the first
- * stage was slower (homer-960k: too many lines in flight at once). The
- * answers are gs_db_distance's, bit for bit (only prefetches are added). */
-enum { BATCH_AHEAD = 4 };
 
 /* Out-of-range ids give NaN in out[] and GS_EARG naming the first one; the
  * other pairs are still answered. */
@@ -368,12 +350,10 @@ int gs_db_distances(const gs_db *db, const uint32_t *pairs, size_t n, double *ou
     if (!db || (n && (!pairs || !out))) return gs__fail(err, GS_EARG, "gs_db_distances: NULL argument");
     size_t bad = SIZE_MAX;
     const size_t a = BATCH_AHEAD;
-    for (size_t i = 0; db->qbuf && i < 2 * a && i < n; ++i) prefetch_headers(db, pairs[2 * i], pairs[2 * i + 1]);
+    for (size_t i = 0; i < 2 * a && i < n; ++i) prefetch_ids(db, pairs[2 * i], pairs[2 * i + 1]);
     for (size_t i = 0; i < n; ++i) {
-        if (db->qbuf) {
-            if (i + 2 * a < n) prefetch_headers(db, pairs[2 * (i + 2 * a)], pairs[2 * (i + 2 * a) + 1]);
-            if (i + a < n) prefetch_pair(db, pairs[2 * (i + a)], pairs[2 * (i + a) + 1]);
-        }
+        if (i + 2 * a < n) prefetch_ids(db, pairs[2 * (i + 2 * a)], pairs[2 * (i + 2 * a) + 1]);
+        if (i + a < n) prefetch_pair(db, pairs[2 * (i + a)], pairs[2 * (i + a) + 1]);
         out[i] = gs_db_distance(db, pairs[2 * i], pairs[2 * i + 1]);
         if (bad == SIZE_MAX && (pairs[2 * i] >= db->nv || pairs[2 * i + 1] >= db->nv)) bad = i;
     }
@@ -396,7 +376,7 @@ static double field_cross(const field_ctx *c, uint32_t y, uint32_t ly)
     const gs_db *db = c->db;
     uint32_t a = ly;
     while (db->nodes[a].depth > c->depth_x || c->anc[db->nodes[a].depth] != a) a = db->nodes[a].parent;
-    return cross_leaf(db, c->x, y, a);
+    return cross_leaf(db, c->x, y, c->lx, ly, a);
 }
 
 static void field_fast(field_ctx *c, double *out)

@@ -12,10 +12,23 @@
 int gs_test_failures = 0;
 int gs_test_checks = 0;
 
+/* The first shared file a test looked for and did not find, and how many. */
+static char g_missing[4096];
+static int g_n_missing;
+
 int gs_test_finish(const char *name)
 {
     printf("%s: %d checks, %d failed\n", name, gs_test_checks, gs_test_failures);
-    return gs_test_failures ? 1 : 0;
+    if (gs_test_failures) return 1;
+    if (g_n_missing) {
+        /* not a pass: the parts that need the data did not run */
+        printf("SKIP: %s: shared data not found (%s%s; set GEOSEP_SHARED or the GEOSEP_SHARED_DIR CMake "
+               "cache variable): the checks that need it did not run, the %d others passed\n",
+               name, g_missing, g_n_missing > 1 ? " and others" : "", gs_test_checks);
+        fflush(stdout);
+        return 77;
+    }
+    return 0;
 }
 
 void gs_test_skip(const char *reason)
@@ -35,7 +48,9 @@ const char *gs_test_shared_path(const char *relative)
     const char *base = getenv("GEOSEP_SHARED");
     if (!base || !*base) base = GEOSEP_SHARED_DIR;
     snprintf(buf, sizeof buf, "%s/%s", base, relative);
-    return access(buf, R_OK) == 0 ? buf : NULL;
+    if (access(buf, R_OK) == 0) return buf;
+    if (!g_n_missing++) snprintf(g_missing, sizeof g_missing, "%s", buf);
+    return NULL;
 }
 
 int gs_test_shared_pair(const char *name, char *obj, char *gt, size_t n)

@@ -35,14 +35,17 @@ extern int gs_test_checks;
     CHECK_MSG(fabs((double)(a) - (double)(b)) <= (tol), "%.17g vs %.17g (tol %g)",     \
               (double)(a), (double)(b), (double)(tol))
 
-/* Print a summary line and return the process exit code. */
+/* Print a summary line and return the process exit code: 1 if a check
+ * failed, else 77 (ctest: skipped, never passed) if a shared file the test
+ * looked for (gs_test_shared_*) was missing, else 0. */
 int gs_test_finish(const char *name);
 
 /* Print the reason and exit 77 (ctest: skipped). */
 void gs_test_skip(const char *reason);
 
 /* Path of a file under the shared data folder (GEOSEP_SHARED env var, else
- * the CMake default). Returns NULL if the file does not exist. Static buffer. */
+ * the CMake default). Returns NULL if the file does not exist, and then
+ * gs_test_finish reports the test as skipped. Static buffer. */
 const char *gs_test_shared_path(const char *relative);
 
 /* Paths of a shared mesh and its ground truth (meshes/NAME.obj and

@@ -1,0 +1,257 @@
+/* format.h - the on-disk layout of a geosep database, format version 3
+ * (doc/database-format.md): constants, header offsets, section ids and
+ * sizes, the checksum, and the encoding of a separator distance function's
+ * block (paper sec. 3.1 items 2-3, stored compactly). Shared by the writer
+ * (db_write.c), the reader (db_read.c) and the query (src/query/), which
+ * decodes blocks in place. Internal. */
+#ifndef GS_DB_FORMAT_H
+#define GS_DB_FORMAT_H
+
+#include "../core/internal.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#define GS__DB_MAGIC "GSEPDB\0\0"
+#define GS__DB_VERSION 3u
+#define GS__DB_ENDIAN_TAG 0x0A0B0C0Du
+#define GS__DB_HEADER_BYTES 160u
+#define GS__DB_CHECKSUM_AT 152u /* header_checksum: the header's last field */
+#define GS__DB_ENTRY_BYTES 32u
+#define GS__DB_FLAG_LEAF_EXACT 1u
+#define GS__DB_BUILD_VERTEX_SOURCES 1u
+#define GS__DB_BUILD_SAMPLED 2u
+/* bits 2-3: gs_solver_options.heat_refine */
+#define GS__DB_BUILD_HEAT_REFINE_SHIFT 2
+#define GS__DB_BUILD_HEAT_REFINE_MASK (3u << GS__DB_BUILD_HEAT_REFINE_SHIFT)
+_Static_assert(GS_HEAT_REFINE_MAX <= 3, "heat_refine must fit build_flags bits 2-3");
+#define GS__DB_MAX_SAMPLED 65535u
+#define GS__DB_MAX_SHIFT 2.0
+/* Records are addressed in 8-byte units by a u32: at most 32 GiB of them. */
+#define GS__DB_MAX_RECORDS_BYTES ((uint64_t)UINT32_MAX * 8u)
+
+/* Header field offsets (doc: "Header"). */
+enum {
+    GS__H_VERSION = 8,
+    GS__H_ENDIAN = 12,
+    GS__H_FLAGS = 16,
+    GS__H_HEADER_BYTES = 20,
+    GS__H_FILE_BYTES = 24,
+    GS__H_NV = 32,
+    GS__H_NODES = 36,
+    GS__H_CURVES = 40,
+    GS__H_LEAVES = 44,
+    GS__H_FUNCTIONS = 48,
+    GS__H_RECORDS_BYTES = 56,
+    GS__H_SECTIONS = 64,
+    GS__H_MAX_DEPTH = 68,
+    GS__H_AVG_DEPTH = 72,
+    GS__H_METHOD = 80,
+    GS__H_VMAX = 84,
+    GS__H_MMAX = 88,
+    GS__H_BUILD_FLAGS = 92,
+    GS__H_TOL = 96,
+    GS__H_LEAF_ENTRIES = 104,
+    GS__H_COST = 112,
+    GS__H_SPACING = 120,
+    GS__H_SEED = 128,
+    GS__H_MAX_SAMPLES = 132,
+    GS__H_HEAT_TIME = 136,
+    GS__H_FMM_START = 144
+};
+
+enum {
+    GS__SEC_POSITIONS = 1,
+    GS__SEC_LEAVES,
+    GS__SEC_NODES,
+    GS__SEC_CURVES,
+    GS__SEC_INDEX,
+    GS__SEC_RECORDS,
+    GS__SEC_LEAF_VSTART,
+    GS__SEC_LEAF_LOCAL,
+    GS__SEC_LEAF_DSTART,
+    GS__SEC_LEAF_DIST,
+    GS__SEC_COUNT_BASE = 6,
+    GS__SEC_COUNT_FULL = 10
+};
+
+/* Section names for messages, by id (0 unused). */
+extern const char *const gs__db_section_name[GS__SEC_COUNT_FULL + 1];
+
+/* A node of the bisection tree (section 'nodes', 20 bytes, in place). */
+typedef struct gs_db_node {
+    uint32_t parent;       /* GS_NONE for the root (node 0)                 */
+    uint32_t depth;
+    uint32_t curve_start;  /* its separator's curves: [start, start+n)      */
+    uint32_t n_curves;
+    uint32_t curve_prefix; /* curves of all proper ancestors                */
+} gs_db_node;
+
+/* A curve (section 'curves', 24 bytes, in place). */
+typedef struct gs_db_disk_curve {
+    uint32_t node, closed, n_samples;
+    uint32_t degree1; /* 1 + the highest degree of its Chebyshev functions */
+                      /*   (0: none reachable, or sampled): the query's    */
+                      /*   grid for the curve (gs_fun_grid_points)         */
+    double length;
+} gs_db_disk_curve;
+
+/* ---- a function's block (doc: "Records") --------------------------------
+ * byte 0   meta: bits 0-4 degree code (0..24 Chebyshev degree; 31 sampled),
+ *          bit 5 squared, bit 6 closed, bit 7 dip
+ * byte 1   e: int16 coefficients c_k = q_k * 2^e (-126 <= e <= 120), or
+ *          GS__FB_F32 (-128): float32 coefficients
+ * then     u16 m (sampled only: m+1 values, 1 <= m <= 65535)
+ *          f32 shift (closed only; |shift| <= 2)
+ *          4 x f32 dip: u, lo - u, hi - u, slope (bit 7 only)
+ *          the m+1 coefficients (or values): int16 or float32
+ * Blocks are packed byte after byte (no alignment). */
+#define GS__FB_DEG_MASK 0x1Fu
+#define GS__FB_SAMPLED 31u
+#define GS__FB_SQUARED 0x20u
+#define GS__FB_CLOSED 0x40u
+#define GS__FB_DIP 0x80u
+#define GS__FB_F32 (-128)
+#define GS__FB_EXP_MIN (-126)
+#define GS__FB_EXP_MAX 120
+
+/* A decoded block: what the query needs of one function. */
+typedef struct gs_db_fblock {
+    uint32_t degree, sampled, squared, closed, f32;
+    int e;
+    double shift;
+    float dip[4];      /* valid when has_dip                              */
+    int has_dip;
+    const unsigned char *coef; /* the raw coefficients                   */
+    uint32_t bytes;    /* the whole block's size                          */
+} gs_db_fblock;
+
+static inline float gs__ldf(const unsigned char *p)
+{
+    float v;
+    memcpy(&v, p, 4);
+    return v;
+}
+
+/* Decode the block at p with `avail` bytes left in its record. Returns 0
+ * when the block is malformed or runs past the record (the caller then
+ * answers NaN: never reads outside the record). Reads only the header
+ * fields; the coefficients stay at b->coef. */
+static inline int gs__db_fblock_parse(const unsigned char *p, uint64_t avail, gs_db_fblock *b)
+{
+    if (avail < 2) return 0;
+    uint32_t meta = p[0];
+    int e = (int)(signed char)p[1];
+    uint32_t code = meta & GS__FB_DEG_MASK, n = 2;
+    b->sampled = code == GS__FB_SAMPLED;
+    b->squared = (meta & GS__FB_SQUARED) != 0;
+    b->closed = (meta & GS__FB_CLOSED) != 0;
+    b->has_dip = (meta & GS__FB_DIP) != 0;
+    b->f32 = e == GS__FB_F32;
+    b->e = e;
+    if (b->sampled) {
+        uint16_t m;
+        if (avail < 4) return 0;
+        memcpy(&m, p + 2, 2);
+        if (m < 1 || !b->f32) return 0;
+        b->degree = m;
+        n = 4;
+    } else {
+        if (code > 24) return 0;
+        b->degree = code;
+    }
+    b->shift = 0.0;
+    if (b->closed) {
+        if (avail < n + 4) return 0;
+        float s = gs__ldf(p + n);
+        if (!(fabsf(s) <= (float)GS__DB_MAX_SHIFT)) return 0;
+        b->shift = s;
+        n += 4;
+    }
+    if (b->has_dip) {
+        if (avail < n + 16) return 0;
+        memcpy(b->dip, p + n, 16);
+        n += 16;
+    }
+    uint64_t cb = (uint64_t)(b->degree + 1) * (b->f32 ? 4u : 2u);
+    if (avail < n + cb) return 0;
+    b->coef = p + n;
+    b->bytes = (uint32_t)(n + cb);
+    return 1;
+}
+
+/* The m+1 coefficients of a parsed block as doubles; 0 if a float32 one
+ * is not finite or beyond 1e30 (a corrupt file: the caller answers NaN). */
+static inline int gs__db_fblock_coef(const gs_db_fblock *b, double *c)
+{
+    uint32_t n = b->degree + 1;
+    if (b->f32) {
+        for (uint32_t k = 0; k < n; ++k) {
+            float v = gs__ldf(b->coef + 4 * (size_t)k);
+            if (!(fabsf(v) <= 1e30f)) return 0;
+            c[k] = v;
+        }
+        return 1;
+    }
+    if (b->e < GS__FB_EXP_MIN || b->e > GS__FB_EXP_MAX) return 0;
+    double s = ldexp(1.0, b->e);
+    for (uint32_t k = 0; k < n; ++k) {
+        int16_t q;
+        memcpy(&q, b->coef + 2 * (size_t)k, 2);
+        c[k] = q * s;
+    }
+    return 1;
+}
+
+/* Sizes in bytes of sections 1..10 (size[0] unused) from the header
+ * counts; tables: leaf exact tables present (else size[7..10] = 0).
+ * Returns 0 if a size would exceed 2^62. */
+int gs__db_layout(uint32_t nv, uint32_t n_nodes, uint32_t n_curves, uint64_t records_bytes,
+                  uint64_t leaf_entries, int tables, uint64_t size[GS__SEC_COUNT_FULL + 1]);
+
+/* The format's 64-bit checksum (doc "Checksum") of a then b (b may be NULL
+ * with nb == 0). */
+uint64_t gs__db_checksum(const void *a, size_t na, const void *b, size_t nb);
+
+/* 1 on little-endian hosts (the only ones that use the format in place). */
+int gs__db_host_little_endian(void);
+
+static inline uint64_t gs__pad8(uint64_t b)
+{
+    return (b + 7) & ~(uint64_t)7;
+}
+
+static inline uint32_t gs__get32(const unsigned char *p)
+{
+    uint32_t v;
+    memcpy(&v, p, 4);
+    return v;
+}
+static inline uint64_t gs__get64(const unsigned char *p)
+{
+    uint64_t v;
+    memcpy(&v, p, 8);
+    return v;
+}
+static inline double gs__getf64(const unsigned char *p)
+{
+    double v;
+    memcpy(&v, p, 8);
+    return v;
+}
+static inline void gs__put32(unsigned char *p, uint32_t v)
+{
+    memcpy(p, &v, 4);
+}
+static inline void gs__put64(unsigned char *p, uint64_t v)
+{
+    memcpy(p, &v, 8);
+}
+static inline void gs__putf64(unsigned char *p, double v)
+{
+    memcpy(p, &v, 8);
+}
+
+#endif

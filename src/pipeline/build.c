@@ -1,0 +1,421 @@
+/* build.c - gs_db_build: the preprocessing pipeline of the paper (sec. 3.1,
+ * 4.1, 4.2): nested bisection tree -> for every separator curve, distance
+ * fields inside its patch from the curve's samples (any gs_method, one
+ * solver per thread) -> per-vertex separator distance functions -> packed
+ * database. Nodes are processed one at a time, root first; work inside a
+ * node is split across threads by samples (fields) and by vertices (fits).
+ * Optionally (leaf_exact) the exact distances between the vertices of each
+ * leaf (the paper's matrix D), computed leaf by leaf in parallel. */
+#include "pipeline.h"
+
+#include "../db/db_content.h"
+#include "../db/db_internal.h"
+#include "../geodesic/geodesic_internal.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+void gs_build_options_default(gs_build_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->method = GS_METHOD_EXACT;
+    o->vmax = 30;
+    o->mmax = 20; /* long top-level curves need more than 12 (paper 4.2) */
+    o->tol = 0.003; /* at the root, looser with depth (gs_fit_tol_at_depth); the certified fits (fit.h) need the slack: 0.002 cost bunny-5k 97 numbers per vertex */
+    o->threads = 0;
+    o->vertex_sources = -1; /* by the method (see geosep.h) */
+    o->sampled = 0;
+    o->leaf_exact = 1; /* same-leaf pairs: Euclidean answers were off by up to 56% (bunny-5k) */
+    o->seed = 1;
+    o->sample_spacing = 0.5;
+    gs_solver_options_default(&o->solver);
+    o->solver.heat_refine = GS_HEAT_REFINE_AUTO;
+    o->max_samples = 192; /* then split into pieces of <= GS_PIPE_PIECE intervals */
+    o->field_memory_mib = 384;
+}
+
+/* Thin every curve of more than cap samples to cap samples, in place: the
+ * samples nearest to cap targets at regular arc length (a path keeps both
+ * ends). A distance function is fitted with degree <= mmax, so a long curve
+ * gains nothing from thousands of samples, while each one costs a field
+ * (or three corner fields) over the whole patch. */
+static void thin_samples(gs_tree *t, uint32_t cap)
+{
+    for (uint32_t c = 0; c < t->n_curves && cap; ++c) {
+        gs_sep_curve *cv = &t->curves[c];
+        uint32_t n = cv->n_samples;
+        if (n <= cap) continue;
+        gs_sep_sample *sm = t->samples + cv->sample_start;
+        double step = cv->length / (cv->closed ? cap : cap - 1);
+        uint32_t prev = 0;
+        for (uint32_t k = 1; k < cap; ++k) {
+            uint32_t i = prev + 1, last = n - (cap - k); /* room for the rest */
+            double target = k * step;
+            while (i < last && fabs(sm[i + 1].s - target) <= fabs(sm[i].s - target)) ++i;
+            if (!cv->closed && k == cap - 1) i = n - 1;
+            sm[k] = sm[i];
+            prev = i;
+        }
+        cv->n_samples = cap;
+    }
+}
+
+/* Longest curve piece, in sample intervals (homer, all pairs: max error 166%
+ * -> 20%, RMSE 0.54% -> 0.21% with pieces of 48; a piece costs each vertex
+ * of its node one more function) */
+#define GS_PIPE_PIECE 48
+
+/* Split every curve of more than `piece` sample intervals into paths of
+ * at most that many (as equal as they can be; consecutive pieces share
+ * their end sample, a loop's last piece ends at its first sample): each
+ * piece is a curve of the same separator, so that every path still
+ * crosses one, and each vertex's function on a short piece is smooth at low
+ * degree where one series over a long curve cannot follow the sharp dip of
+ * a vertex near it. Renumbers the curves, the nodes' curve ranges and
+ * prefixes. GS_ENOMEM leaves the tree as it was. */
+static int split_curves(gs_tree *t, uint32_t piece, gs_error *err)
+{
+    if (!piece) return GS_OK;
+    uint32_t nc = 0, ns = 0;
+    for (uint32_t c = 0; c < t->n_curves; ++c) {
+        const gs_sep_curve *cv = &t->curves[c];
+        uint32_t iv = cv->closed ? cv->n_samples : cv->n_samples - 1;
+        uint32_t k = iv > piece ? (iv + piece - 1) / piece : 1;
+        nc += k;
+        ns += k == 1 ? cv->n_samples : iv + k;
+    }
+    if (nc == t->n_curves) return GS_OK;
+    gs_sep_curve *curves = gs__malloc(nc, sizeof *curves);
+    gs_sep_sample *samples = gs__malloc(ns, sizeof *samples);
+    if (!curves || !samples) {
+        free(curves);
+        free(samples);
+        return gs__fail(err, GS_ENOMEM, "out of memory splitting curves");
+    }
+    uint32_t oc = 0, os = 0;
+    for (uint32_t i = 0; i < t->n_nodes; ++i) {
+        gs_tree_node *nd = &t->nodes[i];
+        uint32_t first = oc;
+        for (uint32_t c = nd->curve_start; c < nd->curve_start + nd->n_curves; ++c) {
+            const gs_sep_curve *cv = &t->curves[c];
+            const gs_sep_sample *sm = t->samples + cv->sample_start;
+            uint32_t n = cv->n_samples, iv = cv->closed ? n : n - 1;
+            uint32_t k = iv > piece ? (iv + piece - 1) / piece : 1;
+            if (k == 1) {
+                curves[oc] = *cv;
+                curves[oc++].sample_start = os;
+                memcpy(samples + os, sm, n * sizeof *samples);
+                os += n;
+                continue;
+            }
+            for (uint32_t q = 0; q < k; ++q) {
+                uint32_t a = (uint32_t)((uint64_t)iv * q / k), b = (uint32_t)((uint64_t)iv * (q + 1) / k);
+                double s0 = sm[a].s;
+                curves[oc] = *cv;
+                curves[oc].closed = 0;
+                curves[oc].sample_start = os;
+                curves[oc].n_samples = b - a + 1;
+                for (uint32_t j = a; j <= b; ++j) {
+                    gs_sep_sample x = sm[j % n];
+                    x.s = (j >= n ? x.s + cv->length : x.s) - s0;
+                    samples[os++] = x;
+                }
+                curves[oc].length = samples[os - 1].s;
+                oc++;
+            }
+        }
+        nd->curve_start = first;
+        nd->n_curves = oc - first;
+    }
+    for (uint32_t i = 0; i < t->n_nodes; ++i) {
+        gs_tree_node *nd = &t->nodes[i];
+        nd->curve_prefix = nd->parent == GS_NONE ? 0
+                                                 : t->nodes[nd->parent].curve_prefix + t->nodes[nd->parent].n_curves;
+    }
+    free(t->curves);
+    free(t->samples);
+    t->curves = curves;
+    t->samples = samples;
+    t->n_curves = nc;
+    t->n_samples = ns;
+    return GS_OK;
+}
+
+void gs__pipe_progress(gs__builder *b, const char *stage, double frac)
+{
+    if (b->opt->progress) b->opt->progress(b->opt->progress_user, stage, frac);
+}
+
+static void tree_progress(void *user, double frac)
+{
+    gs__pipe_progress(user, "tree", frac);
+}
+
+static int assemble(gs__builder *b, const gs__leaf_tables *lt, gs_db **out, gs_error *err)
+{
+    const gs_tree *t = b->tree;
+    gs_db_node *nodes = gs__malloc(t->n_nodes, sizeof *nodes);
+    gs_db_curve *curves = gs__malloc(t->n_curves, sizeof *curves);
+    if (!nodes || !curves) {
+        free(nodes);
+        free(curves);
+        return gs__fail(err, GS_ENOMEM, "out of memory");
+    }
+    for (uint32_t i = 0; i < t->n_nodes; ++i) {
+        const gs_tree_node *n = &t->nodes[i];
+        nodes[i] = (gs_db_node){n->parent, n->depth, n->curve_start, n->n_curves, n->curve_prefix};
+    }
+    for (uint32_t i = 0; i < t->n_curves; ++i) {
+        const gs_sep_curve *c = &t->curves[i];
+        curves[i] = (gs_db_curve){c->node, c->closed, c->n_samples, c->length};
+    }
+    gs_db_content c;
+    memset(&c, 0, sizeof c);
+    c.nv = b->mesh->nv;
+    c.xyz = b->xyz_out;
+    c.n_nodes = t->n_nodes;
+    c.nodes = nodes;
+    c.n_curves = t->n_curves;
+    c.curves = curves;
+    c.leaf = t->leaf_of_vertex;
+    c.fun_start = b->fun_start;
+    c.funs = b->funs;
+    if (lt && lt->dist) {
+        c.leaf_vstart = lt->vstart;
+        c.leaf_verts = lt->verts;
+        c.leaf_dstart = lt->dstart;
+        c.leaf_dist = lt->dist;
+    }
+    c.method = (uint32_t)b->opt->method;
+    c.vmax = b->opt->vmax;
+    c.mmax = b->opt->mmax;
+    c.tol = b->opt->tol;
+    c.vertex_sources = (uint32_t)b->opt->vertex_sources;
+    c.sample_spacing = b->opt->sample_spacing;
+    c.seed = b->opt->seed;
+    c.max_samples = b->opt->max_samples;
+    c.heat_time = b->opt->solver.heat_time;
+    c.fmm_exact_start = b->opt->solver.fmm_exact_start;
+    c.heat_refine = b->opt->solver.heat_refine;
+    c.sampled = (uint32_t)b->opt->sampled;
+    c.avg_depth = t->avg_leaf_depth;
+    c.max_depth = t->max_depth;
+    c.n_leaves = t->n_leaves;
+    int rc = gs__db_pack(&c, out, err);
+    free(nodes);
+    free(curves);
+    return rc;
+}
+
+static int check_options(const gs_build_options *o, gs_error *err)
+{
+    if (!gs_method_name(o->method)) return gs__fail(err, GS_EARG, "unknown method %d", (int)o->method);
+    if (o->vmax < 3) return gs__fail(err, GS_EARG, "vmax %u is too small (>= 3)", o->vmax);
+    if (o->mmax < 2 || o->mmax > GS_FUN_MAX_DEGREE)
+        return gs__fail(err, GS_EARG, "mmax %u out of range [2, %d]", o->mmax, GS_FUN_MAX_DEGREE);
+    if (!(o->tol > 0 && o->tol < 1)) return gs__fail(err, GS_EARG, "tol %g out of range (0, 1)", o->tol);
+    if (!(o->sample_spacing >= 0.01 && o->sample_spacing <= 100))
+        return gs__fail(err, GS_EARG, "sample_spacing %g out of range [0.01, 100]", o->sample_spacing);
+    if (o->max_samples && (o->max_samples < 8 || o->max_samples > (1u << 24)))
+        return gs__fail(err, GS_EARG, "max_samples %u out of range (0 or [8, 2^24])", o->max_samples);
+    if (o->field_memory_mib > (1u << 20))
+        return gs__fail(err, GS_EARG, "field_memory_mib %u is absurd", o->field_memory_mib);
+    if (o->threads > 1024) return gs__fail(err, GS_EARG, "threads %u is absurd", o->threads);
+    if (!(o->solver.heat_time >= GS_HEAT_TIME_MIN && o->solver.heat_time <= GS_HEAT_TIME_MAX))
+        return gs__fail(err, GS_EARG, "solver.heat_time %g out of range [%g, %g]", o->solver.heat_time,
+                        GS_HEAT_TIME_MIN, GS_HEAT_TIME_MAX);
+    if (!(isfinite(o->solver.fmm_exact_start) && o->solver.fmm_exact_start >= 0))
+        return gs__fail(err, GS_EARG, "solver.fmm_exact_start %g must be finite and >= 0", o->solver.fmm_exact_start);
+    if (o->solver.heat_refine > GS_HEAT_REFINE_MAX && o->solver.heat_refine != GS_HEAT_REFINE_AUTO)
+        return gs__fail(err, GS_EARG, "solver.heat_refine %u must be at most %d (or GS_HEAT_REFINE_AUTO)",
+                        o->solver.heat_refine, GS_HEAT_REFINE_MAX);
+    return GS_OK;
+}
+
+static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_options *opt_in, gs_db **out,
+                    gs_build_stats *stats, gs_error *err);
+
+/* A mesh farther from the origin than CENTRE_FAR times its bounding box's
+ * diagonal is built from a copy moved to the origin: the separators'
+ * points are convex combinations of positions, which far from the origin
+ * lose the digits that tell them apart (a flat grid at z = 1e90 failed
+ * with its curve parameters out of order). Geodesic distances do not
+ * change; the database keeps the caller's positions. Nearer meshes are
+ * built as they are (so their files do not change). */
+#define CENTRE_FAR 1e3
+
+int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt_in, gs_db **out,
+                gs_build_stats *stats, gs_error *err)
+{
+    if (!out) return gs__fail(err, GS_EARG, "gs_db_build: out is NULL");
+    *out = NULL;
+    if (!mesh) return gs__fail(err, GS_EARG, "gs_db_build: mesh is NULL");
+    const double *lo = mesh->report.bbox_min, *hi = mesh->report.bbox_max; /* 0 without vertices */
+    double c[3], far = 0.0, diag = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        c[k] = lo[k] + 0.5 * (hi[k] - lo[k]);
+        far = fabs(c[k]) > far ? fabs(c[k]) : far;
+        diag += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    }
+    diag = sqrt(diag);
+    if (!(far > CENTRE_FAR * diag)) return build_db(mesh, mesh->xyz, opt_in, out, stats, err);
+    double *xyz = gs__malloc((size_t)mesh->nv, 3 * sizeof *xyz);
+    if (!xyz) return gs__fail(err, GS_ENOMEM, "gs_db_build: out of memory");
+    for (uint32_t v = 0; v < mesh->nv; ++v)
+        for (int k = 0; k < 3; ++k) xyz[3 * (size_t)v + k] = mesh->xyz[3 * (size_t)v + k] - c[k];
+    gs_mesh *moved = NULL;
+    int rc = gs_mesh_create(xyz, mesh->nv, mesh->tri, mesh->nf, &moved, err);
+    free(xyz);
+    if (rc) return rc;
+    rc = build_db(moved, mesh->xyz, opt_in, out, stats, err);
+    gs_mesh_free(moved);
+    return rc;
+}
+
+static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_options *opt_in, gs_db **out,
+                    gs_build_stats *stats, gs_error *err)
+{
+    gs_build_options defaults;
+    gs_build_options_default(&defaults);
+    gs_build_options resolved = opt_in ? *opt_in : defaults;
+    /* exact fields: sample sources (bunny-5k ME 0.36% vs 0.38%); approximate
+     * fields reproduce themselves far better from vertex sources, the
+     * sources they are made for (FMM on bunny-5k: ME 0.69% vs 1.59%) */
+    if (resolved.vertex_sources < 0) resolved.vertex_sources = resolved.method != GS_METHOD_EXACT;
+    const gs_build_options *opt = &resolved;
+    int rc = check_options(opt, err);
+    if (rc) return rc;
+    /* the heat method's resolution from the whole mesh's size, the same for
+     * every patch; other methods ignore it (recorded as 0) */
+    if (resolved.method != GS_METHOD_HEAT) resolved.solver.heat_refine = 0;
+    else if (resolved.solver.heat_refine == GS_HEAT_REFINE_AUTO)
+        resolved.solver.heat_refine = gs_heat_refine_auto(gs_mesh_num_vertices(mesh));
+    gs__builder b;
+    memset(&b, 0, sizeof b);
+    b.mesh = mesh;
+    b.xyz_out = xyz_out;
+    b.opt = opt;
+    b.nthreads = opt->threads ? opt->threads : (uint32_t)omp_get_max_threads();
+    double t0 = gs__now();
+
+    gs_tree_options to;
+    gs_tree_options_default(&to);
+    to.vmax = opt->vmax;
+    to.seed = opt->seed;
+    to.sample_spacing = opt->sample_spacing;
+    /* short curves: two samples per coefficient of degree mmax, so that a
+     * fit that follows a vertex's sharp dip can be certified between the
+     * samples (trefoil tube: max error 23% with at least 25, 13% with 41) */
+    to.min_samples = 2 * opt->mmax + 1;
+    to.threads = b.nthreads;
+    to.progress = tree_progress;
+    to.progress_user = &b;
+    gs_tree *tree = NULL;
+    gs__pipe_progress(&b, "tree", 0);
+    rc = gs_tree_build(mesh, &to, &tree, err);
+    if (rc) return rc;
+    thin_samples(tree, opt->max_samples);
+    if ((rc = split_curves(tree, GS_PIPE_PIECE, err))) {
+        gs_tree_free(tree);
+        return rc;
+    }
+    b.tree = tree;
+    double t1 = gs__now();
+    gs__pipe_progress(&b, "tree", 1);
+
+    b.fun_start = gs__malloc((size_t)mesh->nv + 1, sizeof *b.fun_start);
+    b.arenas = gs__calloc(tree->n_nodes, sizeof *b.arenas);
+    if (!b.fun_start || !b.arenas) {
+        rc = gs__fail(err, GS_ENOMEM, "out of memory");
+        goto done;
+    }
+    b.fun_start[0] = 0;
+    for (uint32_t x = 0; x < mesh->nv; ++x) {
+        uint32_t l = tree->leaf_of_vertex[x];
+        b.fun_start[x + 1] = b.fun_start[x] + (l == GS_NONE ? 0 : tree->nodes[l].curve_prefix);
+    }
+    b.funs = gs__calloc(b.fun_start[mesh->nv], sizeof *b.funs);
+    if (!b.funs) {
+        rc = gs__fail(err, GS_ENOMEM, "out of memory for %llu functions",
+                      (unsigned long long)b.fun_start[mesh->nv]);
+        goto done;
+    }
+    for (uint32_t i = 0; i < tree->n_nodes; ++i)
+        if (tree->nodes[i].n_curves)
+            b.work_total += (double)tree->nodes[i].n_faces * tree->nodes[i].n_curves;
+    double t_fields = 0, t_fits = 0;
+    /* Large nodes one at a time, threads inside each (sources, vertices);
+     * then the small ones in parallel, one thread each. The result is the
+     * same either way (chunks of sources do not depend on threads). */
+    for (uint32_t i = 0; i < tree->n_nodes && rc == GS_OK; ++i) {
+        const gs_tree_node *nd = &tree->nodes[i];
+        if (nd->n_curves == 0 || (b.nthreads > 1 && nd->n_verts < GS_PIPE_SMALL_NODE)) continue;
+        rc = gs__pipe_process_node(&b, i, b.nthreads, &t_fields, &t_fits, err);
+        b.work_done += (double)nd->n_faces * nd->n_curves;
+        gs__pipe_progress(&b, "fields", b.work_total > 0 ? b.work_done / b.work_total : 1);
+    }
+    if (rc == GS_OK && b.nthreads > 1) {
+        double ta = gs__now(), sf = 0, sfit = 0;
+#pragma omp parallel num_threads(b.nthreads) reduction(+ : sf, sfit)
+        {
+            gs_error e;
+            int my = GS_OK;
+#pragma omp for schedule(dynamic, 1)
+            for (uint32_t i = 0; i < tree->n_nodes; ++i) {
+                const gs_tree_node *nd = &tree->nodes[i];
+                if (my || nd->n_curves == 0 || nd->n_verts >= GS_PIPE_SMALL_NODE) continue;
+                my = gs__pipe_process_node(&b, i, 1, &sf, &sfit, &e);
+                double w;
+#pragma omp critical(gs_build_stats)
+                w = b.work_done += (double)nd->n_faces * nd->n_curves;
+                if (omp_get_thread_num() == 0) gs__pipe_progress(&b, "fields", b.work_total > 0 ? w / b.work_total : 1);
+            }
+#pragma omp critical
+            if (my && rc == GS_OK) {
+                rc = my;
+                if (err) *err = e;
+            }
+        }
+        /* wall time of this phase, shared by the threads' field / fit split */
+        double wall = gs__now() - ta;
+        t_fields += sf + sfit > 0 ? wall * sf / (sf + sfit) : 0;
+        t_fits += sf + sfit > 0 ? wall * sfit / (sf + sfit) : 0;
+    }
+    gs__leaf_tables lt;
+    memset(&lt, 0, sizeof lt);
+    if (rc == GS_OK && opt->leaf_exact) {
+        double ta = gs__now();
+        gs__pipe_progress(&b, "leaves", 0);
+        rc = gs__pipe_leaf_tables(&b, &lt, err);
+        t_fields += gs__now() - ta; /* exact leaf fields count as fields */
+    }
+    if (rc == GS_OK) {
+        gs__pipe_progress(&b, "write", 0);
+        rc = assemble(&b, &lt, out, err);
+        gs__pipe_progress(&b, "write", 1);
+    }
+    gs__pipe_leaf_tables_free(&lt);
+    if (rc == GS_OK && stats) {
+        stats->seconds_tree = t1 - t0;
+        stats->seconds_fields = t_fields;
+        stats->seconds_fits = t_fits;
+        stats->seconds_total = gs__now() - t0;
+        stats->n_fields = b.n_fields;
+        stats->n_functions = b.n_functions;
+        stats->mean_degree = b.n_functions ? b.degree_sum / (double)b.n_functions : 0;
+        stats->n_over_tol = b.n_over_tol;
+        stats->n_uncertified = b.n_uncertified;
+        stats->max_fit_error = b.max_fit_error;
+        stats->mean_fit_error = b.n_functions ? b.fit_err_sum / (double)b.n_functions : 0;
+    }
+done:
+    if (b.arenas)
+        for (uint32_t i = 0; i < tree->n_nodes; ++i) free(b.arenas[i]);
+    free(b.arenas);
+    free(b.funs);
+    free(b.fun_start);
+    gs_tree_free(tree);
+    return rc;
+}

@@ -1,0 +1,234 @@
+/* pair_grid.c - separator distance functions on a curve's uniform query
+ * grid (pair_grid.h): tables of T_k at uniform points, built once per grid
+ * size, then one dot product per point, four points at a time. */
+#include "pair_grid.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <string.h>
+
+
+#define ROWS (GS_FUN_MAX_DEGREE + 1)
+
+/* Rows a grid of g points needs: the degrees gs_fun_grid_points gives g
+ * for (g = 4 m + 9, at least 33; the largest grid serves every degree), so
+ * that a small grid's table stays small in memory. */
+static uint32_t rows_for(uint32_t g)
+{
+    if (g >= GS_FUN_GRID_MAX) return ROWS;
+    uint32_t r = g >= 9 ? (g - 9) / 4 + 1 : 1;
+    return r > ROWS ? ROWS : (r < 7 ? 7 : r);
+}
+#define STRIDE(g) ((((g) + 3u) + 3u) & ~3u) /* g + 3 points, padded to 4 */
+
+/* tab[kind][g]: ROWS rows of STRIDE(g) floats: T_k(t_j), paths t_j = -1 +
+ * 2j/(g-1) (j < g), loops t_j = -1 + 2(j-1)/g (j <= g + 2: one point beyond
+ * each end, for the cubic interpolation of the points next to them);
+ * padding repeats the last point. */
+static float g_tab[2][GS_FUN_GRID_MAX + 1][ROWS * STRIDE(GS_FUN_GRID_MAX)] __attribute__((aligned(16)));
+static pthread_mutex_t g_lock = PTHREAD_MUTEX_INITIALIZER;
+static unsigned char g_done[2][GS_FUN_GRID_MAX + 1];
+
+static void fill(int loop, uint32_t g)
+{
+    uint32_t n = loop ? g + 3 : g, s = STRIDE(g);
+    float *tab = g_tab[loop][g];
+    for (uint32_t j = 0; j < s; ++j) {
+        uint32_t jj = j < n ? j : n - 1;
+        double t = loop ? -1.0 + 2.0 * ((double)jj - 1.0) / g : (jj + 1 == n ? 1.0 : -1.0 + 2.0 * jj / (g - 1));
+        double t0 = 1.0, t1 = t;
+        tab[j] = 1.0f;
+        for (uint32_t k = 1; k < rows_for(g); ++k) {
+            tab[(size_t)k * s + j] = (float)t1;
+            double t2 = 2.0 * t * t1 - t0;
+            t0 = t1, t1 = t2;
+        }
+    }
+}
+
+/* The table of (loop, g), built on first use. */
+static const float *table(int loop, uint32_t g)
+{
+    if (!__atomic_load_n(&g_done[loop][g], __ATOMIC_ACQUIRE)) {
+        pthread_mutex_lock(&g_lock);
+        if (!g_done[loop][g]) {
+            fill(loop, g);
+            __atomic_store_n(&g_done[loop][g], 1, __ATOMIC_RELEASE);
+        }
+        pthread_mutex_unlock(&g_lock);
+    }
+    return g_tab[loop][g];
+}
+
+/* p_j = sum_k c_k tab[k][j] for j < n (n <= stride, a multiple of 4 read):
+ * SSE2, or AVX2 with FMA on hosts that have them (x86-64, GCC or clang). */
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define HAVE_AVX2_PATH 1
+/* Eight (then four) vectors of 8 points at once, in registers: independent
+ * sums, whose multiply-adds overlap instead of waiting for each other. */
+__attribute__((target("avx2,fma"))) static void dot_avx2(const float *tab, uint32_t s, const float *cf, uint32_t m,
+                                                          uint32_t n, float *p)
+{
+    uint32_t j = 0;
+    for (; j + 64 <= n; j += 64) {
+        __m256 a0 = _mm256_setzero_ps(), a1 = a0, a2 = a0, a3 = a0, a4 = a0, a5 = a0, a6 = a0, a7 = a0;
+        for (uint32_t k = 0; k <= m; ++k) {
+            __m256 ck = _mm256_set1_ps(cf[k]);
+            const float *r = tab + (size_t)k * s + j;
+            a0 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r), a0);
+            a1 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 8), a1);
+            a2 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 16), a2);
+            a3 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 24), a3);
+            a4 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 32), a4);
+            a5 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 40), a5);
+            a6 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 48), a6);
+            a7 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 56), a7);
+        }
+        _mm256_storeu_ps(p + j, a0), _mm256_storeu_ps(p + j + 8, a1);
+        _mm256_storeu_ps(p + j + 16, a2), _mm256_storeu_ps(p + j + 24, a3);
+        _mm256_storeu_ps(p + j + 32, a4), _mm256_storeu_ps(p + j + 40, a5);
+        _mm256_storeu_ps(p + j + 48, a6), _mm256_storeu_ps(p + j + 56, a7);
+    }
+    for (; j + 32 <= n; j += 32) {
+        __m256 a0 = _mm256_setzero_ps(), a1 = a0, a2 = a0, a3 = a0;
+        for (uint32_t k = 0; k <= m; ++k) {
+            __m256 ck = _mm256_set1_ps(cf[k]);
+            const float *r = tab + (size_t)k * s + j;
+            a0 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r), a0);
+            a1 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 8), a1);
+            a2 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 16), a2);
+            a3 = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 24), a3);
+        }
+        _mm256_storeu_ps(p + j, a0), _mm256_storeu_ps(p + j + 8, a1);
+        _mm256_storeu_ps(p + j + 16, a2), _mm256_storeu_ps(p + j + 24, a3);
+    }
+    for (; j + 8 <= n; j += 8) {
+        __m256 a0 = _mm256_setzero_ps();
+        for (uint32_t k = 0; k <= m; ++k)
+            a0 = _mm256_fmadd_ps(_mm256_set1_ps(cf[k]), _mm256_loadu_ps(tab + (size_t)k * s + j), a0);
+        _mm256_storeu_ps(p + j, a0);
+    }
+    for (; j < n; j += 4) {
+        __m128 a0 = _mm_setzero_ps();
+        for (uint32_t k = 0; k <= m; ++k) a0 = _mm_fmadd_ps(_mm_set1_ps(cf[k]), _mm_loadu_ps(tab + (size_t)k * s + j), a0);
+        _mm_storeu_ps(p + j, a0);
+    }
+}
+#endif
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
+static void dot(const float *tab, uint32_t s, const double *c, uint32_t m, uint32_t n, float *p)
+{
+    float cf[ROWS];
+    for (uint32_t k = 0; k <= m; ++k) cf[k] = (float)c[k];
+#ifdef HAVE_AVX2_PATH
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
+        dot_avx2(tab, s, cf, m, n, p);
+        return;
+    }
+#endif
+    uint32_t j = 0;
+#ifdef __SSE2__
+    for (; j + 16 <= n; j += 16) { /* four independent sums */
+        __m128 a0 = _mm_setzero_ps(), a1 = a0, a2 = a0, a3 = a0;
+        for (uint32_t k = 0; k <= m; ++k) {
+            __m128 ck = _mm_set1_ps(cf[k]);
+            const float *r = tab + (size_t)k * s + j;
+            a0 = _mm_add_ps(a0, _mm_mul_ps(ck, _mm_loadu_ps(r)));
+            a1 = _mm_add_ps(a1, _mm_mul_ps(ck, _mm_loadu_ps(r + 4)));
+            a2 = _mm_add_ps(a2, _mm_mul_ps(ck, _mm_loadu_ps(r + 8)));
+            a3 = _mm_add_ps(a3, _mm_mul_ps(ck, _mm_loadu_ps(r + 12)));
+        }
+        _mm_storeu_ps(p + j, a0), _mm_storeu_ps(p + j + 4, a1);
+        _mm_storeu_ps(p + j + 8, a2), _mm_storeu_ps(p + j + 12, a3);
+    }
+    for (; j + 4 <= n; j += 4) {
+        __m128 a0 = _mm_setzero_ps();
+        for (uint32_t k = 0; k <= m; ++k)
+            a0 = _mm_add_ps(a0, _mm_mul_ps(_mm_set1_ps(cf[k]), _mm_loadu_ps(tab + (size_t)k * s + j)));
+        _mm_storeu_ps(p + j, a0);
+    }
+#endif
+    for (; j < n; ++j) {
+        float a = 0.0f;
+        for (uint32_t k = 0; k <= m; ++k) a += cf[k] * tab[(size_t)k * s + j];
+        p[j] = a;
+    }
+}
+
+/* p -> the distance: max(p, 0), its square root for a squared series
+ * (n a multiple of 4, p readable that far). */
+#ifdef HAVE_AVX2_PATH
+__attribute__((target("avx2,fma"))) static void to_values_avx2(float *p, uint32_t n, int squared)
+{
+    const __m256 z = _mm256_setzero_ps();
+    uint32_t j = 0;
+    if (squared)
+        for (; j + 8 <= n; j += 8) _mm256_storeu_ps(p + j, _mm256_sqrt_ps(_mm256_max_ps(_mm256_loadu_ps(p + j), z)));
+    else
+        for (; j + 8 <= n; j += 8) _mm256_storeu_ps(p + j, _mm256_max_ps(_mm256_loadu_ps(p + j), z));
+    for (; j < n; ++j) {
+        float v = p[j] > 0.0f ? p[j] : 0.0f;
+        p[j] = squared ? sqrtf(v) : v;
+    }
+}
+#endif
+
+static void to_values(float *p, uint32_t n, int squared)
+{
+#ifdef HAVE_AVX2_PATH
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
+        to_values_avx2(p, n, squared);
+        return;
+    }
+#endif
+#ifdef __SSE2__
+    const __m128 z = _mm_setzero_ps();
+    if (squared)
+        for (uint32_t j = 0; j < n; j += 4) _mm_storeu_ps(p + j, _mm_sqrt_ps(_mm_max_ps(_mm_loadu_ps(p + j), z)));
+    else
+        for (uint32_t j = 0; j < n; j += 4) _mm_storeu_ps(p + j, _mm_max_ps(_mm_loadu_ps(p + j), z));
+#else
+    for (uint32_t j = 0; j < n; ++j) {
+        float v = p[j] > 0.0f ? p[j] : 0.0f;
+        p[j] = squared ? sqrtf(v) : v;
+    }
+#endif
+}
+
+void gs__grid_values(const gs_fun *f, uint32_t g, float *v)
+{
+    g = g < 3 ? 3 : (g > GS_FUN_GRID_MAX ? GS_FUN_GRID_MAX : g);
+    int loop = f->closed != 0;
+    uint32_t s = STRIDE(g), n = loop ? g + 3 : g;
+    float p[STRIDE(GS_FUN_GRID_MAX) + 4];
+    /* a degree beyond the grid's rows (a curve's degree1 below one of its
+     * functions: a corrupt file not verified) reads no further than them */
+    uint32_t m = f->degree < rows_for(g) ? f->degree : rows_for(g) - 1;
+    dot(table(loop, g), s, f->coef, m, (n + 3u) & ~3u, p);
+    if (!loop) {
+        to_values(p, (g + 3u) & ~3u, f->squared);
+        memcpy(v, p, sizeof *v * g);
+        return;
+    }
+    /* u_j - shift, in grid units of t, wrapped into [0, g): j + b + phi;
+     * the series there by cubic interpolation of its four neighbours
+     * (table index + 1: the table starts one point before t = -1) */
+    double S = -f->shift * 0.5 * g, fb = floor(S), phi = S - fb;
+    long b = (long)fb % (long)g;
+    if (b < 0) b += g;
+    float x = (float)phi, wm = -x * (x - 1) * (x - 2) / 6, w0 = (x + 1) * (x - 1) * (x - 2) / 2,
+          w1 = -(x + 1) * x * (x - 2) / 2, w2 = (x + 1) * x * (x - 1) / 6;
+    uint32_t i = (uint32_t)b;
+    float q[GS_FUN_GRID_MAX + 4];
+    for (uint32_t j = 0; j < g; ++j) {
+        q[j] = wm * p[i] + w0 * p[i + 1] + w1 * p[i + 2] + w2 * p[i + 3];
+        if (++i == g) i = 0;
+    }
+    for (uint32_t j = g; j < ((g + 3u) & ~3u); ++j) q[j] = 0.0f;
+    to_values(q, (g + 3u) & ~3u, f->squared);
+    memcpy(v, q, sizeof *v * g);
+}

@@ -1,0 +1,19 @@
+/* pair_grid.h - a separator distance function tabulated on its curve's
+ * uniform query grid, from its Chebyshev coefficients (paper sec. 4.3, made
+ * fast): table dot products with T_k at uniform points, a loop's shift
+ * applied by linear interpolation between neighbouring table points.
+ * Internal; the query hot path: no allocation. */
+#ifndef GS_PAIR_GRID_H
+#define GS_PAIR_GRID_H
+
+#include "../fit/fun.h"
+
+/* f's values on the uniform grid of g points (3 <= g <= GS_FUN_GRID_MAX;
+ * paths: u_j = -1 + 2j/(g-1); loops: u_j = -1 + 2j/g) into v[0..g): exact
+ * (to float rounding) for paths; for loops the series at the uniform
+ * points of its own variable t, interpolated linearly to the u grid (within
+ * a cell's curvature: the grid locates the minimum, the series then gives
+ * the value). Thread-safe (tables built once per g). */
+void gs__grid_values(const gs_fun *f, uint32_t g, float *v);
+
+#endif

