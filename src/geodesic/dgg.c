@@ -6,13 +6,16 @@
  * Candidates. For every vertex v, one exact window propagation from v
  * bounded to the radius R_v = max(R, longest edge at v), R =
  * gs_dgg_radius(eps) mean edge lengths (scaled up where v's edges are
- * longer than the mean). Every vertex u reached within R_v whose shortest
- * path from v is straight (it leaves v and reaches u without bending at a
- * vertex) is a candidate edge v -> u weighted by the exact distance. A
- * vertex whose shortest path bends at a saddle or boundary vertex w is left
- * out: d(v,u) = d(v,w) + d(w,u) with both parts shorter, so by induction on
- * the distance the candidate graph C holds a path of exactly d(v,u) for
- * every pair within R_v (lossless; rounding aside).
+ * longer than the mean), with the rays straight from v only (no windows
+ * from saddle or boundary vertices: gs__exact_solve_local_ex, direct_only;
+ * 1.6 times faster). Every vertex u it reaches within R_v by a straight
+ * path becomes a candidate edge v -> u of that path's length: exact when
+ * the shortest path from v to u is straight; otherwise the length of a
+ * longer straight path, a real path all the same. A pair whose shortest
+ * path bends at a vertex w has d(v,u) = d(v,w) + d(w,u) with both parts
+ * shorter, so by induction on the distance the candidate graph C holds a
+ * path of exactly d(v,u) for every pair within R_v (lossless; rounding
+ * aside).
  *
  * Pruning (eps). Each vertex v then keeps a subset K_v of its candidates,
  * taken in order of increasing length: u is dropped when some x already
@@ -57,6 +60,10 @@
  * bounded exact run per source; most of the largest relative errors of
  * graph paths are at one to two R (two hops) and go with it. */
 #define DGG_START 3.0
+
+#ifndef DGG_DIRECT
+#define DGG_DIRECT 1
+#endif
 
 /* The pruned graph of a patch (ids of that patch). */
 typedef struct dgg_graph {
@@ -290,7 +297,7 @@ int gs__dgg_build(const gs__topo *t, double eps, int prune, uint32_t nthreads, c
                 gs_source s = gs_source_vertex(v);
                 const uint32_t *tv;
                 uint32_t ntv;
-                rc = gs__exact_solve_local(ex, &s, rv, dist, &tv, &ntv, &e);
+                rc = gs__exact_solve_local_ex(ex, &s, rv, DGG_DIRECT, dist, &tv, &ntv, &e);
                 if (!rc && collect(ex, v, rv, dist, tv, ntv, &lists[v], &cnt[v]))
                     rc = gs__fail(&e, GS_ENOMEM, "out of memory building the dgg graph");
                 if (rc) {

@@ -49,6 +49,13 @@ extern const gs__method_ops gs__dgg_ops;   /* dgg.c    */
  * caller resets the touched entries before the next call. */
 int gs__exact_solve_local(void *state, const gs_source *src, double max_d, double *dist,
                           const uint32_t **touched, uint32_t *n_touched, gs_error *err);
+/* The same; direct_only: no windows from pseudo-source vertices (saddle,
+ * boundary), only the rays straight from the source: a vertex reached
+ * straight by its shortest path gets its exact distance (within max_d),
+ * any other one the length of a straight path or of a path along edges,
+ * or none (dgg.c's candidates: only straight paths matter there). */
+int gs__exact_solve_local_ex(void *state, const gs_source *src, double max_d, int direct_only, double *dist,
+                             const uint32_t **touched, uint32_t *n_touched, gs_error *err);
 /* After gs__exact_solve_local from vertex source_vertex (or from a surface
  * point: pass GS_NONE): 1 if the shortest path found to u (distance du)
  * is straight (no bend at a vertex on the way: it leaves the source
