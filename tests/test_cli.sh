@@ -55,7 +55,7 @@ run help
 { [ "$rc" -eq 0 ] && grep -q "usage: geosep" "$T/out"; }; verdict "help exits 0"
 run help solve
 { [ "$rc" -eq 0 ] && grep -q -- "--sources-from" "$T/out"; }; verdict "help solve"
-for c in info generate subdivide solve repair sample; do
+for c in info generate subdivide solve repair sample within; do
     run "$c" --help
     { [ "$rc" -eq 0 ] && grep -q "usage: geosep $c" "$T/out"; }; verdict "$c --help"
 done
@@ -228,6 +228,10 @@ run build "$D" -o "$T/grid.gsdb" --quiet
 { [ "$rc" -eq 0 ] && [ -s "$T/grid.gsdb" ] && [ ! -s "$T/out" ]; }; verdict "build --quiet writes a database"
 run build "$D" -o "$T/grid2.gsdb" --threads 1 --vmax 20 --mmax 12 --tol 0.005 --spacing 0.4
 { [ "$rc" -eq 0 ] && grep -q "nodes" "$T/out" && grep -q "time: tree" "$T/out" && grep -q "cost" "$T/out"; }; verdict "build prints tree, times and size"
+run build "$G" -o "$T/dgg.gsdb" --method dgg --dgg-eps 0.01 --threads 1
+{ [ "$rc" -eq 0 ] && grep -q "built with: method dgg (eps 0.01)" "$T/out"; }; verdict "build --method dgg: the database records eps"
+run verify "$T/dgg.gsdb"
+{ [ "$rc" -eq 0 ] && grep -q "built with: method dgg (eps 0.01)" "$T/out"; }; verdict "verify: prints the recorded dgg eps"
 run build "$D" -o "$T/grid3.gsdb" --no-leaf-exact --quiet
 { [ "$rc" -eq 0 ] && [ "$(stat -c %s "$T/grid3.gsdb")" -lt "$(stat -c %s "$T/grid.gsdb")" ]; }; verdict "build stores the leaf tables unless --no-leaf-exact"
 # a flat grid: the database distance is close to the Euclidean one
@@ -251,9 +255,9 @@ cp "$T/grid.gsdb" "$T/flip.gsdb"
 printf '\x55' | dd of="$T/flip.gsdb" bs=1 seek=2000 conv=notrunc 2>/dev/null
 expect_fail 1 "flip.gsdb: section '(records|positions|curves|nodes|leaves|vertex_index)': checksum mismatch" "verify: a corrupted database is refused, naming the section" verify "$T/flip.gsdb"
 run verify "$T/grid.gsdb"
-{ [ "$rc" -eq 0 ] && grep -q "grid.gsdb: ok (format 3, 400 vertices" "$T/out"; }; verdict "verify: a good database is ok"
-printf '\x02' | dd of="$T/flip.gsdb" bs=1 seek=8 conv=notrunc 2>/dev/null
-expect_fail 1 "format_version 2; this geosep reads version 3 only" "query: another format version is named" query "$T/flip.gsdb" 0 1
+{ [ "$rc" -eq 0 ] && grep -q "grid.gsdb: ok (format 4, 400 vertices" "$T/out"; }; verdict "verify: a good database is ok"
+printf '\x03' | dd of="$T/flip.gsdb" bs=1 seek=8 conv=notrunc 2>/dev/null
+expect_fail 1 "format_version 3; this geosep reads version 4 only \\(an older file: rebuild it with geosep build\\)" "query: another format version is named" query "$T/flip.gsdb" 0 1
 expect_fail 2 "verify: need DB" "verify: no database" verify
 run field "$T/grid.gsdb" --source 0 -o "$T/f0.txt"
 { [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/f0.txt")" -eq 400 ] && [ "$(head -1 "$T/f0.txt")" = "0" ]; }; verdict "field writes one distance per vertex"
@@ -476,11 +480,35 @@ expect_fail 2 "vertex out of range" "solve --repair: ids checked against the inp
 expect_fail 2 "format gt is not supported" "solve --repair --format gt: refused" solve "$T/bowtie.obj" --repair --format gt --random 2 -o "$T/x.gt"
 expect_fail 1 "non-manifold vertex" "build refuses the flawed file" build "$T/bowtie.obj" -o "$T/bt.gsdb"
 { [ ! -e "$T/bt.gsdb" ]; }; verdict "build: refused, no database"
-run build "$T/bowtie.obj" --repair -o "$T/bt.gsdb" --quiet
-{ [ "$rc" -eq 0 ] && [ -s "$T/bt.gsdb" ] && cmp -s "$T/bt.gsdb.vmap" "$T/map.txt" && grep -q "split" "$T/err"; }
-verdict "build --repair: the database and DB.vmap (the same map as repair --map)"
+run build "$T/bowtie.obj" --repair -o "$T/bt.gsdb"
+{ [ "$rc" -eq 0 ] && [ -s "$T/bt.gsdb" ] && [ ! -e "$T/bt.gsdb.vmap" ] && grep -q "split" "$T/err" &&
+  grep -q "input ids (a repaired mesh): 5 input vertices, 1 of them answered through other vertices" "$T/out"; }
+verdict "build --repair: the database holds the input ids (no DB.vmap beside it)"
 run query "$T/bt.gsdb" 5 3
 { [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = 1 ]; }; verdict "build --repair: the database answers by repaired id"
+# by input id: vertex 1 became {1, 5}; from 3 (the second triangle) through
+# the copy 5, from 0 through 1 itself; 0 and 3 are not connected
+run query "$T/bt.gsdb" --input-ids 1 3
+{ [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = 1 ]; }; verdict "query --input-ids: a split vertex answers through its copy"
+run query "$T/bt.gsdb" --input-ids 3 0
+{ [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = inf ]; }; verdict "query --input-ids: other component inf"
+printf '1 3\n0 1\n\n1 1\n4 3\n' >"$T/inpairs.txt"
+run query "$T/bt.gsdb" --input-ids --pairs "$T/inpairs.txt"
+{ [ "$rc" -eq 0 ] && [ "$(tr '\n' ' ' <"$T/out")" = "1 1 0 1 " ]; }
+verdict "query --input-ids --pairs: one line per pair"
+run field "$T/bt.gsdb" --input-ids --source 3 -o "$T/bt3f.txt"
+{ [ "$rc" -eq 0 ] && [ "$(tr '\n' ' ' <"$T/bt3f.txt")" = "$(tr '\n' ' ' <"$T/bt3.dist")" ]; }
+verdict "field --input-ids: one line per input vertex, as solve --repair answers"
+expect_fail 2 "input vertex 5 out of range \\(the database has 5 input vertices\\)" "query --input-ids: ids checked against the input" query "$T/bt.gsdb" --input-ids 5 0
+printf '0 5\n' >"$T/inbad.txt"
+expect_fail 1 "inbad.txt:1: expected two input vertex ids below 5" "query --input-ids --pairs: ids checked" query "$T/bt.gsdb" --input-ids --pairs "$T/inbad.txt"
+expect_fail 2 "input-ids goes with X Y or --pairs" "query --input-ids --points: refused" query "$T/bt.gsdb" --input-ids --points "$T/inbad.txt"
+expect_fail 2 "input-ids goes with --source" "field --input-ids --point: refused" field "$T/bt.gsdb" --input-ids --point 0,1,2:1,0,0
+run verify "$T/bt.gsdb"
+{ [ "$rc" -eq 0 ] && grep -q "input ids (a repaired mesh): 5 input vertices" "$T/out"; }; verdict "verify: names the input ids"
+run query "$T/grid.gsdb" --input-ids 0 399
+{ [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = "$("$BIN" query "$T/grid.gsdb" 0 399)" ]; }
+verdict "query --input-ids: without a repair, input ids are vertex ids"
 # an unwelded seam: grid:5,3 cut along x = 0.5, the right part using appended
 # duplicates of the seam vertices (accepted as two components, but wrong)
 run generate grid:5,3 -o "$T/g53.obj"
@@ -532,6 +560,35 @@ expect_fail 2 "not a count" "sample: bad K" sample "$T/grid.gsdb" x
 expect_fail 2 "need DB K" "sample: missing K" sample "$T/grid.gsdb"
 expect_fail 2 "unknown or incomplete option" "sample: unknown option" sample "$T/grid.gsdb" 2 --k 3
 expect_fail 1 "nope.gsdb" "sample: missing database" sample "$T/nope.gsdb" 2
+
+# ---- within (neighbourhoods) -------------------------------------------------
+# the thresholded field: "id distance" of every vertex of f0.txt at most R,
+# by distance then id
+thresholded() { awk -v r="$1" '$1 != "inf" && $1 + 0 <= r + 0 { printf "%d %s\n", NR - 1, $1 }' "$T/f0.txt" | sort -s -k2,2g -k1,1n; }
+R=$(sed -n 60p "$T/f0.txt")
+run within "$T/grid.gsdb" 0 "$R"
+{ [ "$rc" -eq 0 ] && [ -s "$T/out" ] && [ "$(head -1 "$T/out")" = "0 0" ] && thresholded "$R" | cmp -s - "$T/out"; }
+verdict "within: the vertices of the field at most R (R a field value: its vertex included), by distance"
+run within "$T/grid.gsdb" 0 0.3 -o "$T/w.txt"
+{ [ "$rc" -eq 0 ] && [ ! -s "$T/out" ] && thresholded 0.3 | cmp -s - "$T/w.txt"; }; verdict "within -o: written to the file"
+run within "$T/grid.gsdb" 0 0
+{ [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = "0 0" ]; }; verdict "within: R = 0 gives X alone"
+run within "$T/grid.gsdb" 0 inf
+{ [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/out")" -eq 400 ] && [ "$(tail -1 "$T/out")" = "399 $(sed -n 400p "$T/f0.txt")" ]; }
+verdict "within: R = inf lists every vertex, the farthest last"
+run within "$T/two_s.gsdb" 0 inf
+{ [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/out")" -gt 1 ] && ! grep -q inf "$T/out" && [ "$(wc -l <"$T/out")" -lt "$("$BIN" field "$T/two_s.gsdb" --source 0 | wc -l)" ]; }
+verdict "within: R = inf stops at X's component"
+expect_fail 2 "R '-1' is not a distance" "within: negative R" within "$T/grid.gsdb" 0 -1
+expect_fail 2 "R 'nan' is not a distance" "within: R nan" within "$T/grid.gsdb" 0 nan
+expect_fail 2 "R '1x' is not a distance" "within: R not a number" within "$T/grid.gsdb" 0 1x
+expect_fail 2 "X 'a' is not a vertex id" "within: X not an id" within "$T/grid.gsdb" a 1
+expect_fail 2 "vertex 400 out of range \(the database has 400\)" "within: X out of range" within "$T/grid.gsdb" 400 1
+expect_fail 2 "need DB X R" "within: missing R" within "$T/grid.gsdb" 0
+expect_fail 2 "unexpected argument" "within: one argument too many" within "$T/grid.gsdb" 0 1 2
+expect_fail 2 "unknown or incomplete option" "within: unknown option" within "$T/grid.gsdb" --k 3 0 1
+expect_fail 1 "nope.gsdb" "within: missing database" within "$T/nope.gsdb" 0 1
+{ [ ! -e "$T/w2.txt" ]; run within "$T/grid.gsdb" 400 1 -o "$T/w2.txt"; [ ! -e "$T/w2.txt" ]; }; verdict "within: a failure leaves no file"
 
 # ---- path (exact paths) ------------------------------------------------------
 run generate grid:5,5 -o "$T/g55.obj"
