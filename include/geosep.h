@@ -408,19 +408,22 @@ typedef struct gs_solver_options {
                             /*   or GS_HEAT_REFINE_AUTO (gs_heat_refine_auto   */
                             /*   of the patch's vertex count; gs_db_build: of  */
                             /*   the whole mesh's, and its default)            */
-    double dgg_eps;         /* dgg: target relative error; sets the radius of  */
-                            /*   the local exact runs (gs_dgg_radius) [1e-3],  */
-                            /*   in [GS_DGG_EPS_MIN, GS_DGG_EPS_MAX]            */
+    double dgg_eps;         /* dgg: target relative error: sets the radius of  */
+                            /*   the local exact runs (gs_dgg_radius), and the */
+                            /*   graph is pruned to within 1 + eps of the      */
+                            /*   unpruned one [1e-3], in [GS_DGG_EPS_MIN,      */
+                            /*   GS_DGG_EPS_MAX]                                */
 } gs_solver_options;
 
 /* Range of gs_solver_options.dgg_eps. */
 #define GS_DGG_EPS_MIN 1e-5
 #define GS_DGG_EPS_MAX 0.5
 
-/* The radius, in mean edge lengths of the patch, of the local exact runs
+/* The radius R, in mean edge lengths of the patch, of the local exact runs
  * that build a dgg graph for target error eps: every pair of vertices
- * within this distance (inside the patch) is joined by a graph path of
- * exactly its geodesic length. Pure function, thread-safe. */
+ * within R (inside the patch) is joined by a graph path of at most
+ * (1 + eps) times its geodesic length, and a solver's fields are exact
+ * within 3 R of each source. Pure function, thread-safe. */
 GS_API double gs_dgg_radius(double eps);
 
 /* Range of gs_solver_options.heat_time. Values below the default 1 only
@@ -531,8 +534,9 @@ GS_API void gs_path_free(gs_path *path);
  * of threads at once. */
 typedef struct gs_db gs_db;
 
-/* Progress callback: stage name ("tree", "fields", "leaves", "near", "write")
- * and the fraction done in [0,1]. Called from the building thread only. */
+/* Progress callback: stage name ("tree", "graph" (GS_METHOD_DGG only),
+ * "fields", "leaves", "near", "write") and the fraction done in [0,1].
+ * Called from the building thread only. */
 typedef void (*gs_progress_fn)(void *user, const char *stage, double fraction);
 
 typedef struct gs_build_options {
