@@ -93,6 +93,7 @@ static void print_usage(FILE *f)
             "  query DB --points FILE          ... between surface points (face, weights)\n"
             "  verify DB                       check a database whole (checksums, records)\n"
             "  field DB --source X             distances from X through the database\n"
+            "  within DB X R                   every vertex within distance R of X\n"
             "  sample DB K [--seed S]          farthest-point sampling: K vertex ids\n"
             "  eval DB --groundtruth F.gt      accuracy against exact distances\n"
             "  land MESH --landmarks M ...     the LAND baseline, evaluated\n"
@@ -603,6 +604,7 @@ static const command commands[] = {
     {"query", cmd_query, usage_query},
     {"verify", cmd_verify, usage_verify},
     {"field", cmd_field, usage_field},
+    {"within", cmd_within, usage_within},
     {"sample", cmd_sample, usage_sample},
     {"eval", cmd_eval, usage_eval},
     {"land", cmd_land, usage_land},

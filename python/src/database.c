@@ -364,6 +364,7 @@ static PyMethodDef db_methods[] = {
      "(input_distance)."},
     GSPY_DB_QUERY_METHODS,
     GSPY_DB_INPUT_METHODS,
+    GSPY_DB_WITHIN_METHODS,
     {NULL, NULL, 0, NULL}};
 
 PyTypeObject gspy_DatabaseType = {
