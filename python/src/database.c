@@ -385,7 +385,9 @@ PyTypeObject gspy_DatabaseType = {
               "queries between vertices (distance, pairwise, field) and between surface\n"
               "points (point_distance) in well under a microsecond each.\n\n"
               "Vertex ids are the mesh's. Unreachable pairs (different components,\n"
-              "unreferenced vertices) are +inf. An id out of range raises IndexError.\n\n"
+              "unreferenced vertices) are +inf. An id out of range raises IndexError.\n"
+              "A database of a repaired Mesh (repair=True) also answers by the input's\n"
+              "vertex ids: input_distance, input_field (doc/repair.md).\n\n"
               "A Database is immutable: one may be queried from many threads at once;\n"
               "the GIL is released during builds and batch queries.",
     .tp_dealloc = (destructor)db_dealloc,
