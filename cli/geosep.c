@@ -88,6 +88,7 @@ static void print_usage(FILE *f)
             "  generate SPEC -o OUT.obj        write a generated test mesh\n"
             "  subdivide MESH -o OUT.obj       1-to-4 midpoint subdivision (same surface)\n"
             "  solve MESH --source V ...       distance field from sources\n"
+            "  path DB X Y --mesh MESH         geodesic path from a database (a polyline)\n"
             "  path --exact MESH X Y           exact shortest path (a polyline)\n"
             "  build MESH -o DB                build a query database\n"
             "  query DB X Y                    approximate geodesic distance\n"

@@ -538,8 +538,8 @@ GS_API void gs_path_free(gs_path *path);
 typedef struct gs_db gs_db;
 
 /* Progress callback: stage name ("tree", "graph" (GS_METHOD_DGG only),
- * "fields", "leaves", "write") and the fraction done in [0,1]. Called from
- * the building thread only. */
+ * "fields", "leaves", "near", "write") and the fraction done in [0,1].
+ * Called from the building thread only. */
 typedef void (*gs_progress_fn)(void *user, const char *stage, double fraction);
 
 typedef struct gs_build_options {
@@ -560,6 +560,13 @@ typedef struct gs_build_options {
                              /*   answer same-leaf pairs with the Euclidean    */
                              /*   distance, which underestimates on curved     */
                              /*   leaves (bunny-5k: 56%) [1]                   */
+    double near_radius;      /* near pairs, in mean edge lengths: every pair  */
+                             /*   of vertices in different leaves nearer than  */
+                             /*   this (twice this from a vertex with an       */
+                             /*   uncertified fit, see gs_build_stats) whose   */
+                             /*   answer through the separators is off by more */
+                             /*   than 2% gets its exact distance stored       */
+                             /*   (section 'near_pairs'); 0: none [5]          */
     uint32_t seed;           /* partitioning seed [1]                          */
     double sample_spacing;   /* separator sample spacing / mean edge length    */
                              /*   [0.5]                                        */
@@ -603,6 +610,9 @@ typedef struct gs_build_stats {
                              /*   with the smallest is kept; doc/accuracy.md)  */
     double max_fit_error;    /* the largest such error over all fits           */
     double mean_fit_error;   /* mean relative error of the fits on the samples */
+    uint64_t n_near_pairs;   /* near pairs stored (near_radius)                */
+    double seconds_near;     /* their exact fields and checks (also counted    */
+                             /*   in seconds_fields)                           */
 } gs_build_stats;
 
 /* Build a database in memory. stats may be NULL. *out receives a new
@@ -671,6 +681,10 @@ typedef struct gs_db_info {
     gs_solver_options solver;  /* the field method's parameters (heat_refine  */
                                /*   as used: never GS_HEAT_REFINE_AUTO; 0     */
                                /*   for methods other than heat)              */
+    double near_radius;        /* near pairs: the radius (mesh units; 0: no   */
+                               /*   section) and how many are stored          */
+    uint64_t n_near_pairs;
+    uint64_t near_bytes;       /* the section's size                          */
 } gs_db_info;
 
 GS_API int gs_db_get_info(const gs_db *db, gs_db_info *info, gs_error *err);
@@ -913,6 +927,37 @@ GS_API int gs_db_input_distances(const gs_db *db, const uint32_t *pairs, size_t 
  * before returning) cannot be allocated. Thread-safe. */
 GS_API int gs_db_input_field(const gs_db *db, uint32_t x, double *out, gs_error *err);
 
+/* ---- Paths from a database (src/query/db_path.c, doc/paths.md) --------- */
+
+/* GS_OK if mesh is the one db was built from: the same number of
+ * vertices, every position bit for bit, and the same vertices used by no
+ * face; else GS_EARG naming the first difference. Reads every vertex
+ * (about 0.1 ms per 60k vertices). Thread-safe. */
+GS_API int gs_db_check_mesh(const gs_db *db, const gs_mesh *mesh, gs_error *err);
+
+/* A geodesic path from x to y (each a vertex or a surface point of mesh,
+ * as gs_solver_path takes them: gs_source_vertex / gs_source_point) from
+ * the database, without solving a field: a walk down the database's
+ * distance to x, then shortened until locally shortest (funnel unfolding
+ * and vertex flips; doc/paths.md). The database does not store faces:
+ * mesh must be the one db was built from (GS_EARG if the vertex counts
+ * differ or a vertex the path visits is not where db has it;
+ * gs_db_check_mesh checks every vertex). The result has the form and
+ * guarantees of gs_solver_path's paths (points as xyz and as face +
+ * barycentric weights, consecutive points in one face, straight in faces
+ * and across edges, bending only at saddle and boundary vertices) except
+ * that it is the locally shortest path near the database's route: its
+ * length is never below the exact distance and, on the meshes measured,
+ * within 1% of it (doc/paths.md). x == y gives one point; points in
+ * different components an empty path (0 points, length +INFINITY) and
+ * GS_OK. GS_EARG for an invalid point (message names X or Y and what is
+ * wrong), GS_ENOMEM, GS_EINTERNAL if the database answers NaN (a corrupt
+ * file). *out receives a new path (gs_path_free), NULL on error.
+ * Thread-safe: db and mesh are only read; each call allocates its own
+ * work space (about the path's faces and visited vertices). */
+GS_API int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const gs_source *y,
+                      gs_path **out, gs_error *err);
+
 /* ======================================================================== */
 /* Pictures (src/render): a software rasterizer, PNG output                 */
 /* ======================================================================== */
@@ -936,7 +981,9 @@ GS_API int gs_db_input_field(const gs_db *db, uint32_t x, double *out, gs_error 
  * subtrees meet), then smoothed; by depth red (the root's, 4 pixels
  * wide), orange, blue, green, purple, then dark grey, thinner deeper down
  * (to 1.2 pixels), on top of the surface, hidden where the surface is in
- * front. Points: white dots in a dark ring (9 pixels), hidden where the
+ * front. Paths: white lines 2.5 pixels wide with a dark border (6 pixels
+ * in all), over the separators, hidden where the surface is in front.
+ * Points: white dots in a dark ring (9 pixels), on top, hidden where the
  * surface is in front. */
 typedef struct gs_render_options {
     uint32_t width, height;      /* pixels, GS_RENDER_MIN_SIZE..MAX [640x480] */
@@ -949,6 +996,12 @@ typedef struct gs_render_options {
                                  /*   vertex count and positions) [NULL]     */
     const double *points;        /* 3 * n_points coordinates, finite [NULL]  */
     uint32_t n_points;           /*   [0]                                    */
+    const double *paths;         /* polylines (paths: gs_path_xyz, geosep    */
+    const uint32_t *path_starts; /*   path): path i is the points path_      */
+    uint32_t n_paths;            /*   starts[i] .. path_starts[i+1]-1 of     */
+                                 /*   paths (3 coordinates each, finite);    */
+                                 /*   n_paths + 1 increasing offsets from 0  */
+                                 /*   [NULL, NULL, 0]                        */
 } gs_render_options;
 
 #define GS_RENDER_MIN_SIZE 16u

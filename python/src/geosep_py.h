@@ -114,6 +114,17 @@ PyObject *gspy_distance_field(PyObject *module, PyObject *args, PyObject *kwargs
 extern const char gspy_distance_field_doc[];
 PyObject *gspy_geodesic_path(PyObject *module, PyObject *args, PyObject *kwargs);
 extern const char gspy_geodesic_path_doc[];
+/* One end of a path: a vertex id, or (face, (b0, b1, b2)). 0, or -1 with
+ * TypeError / IndexError / ValueError set. */
+int gspy_path_end(PyObject *obj, const gs_mesh *m, const char *name, gs_source *out);
+/* A path as numpy arrays: (k, 3) xyz, or (xyz, faces (k,), bary (k, 3)). */
+PyObject *gspy_path_arrays(const gs_path *p, int with_faces);
+
+/* dbpath.c: Database.path */
+PyObject *gspy_db_path(PyObject *self, PyObject *args, PyObject *kwargs);
+extern const char gspy_db_path_doc[];
+#define GSPY_DB_PATH_METHODS                                                                                  \
+    {"path", (PyCFunction)(void (*)(void))gspy_db_path, METH_VARARGS | METH_KEYWORDS, gspy_db_path_doc}
 
 /* render.c */
 PyObject *gspy_render(PyObject *module, PyObject *args, PyObject *kwargs);

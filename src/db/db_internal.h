@@ -6,6 +6,7 @@
 #define GS_DB_INTERNAL_H
 
 #include "db_content.h"
+#include "db_near.h"
 #include "format.h"
 
 #include <stddef.h>
@@ -43,6 +44,7 @@ struct gs_db {
     /* input-id aliases (NULL without) */
     const gs__db_alias_head *alias_index; /* alias_exceptions + 1          */
     const uint32_t *alias_list;
+    gs__db_near near;              /* near.start NULL without the section   */
     /* data a later stage derives from the file on first use and keeps (the
      * neighbourhood bounds of src/query/within.c): NULL until then; set
      * once with an atomic compare-and-swap; gs_db_free calls its free */

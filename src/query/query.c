@@ -15,17 +15,17 @@
 #include <math.h>
 #include <stdlib.h>
 
+static double euclidean2(const gs_db *db, uint32_t x, uint32_t y)
+{
+    const double *p = db->xyz + 3 * (size_t)x, *q = db->xyz + 3 * (size_t)y;
+    double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+    return dx * dx + dy * dy + dz * dz;
+}
+
+/* as gs__db_segment, bit for bit (sqrt of euclidean2) */
 static double euclidean(const gs_db *db, uint32_t x, uint32_t y)
 {
     return gs__db_segment(db->xyz + 3 * (size_t)x, db->xyz + 3 * (size_t)y);
-}
-
-/* A geodesic is never shorter than the straight segment: the bound catches a
- * fitted function that dips too low. */
-static double at_least_euclidean(const gs_db *db, uint32_t x, uint32_t y, double d)
-{
-    double e = euclidean(db, x, y);
-    return d < e ? e : d;
 }
 
 /* Same leaf: the straight segment plus the stored table's 16-bit excess
@@ -398,13 +398,27 @@ static double cross(const gs_db *db, uint32_t x, uint32_t y, uint32_t top, uint3
     return cross_cursors(db, &cx, &cy, top, NULL, 1);
 }
 
+/* The stored exact distance of a near pair (section 'near_pairs'): only
+ * pairs nearer than its radius are stored, so a pair at least that far
+ * apart in space costs one comparison. e2: their squared Euclidean
+ * distance. */
+static int near_pair(const gs_db *db, uint32_t x, uint32_t y, double e2, double *d)
+{
+    if (!(e2 < db->near.radius2)) return 0; /* also without the section: 0 */
+    return x < y ? gs__db_near_find(&db->near, x, y, d) : gs__db_near_find(&db->near, y, x, d);
+}
+
 /* Cross-leaf distance of x != y (any order), top their leaves' lowest common
  * ancestor: the two go in vertex-id order so that d(x,y) == d(y,x). */
 static double cross_leaf(const gs_db *db, uint32_t x, uint32_t y, uint32_t lx, uint32_t ly, uint32_t top)
 {
-    uint32_t nfx = db->nodes[lx].curve_prefix, nfy = db->nodes[ly].curve_prefix;
-    double d = x < y ? cross(db, x, y, top, nfx, nfy) : cross(db, y, x, top, nfy, nfx);
-    return d != d ? d : at_least_euclidean(db, x, y, d);
+    double e2 = euclidean2(db, x, y), d;
+    if (!near_pair(db, x, y, e2, &d)) {
+        uint32_t nfx = db->nodes[lx].curve_prefix, nfy = db->nodes[ly].curve_prefix;
+        d = x < y ? cross(db, x, y, top, nfx, nfy) : cross(db, y, x, top, nfy, nfx);
+    }
+    double e = sqrt(e2);
+    return d != d || d >= e ? d : e;
 }
 
 double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y)
@@ -522,8 +536,10 @@ double gs__qsrc_cross_cut(gs__qsrc *s, uint32_t y, uint32_t ly, uint32_t top, do
     const gs_db *db = s->db;
     cursor cy;
     cursor_init(db, y, db->nodes[ly].curve_prefix, &cy);
-    double d = cross_source(db, &s->cx, &cy, top, s->cache, s->x < y, cut);
-    return d != d ? d : at_least_euclidean(db, s->x, y, d);
+    double e2 = euclidean2(db, s->x, y), d; /* as cross_leaf, bit for bit */
+    if (!near_pair(db, s->x, y, e2, &d)) d = cross_source(db, &s->cx, &cy, top, s->cache, s->x < y, cut);
+    double e = sqrt(e2);
+    return d != d || d >= e ? d : e;
 }
 
 double gs__qsrc_cross(gs__qsrc *s, uint32_t y, uint32_t ly, uint32_t top)

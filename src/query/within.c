@@ -9,7 +9,10 @@
  *    minima m_x + m_y (the query's quick reject); so every y under a node N
  *    is at least min over those curves of m_x + (the least m_y under N);
  *  - a Euclidean bound: answers are never below the straight distance, so
- *    every y under N is at least |x - c_N| - r_N (N's bounding sphere).
+ *    every y under N is at least |x - c_N| - r_N (N's bounding sphere);
+ *  - the separator bound is not used where a vertex may be one of x's near
+ *    pairs (within the radius of section 'near_pairs'), whose stored exact
+ *    distances can be below it.
  * The least minima and the spheres of every node (the "neighbourhood
  * bounds") are computed from the file on first use, in one pass over the
  * vertices' minima, and kept with the database (db->derived) until
@@ -186,6 +189,14 @@ static double minima_bound(const float *mx, const float *t, uint32_t nk)
     return b;
 }
 
+/* Whether a vertex at least e from x in space may be one of x's near pairs
+ * (section 'near_pairs': exact distances below the separators' answers, so
+ * the minima bound does not hold for them; they lie within its radius). */
+static int near_possible(const source *s, double e)
+{
+    return s->db->near.radius2 > 0.0 && (e <= 0.0 || e * e < s->db->near.radius2);
+}
+
 static double lowered(const source *s, double b)
 {
     return b * (1.0 - BOUND_REL) - s->slack;
@@ -200,7 +211,7 @@ static double node_bound(const source *s, uint32_t n, uint32_t a)
     double dx = p[0] - c[0], dy = p[1] - c[1], dz = p[2] - c[2];
     double e = sqrt(dx * dx + dy * dy + dz * dz) - c[3];
     uint32_t nk = s->db->nodes[a].curve_prefix + s->db->nodes[a].n_curves;
-    double m = minima_bound(s->mx, s->ix->mins + s->ix->moff[n], nk);
+    double m = near_possible(s, e) ? -INFINITY : minima_bound(s->mx, s->ix->mins + s->ix->moff[n], nk);
     return lowered(s, e > m ? e : m);
 }
 
@@ -220,7 +231,7 @@ static double vertex_bound(const source *s, uint32_t y, uint32_t a)
     double e = sqrt(dx * dx + dy * dy + dz * dz);
     const unsigned char *end, *rec = gs__db_record(s->db, y, &end);
     uint32_t nk = s->db->nodes[a].curve_prefix + s->db->nodes[a].n_curves;
-    double m = minima_bound(s->mx, (const float *)(const void *)rec, nk);
+    double m = near_possible(s, e) ? -INFINITY : minima_bound(s->mx, (const float *)(const void *)rec, nk);
     return lowered(s, e > m ? e : m);
 }
 
