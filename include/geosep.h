@@ -360,8 +360,11 @@ typedef enum gs_method {
     GS_METHOD_FMM = 2,   /* fast marching (Kimmel & Sethian 1998)            */
     GS_METHOD_HEAT = 3,  /* the heat method (Crane et al. 2013), CHOLMOD      */
     GS_METHOD_DGG = 4    /* discrete geodesic graph (Wang et al. 2017): exact */
-                         /*   local runs build a graph once per solver, each  */
-                         /*   field is a Dijkstra on it (doc/approximate-fields.md) */
+                         /*   local runs build a graph once per solver, pruned */
+                         /*   to dgg_eps; each field is a short exact run from */
+                         /*   the source, then a Dijkstra on the graph; a     */
+                         /*   build makes one graph of the whole mesh          */
+                         /*   (doc/approximate-fields.md)                      */
 } gs_method;
 
 /* Text name ("exact", "graph", "fmm", "heat", "dgg") of a method, or NULL. */

@@ -73,6 +73,10 @@ static gs__test_errs check_mesh(const char *name, const gs_mesh *m, gs_method me
         CHECK_MSG(info.method == method && info.solver.heat_refine == want_refine,
                   "%s %s: recorded method %d, heat_refine %u (expected %u)", name, gs_method_name(method),
                   (int)info.method, info.solver.heat_refine, want_refine);
+        /* dgg's eps is recorded (format 4), 0 for the other methods */
+        CHECK_MSG(info.solver.dgg_eps == (method == GS_METHOD_DGG ? o.solver.dgg_eps : 0.0),
+                  "%s %s: recorded dgg_eps %g (built with %g)", name, gs_method_name(method), info.solver.dgg_eps,
+                  o.solver.dgg_eps);
         e = gs__test_db_errors(db, src, k, want, n);
         char bound[64] = "";
         if (isfinite(max_me)) snprintf(bound, sizeof bound, "  (at most %.2f%%, %.2f%%)", 100 * max_me, 100 * max_rmse);

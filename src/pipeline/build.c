@@ -451,6 +451,10 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
         t_fields += sf + sfit > 0 ? wall * sf / (sf + sfit) : 0;
         t_fits += sf + sfit > 0 ? wall * sfit / (sf + sfit) : 0;
     }
+    /* the dgg graph serves the node fields only */
+    gs_solver_free(b.dgg);
+    gs_patch_free(b.dgg_patch);
+    b.dgg = NULL, b.dgg_patch = NULL;
     gs__leaf_tables lt;
     memset(&lt, 0, sizeof lt);
     if (rc == GS_OK && opt->leaf_exact) {
