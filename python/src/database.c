@@ -371,7 +371,9 @@ static PyMethodDef db_methods[] = {
      "(input_distance), near_radius (mesh units; 0: none) and n_near_pairs (the\n"
      "exact distances stored for near pairs)."},
     GSPY_DB_QUERY_METHODS,
+    GSPY_DB_PATH_METHODS,
     GSPY_DB_INPUT_METHODS,
+    GSPY_DB_WITHIN_METHODS,
     {NULL, NULL, 0, NULL}};
 
 PyTypeObject gspy_DatabaseType = {

@@ -688,6 +688,7 @@ int gs_db_verify(const gs_db *db, gs_error *err)
 void gs_db_free(gs_db *db)
 {
     if (!db) return;
+    if (db->derived) db->derived->free(db->derived);
     if (db->mapped) munmap(db->storage, db->storage_size);
     else free(db->storage);
     free(db);

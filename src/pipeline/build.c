@@ -155,6 +155,11 @@ static void tree_progress(void *user, double frac)
     gs__pipe_progress(user, "tree", frac);
 }
 
+static void graph_progress(void *user, double frac)
+{
+    gs__pipe_progress(user, "graph", frac);
+}
+
 /* near_radius > 0: the section 'near_pairs' with pairs[0..n_near). */
 static int assemble(gs__builder *b, const gs__leaf_tables *lt, double near_radius, const gs__near_pair *pairs,
                     uint64_t n_near, gs_db **out, gs_error *err)
@@ -403,6 +408,16 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
         if (tree->nodes[i].n_curves)
             b.work_total += (double)tree->nodes[i].n_faces * tree->nodes[i].n_curves;
     double t_fields = 0, t_fits = 0;
+    if (opt->method == GS_METHOD_DGG) {
+        /* one graph for every node (doc/approximate-fields.md: patches) */
+        double ta = gs__now();
+        gs__dgg_progress pr = {graph_progress, &b};
+        gs__pipe_progress(&b, "graph", 0);
+        rc = gs_patch_create(mesh, NULL, 0, &b.dgg_patch, err);
+        if (rc == GS_OK) rc = gs__solver_create_dgg(b.dgg_patch, &opt->solver, b.nthreads, 1, &pr, &b.dgg, err);
+        if (rc) goto done;
+        t_fields += gs__now() - ta;
+    }
     /* Large nodes one at a time, threads inside each (sources, vertices);
      * then the small ones in parallel, one thread each. The result is the
      * same either way (chunks of sources do not depend on threads). */
@@ -489,6 +504,8 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
         stats->seconds_near = t_near;
     }
 done:
+    gs_solver_free(b.dgg);
+    gs_patch_free(b.dgg_patch);
     if (b.arenas)
         for (uint32_t i = 0; i < tree->n_nodes; ++i) free(b.arenas[i]);
     free(b.arenas);

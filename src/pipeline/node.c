@@ -163,6 +163,7 @@ static int solve_block(gs__builder *b, node_job *j, const gs_source *src, uint32
     int rc = GS_OK;
     /* one factorisation for all threads (heat): the first solver here, the
      * others clone it */
+    if (!j->solver[0] && b->dgg && (rc = gs__solver_dgg_view(b->dgg, j->patch, &j->solver[0], err))) return rc;
     if (!j->solver[0] && (rc = gs_solver_create_ex(j->patch, b->opt->method, &b->opt->solver, &j->solver[0], err)))
         return rc;
 #pragma omp parallel num_threads(j->nthreads)

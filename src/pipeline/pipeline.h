@@ -27,6 +27,10 @@ typedef struct gs__builder {
                            /*   0 for sampled): near.c widens the radius   */
                            /*   of vertices with an uncertified function   */
     double **arenas;       /* one coefficient arena per node (or NULL)     */
+    /* GS_METHOD_DGG: one graph of the whole mesh (dgg_patch: the identity
+     * patch), nodes solve on views of it (gs__solver_dgg_view) */
+    gs_patch *dgg_patch;
+    gs_solver *dgg;
     /* progress */
     double work_total, work_done;
     /* stats */
