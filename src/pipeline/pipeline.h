@@ -78,8 +78,10 @@ int gs__pipe_near_pairs(gs__builder *b, const gs_db *db0, const double *radius, 
 /* Pairs off by more than this through the separators are stored (the fit
  * certificate's eps, GS_FIT_MAX_ERR). */
 #define GS_PIPE_NEAR_TOL 0.02
-/* The radius of vertices with an uncertified function, times near_radius. */
+/* The radius of vertices with an uncertified function, times near_radius:
+ * their worst fit error / GS_FIT_MAX_ERR, clamped to [WIDE, WIDE_MAX]. */
 #define GS_PIPE_NEAR_WIDE 2.0
+#define GS_PIPE_NEAR_WIDE_MAX 3.0
 
 uint32_t gs__pipe_region(const gs_mesh *m, const uint32_t *lv, uint32_t n, const double *r, uint32_t stamp,
                          uint32_t *fstamp, uint32_t **faces, size_t *cap);
