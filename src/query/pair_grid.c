@@ -19,13 +19,13 @@ static uint32_t rows_for(uint32_t g)
     uint32_t r = g >= 9 ? (g - 9) / 4 + 1 : 1;
     return r > ROWS ? ROWS : (r < 7 ? 7 : r);
 }
-#define STRIDE(g) ((((g) + 3u) + 3u) & ~3u) /* g + 3 points, padded to 4 */
+#define STRIDE(g) ((((g) + 3u) + 7u) & ~7u) /* g + 3 points, padded to 8 */
 
 /* tab[kind][g]: ROWS rows of STRIDE(g) floats: T_k(t_j), paths t_j = -1 +
  * 2j/(g-1) (j < g), loops t_j = -1 + 2(j-1)/g (j <= g + 2: one point beyond
  * each end, for the cubic interpolation of the points next to them);
  * padding repeats the last point. */
-static float g_tab[2][GS_FUN_GRID_MAX + 1][ROWS * STRIDE(GS_FUN_GRID_MAX)] __attribute__((aligned(16)));
+static float g_tab[2][GS_FUN_GRID_MAX + 1][ROWS * STRIDE(GS_FUN_GRID_MAX)] __attribute__((aligned(32)));
 static pthread_mutex_t g_lock = PTHREAD_MUTEX_INITIALIZER;
 static unsigned char g_done[2][GS_FUN_GRID_MAX + 1];
 
@@ -177,6 +177,53 @@ __attribute__((target("avx2,fma"))) static void to_values_avx2(float *p, uint32_
 }
 #endif
 
+#ifdef HAVE_AVX2_PATH
+/* NB vectors of 8 grid points (NB a constant at each call) from j on, in
+ * one pass over the rows: independent sums in registers (their
+ * multiply-adds overlap), then max(p, 0) and the square root of a squared
+ * series, stored to v. The same operations per point as dot_avx2 and
+ * to_values_avx2. */
+__attribute__((target("avx2,fma"), always_inline)) static inline void path_blocks(const float *tab, uint32_t s,
+                                                                                 const float *cf, uint32_t m,
+                                                                                 int squared, uint32_t j, float *v,
+                                                                                 const int NB)
+{
+    __m256 a[6];
+#pragma GCC unroll 6
+    for (int b = 0; b < NB; ++b) a[b] = _mm256_setzero_ps();
+    for (uint32_t k = 0; k <= m; ++k) {
+        __m256 ck = _mm256_set1_ps(cf[k]);
+        const float *r = tab + (size_t)k * s + j;
+#pragma GCC unroll 6
+        for (int b = 0; b < NB; ++b) a[b] = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 8 * b), a[b]);
+    }
+    const __m256 z = _mm256_setzero_ps();
+#pragma GCC unroll 6
+    for (int b = 0; b < NB; ++b) {
+        __m256 x = _mm256_max_ps(a[b], z);
+        _mm256_storeu_ps(v + j + 8 * b, squared ? _mm256_sqrt_ps(x) : x);
+    }
+}
+
+__attribute__((target("avx2,fma"))) static void path_avx2(const float *tab, uint32_t s, const float *cf, uint32_t m,
+                                                           int squared, uint32_t g, float *v)
+{
+    uint32_t nb = (g + 7) / 8, j = 0;
+    while (nb) {
+        uint32_t b = nb <= 6 ? nb : (nb + 1) / 2;
+        switch (b) {
+        case 1: path_blocks(tab, s, cf, m, squared, j, v, 1); break;
+        case 2: path_blocks(tab, s, cf, m, squared, j, v, 2); break;
+        case 3: path_blocks(tab, s, cf, m, squared, j, v, 3); break;
+        case 4: path_blocks(tab, s, cf, m, squared, j, v, 4); break;
+        case 5: path_blocks(tab, s, cf, m, squared, j, v, 5); break;
+        default: b = 6; path_blocks(tab, s, cf, m, squared, j, v, 6); break;
+        }
+        nb -= b, j += 8 * b;
+    }
+}
+#endif
+
 static void to_values(float *p, uint32_t n, int squared)
 {
 #ifdef HAVE_AVX2_PATH
@@ -231,4 +278,24 @@ void gs__grid_values(const gs__fun *f, uint32_t g, float *v)
     for (uint32_t j = g; j < ((g + 3u) & ~3u); ++j) q[j] = 0.0f;
     to_values(q, (g + 3u) & ~3u, f->squared);
     memcpy(v, q, sizeof *v * g);
+}
+
+void gs__grid_values_path(const float *cf, uint32_t m, int squared, uint32_t g, float *v)
+{
+    g = g < 3 ? 3 : (g > GS_FUN_GRID_MAX ? GS_FUN_GRID_MAX : g);
+    uint32_t s = STRIDE(g);
+    m = m < rows_for(g) ? m : rows_for(g) - 1;
+    const float *tab = table(0, g);
+#ifdef HAVE_AVX2_PATH
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
+        path_avx2(tab, s, cf, m, squared, g, v);
+        return;
+    }
+#endif
+    for (uint32_t j = 0; j < g; ++j) {
+        float a = 0.0f;
+        for (uint32_t k = 0; k <= m; ++k) a += cf[k] * tab[(size_t)k * s + j];
+        a = a > 0.0f ? a : 0.0f;
+        v[j] = squared ? sqrtf(a) : a;
+    }
 }

@@ -11,6 +11,7 @@
 #include "pair_grid.h"
 
 #include <math.h>
+#include <string.h>
 
 #define FIELD_MAX_DEPTH 512 /* x's ancestors by depth kept on the stack     */
 
@@ -49,36 +50,14 @@ static uint32_t lowest_common_ancestor(const gs__db_node *nodes, uint32_t a, uin
     return a;
 }
 
-/* Candidate curves of a query: the lower bound minval_x + minval_y of each
- * common curve, and the curve's function index. */
-typedef struct candidate {
-    double bound;
-    uint32_t k, curve;
-} candidate;
-
-#define MAX_CANDIDATES 64
-
-/* Gather the common curves of `top` and its ancestors, bottom-up, sorted by
- * their quick-reject bound (stable: bottom-up order breaks ties). Visiting
- * the most promising curve first makes the quick reject skip more pair
- * minimisations than the paper's plain bottom-up order and gives the same
- * minimum. ex, ey: the two vertices' minima. Returns the number gathered;
- * *rest is the node where gathering stopped (GS_NONE: all). */
-static uint32_t gather(const gs_db *db, const float *ex, const float *ey, uint32_t top, candidate *c, uint32_t *rest)
+/* The curve of function k (k below curve_prefix + n_curves of top): the
+ * ancestor of top whose curves hold it (validated: a child's curve_prefix
+ * is its parent's plus the parent's n_curves, the root's is 0). */
+static uint32_t curve_of(const gs_db *db, uint32_t top, uint32_t k)
 {
-    uint32_t n = 0, a = top;
-    for (; a != GS_NONE; a = db->nodes[a].parent) {
-        uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
-        if (n + (k1 - k0) > MAX_CANDIDATES) break;
-        for (uint32_t k = k0; k < k1; ++k) {
-            double b = (double)ex[k] + (double)ey[k];
-            uint32_t i = n++;
-            for (; i > 0 && c[i - 1].bound > b; --i) c[i] = c[i - 1];
-            c[i].bound = b, c[i].k = k, c[i].curve = db->nodes[a].curve_start + (k - k0);
-        }
-    }
-    *rest = a;
-    return n;
+    uint32_t a = top;
+    while (db->nodes[a].curve_prefix > k) a = db->nodes[a].parent;
+    return db->nodes[a].curve_start + (k - db->nodes[a].curve_prefix);
 }
 
 /* ---- a vertex's record: minima, then blocks ---- */
@@ -152,7 +131,34 @@ typedef struct dfun {
     gs__fun_dip dip;
     gs__db_fblock b;
     double coef[GS_FUN_MAX_DEGREE + 1];
+    float cf[GS_FUN_MAX_DEGREE + 1]; /* coef rounded to float (the grid's) */
 } dfun;
+
+/* The coefficients of a parsed Chebyshev block as doubles and floats
+ * (gs__db_fblock_coef, without a call to ldexp); 0 if malformed. */
+static int decode_coef(const gs__db_fblock *b, double *c, float *cf)
+{
+    uint32_t n = b->degree + 1;
+    if (b->f32) {
+        for (uint32_t k = 0; k < n; ++k) {
+            float v = gs__ldf(b->coef + 4 * (size_t)k);
+            if (!(fabsf(v) <= 1e30f)) return 0;
+            c[k] = v, cf[k] = v;
+        }
+        return 1;
+    }
+    if (b->e < GS__FB_EXP_MIN || b->e > GS__FB_EXP_MAX) return 0;
+    uint64_t bits = (uint64_t)(1023 + b->e) << 52; /* 2^e, a normal double */
+    double s;
+    memcpy(&s, &bits, sizeof s);
+    for (uint32_t k = 0; k < n; ++k) {
+        int16_t q;
+        memcpy(&q, b->coef + 2 * (size_t)k, 2);
+        c[k] = q * s;
+        cf[k] = (float)c[k];
+    }
+    return 1;
+}
 
 static int decode(const unsigned char *p, const unsigned char *end, float minval, dfun *d)
 {
@@ -175,7 +181,7 @@ static int decode(const unsigned char *p, const unsigned char *end, float minval
         d->dip.hi = d->dip.u + b->dip[2];
         d->dip.slope = b->dip[3];
     }
-    return b->sampled || gs__db_fblock_coef(b, d->coef);
+    return b->sampled || decode_coef(b, d->coef, d->cf);
 }
 
 /* A sampled block's value at u (piecewise linear, as gs__fun_value). */
@@ -237,10 +243,12 @@ static double pair_min(const gs_db *db, cursor *cx, cursor *cy, uint32_t k, uint
     if (a.b.sampled || b.b.sampled) return sampled_pair(&a, &b);
     uint32_t d1 = db->curves[c].degree1;
     if (!d1) return gs__fun_pair_min(&a.f, &b.f, NULL);
-    uint32_t g = gs__fun_grid_points(d1 - 1);
+    uint32_t g = gs__fun_grid_points(a.f.degree > b.f.degree ? a.f.degree : b.f.degree);
     float va[GS_FUN_GRID_MAX + 8], vb[GS_FUN_GRID_MAX + 8];
-    gs__grid_values(&a.f, g, va);
-    gs__grid_values(&b.f, g, vb);
+    if (a.f.closed) gs__grid_values(&a.f, g, va);
+    else gs__grid_values_path(a.cf, a.f.degree, a.f.squared, g, va);
+    if (b.f.closed) gs__grid_values(&b.f, g, vb);
+    else gs__grid_values_path(b.cf, b.f.degree, b.f.squared, g, vb);
     return gs__fun_pair_min_grid(&a.f, &b.f, va, vb, g, &a.dip, &b.dip, NULL);
 }
 
@@ -272,29 +280,42 @@ static PREFETCH_FN void prefetch_record(const gs_db *db, uint32_t x)
     prefetch_lines(p, n < RECORD_AHEAD ? n : RECORD_AHEAD);
 }
 
-/* eq. 4-5 with the quick reject, x < y. */
+/* eq. 4-5 with the quick reject, x < y. The common curves of x and y are
+ * their functions 0 .. K-1 (the curves of top and its ancestors, root's
+ * first): each has the lower bound minval_x + minval_y, and the curve with
+ * the lowest bound not yet visited is minimised next, until that bound is
+ * not below the best answer (visiting the most promising curve first makes
+ * the quick reject skip more pair minimisations than the paper's plain
+ * bottom-up order, and gives the same minimum). */
 static double cross(const gs_db *db, uint32_t x, uint32_t y, uint32_t top, uint32_t nfx, uint32_t nfy)
 {
     cursor cx, cy;
     cursor_init(db, x, nfx, &cx);
     cursor_init(db, y, nfy, &cy);
-    candidate c[MAX_CANDIDATES];
-    uint32_t rest, n = gather(db, cx.ent, cy.ent, top, c, &rest);
+    const float *ex = cx.ent, *ey = cy.ent;
+    uint32_t K = db->nodes[top].curve_prefix + db->nodes[top].n_curves;
     double best = INFINITY;
-    for (uint32_t i = 0; i < n; ++i) {
-        if (c[i].bound >= best) break; /* sorted: all others rejected too (and unreachable) */
-        double d = pair_min(db, &cx, &cy, c[i].k, c[i].curve);
-        if (d != d) return NAN;
-        if (d < best) best = d;
-    }
-    for (uint32_t a = rest; a != GS_NONE; a = db->nodes[a].parent) { /* > 64 curves: rare */
-        uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
-        for (uint32_t k = k0; k < k1; ++k) {
-            if ((double)cx.ent[k] + (double)cy.ent[k] >= best) continue;
-            double d = pair_min(db, &cx, &cy, k, db->nodes[a].curve_start + (k - k0));
+    if (K <= 64) {
+        uint64_t done = 0;
+        for (;;) {
+            uint32_t kb = 0;
+            double bb = INFINITY;
+            for (uint32_t k = 0; k < K; ++k) {
+                double b = (double)ex[k] + (double)ey[k];
+                if (b < bb && !(done >> k & 1)) bb = b, kb = k;
+            }
+            if (!(bb < best)) return best; /* all others rejected too (and unreachable) */
+            done |= (uint64_t)1 << kb;
+            double d = pair_min(db, &cx, &cy, kb, curve_of(db, top, kb));
             if (d != d) return NAN;
             if (d < best) best = d;
         }
+    }
+    for (uint32_t k = 0; k < K; ++k) { /* > 64 curves: rare */
+        if ((double)ex[k] + (double)ey[k] >= best) continue;
+        double d = pair_min(db, &cx, &cy, k, curve_of(db, top, k));
+        if (d != d) return NAN;
+        if (d < best) best = d;
     }
     return best;
 }
