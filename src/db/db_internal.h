@@ -42,8 +42,8 @@ struct gs_db {
  * validation (index increasing, last entry = records_bytes). */
 static inline const unsigned char *gs__db_record(const gs_db *db, uint32_t x, const unsigned char **end)
 {
-    *end = db->records + 8 * (uint64_t)db->index[x + 1];
-    return db->records + 8 * (uint64_t)db->index[x];
+    *end = db->records + GS__DB_RECORD_UNIT * (uint64_t)db->index[x + 1];
+    return db->records + GS__DB_RECORD_UNIT * (uint64_t)db->index[x];
 }
 
 /* Serialise c into the on-disk layout and attach the result. *out: new

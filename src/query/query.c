@@ -67,7 +67,7 @@ static uint32_t curve_of(const gs_db *db, uint32_t top, uint32_t k)
 /* Finds function k's block by walking the blocks before it (their heads
  * only), remembering the positions it passes. */
 typedef struct cursor {
-    const float *ent;                 /* the minima                        */
+    const uint16_t *ent;              /* the minima (gs__db_min_value)     */
     const unsigned char *first, *end; /* the first block, the record's end */
     const unsigned char *next;        /* the block of function n (walked)  */
     uint32_t n;
@@ -77,8 +77,8 @@ typedef struct cursor {
 static inline void cursor_init(const gs_db *db, uint32_t x, uint32_t nf, cursor *c)
 {
     const unsigned char *p = gs__db_record(db, x, &c->end);
-    c->ent = (const float *)(const void *)p; /* records start 8-aligned */
-    c->first = c->next = p + 4 * (size_t)nf;
+    c->ent = (const uint16_t *)(const void *)p; /* records start 8-aligned */
+    c->first = c->next = p + GS__DB_MIN_BYTES * (size_t)nf;
     c->n = 0;
 }
 
@@ -98,7 +98,7 @@ static const unsigned char *cursor_block(cursor *c, uint32_t k)
     uint32_t i = c->n;
     if (k >= CURSOR_MAX && c->n >= CURSOR_MAX) { /* deep: from the last remembered */
         p = c->at[CURSOR_MAX - 1], i = CURSOR_MAX - 1;
-        if (c->ent[i] != INFINITY) {
+        if (c->ent[i] != GS__DB_MIN_INF) {
             uint32_t b = block_bytes(p, c->end);
             if (!b) return NULL;
             p += b;
@@ -107,7 +107,7 @@ static const unsigned char *cursor_block(cursor *c, uint32_t k)
     }
     for (; i < k; ++i) {
         if (i < CURSOR_MAX) c->at[i] = p;
-        if (c->ent[i] == INFINITY) continue; /* unreachable: no block */
+        if (c->ent[i] == GS__DB_MIN_INF) continue; /* unreachable: no block */
         uint32_t b = block_bytes(p, c->end);
         if (!b) return NULL;
         p += b;
@@ -115,8 +115,8 @@ static const unsigned char *cursor_block(cursor *c, uint32_t k)
     if (k < CURSOR_MAX) {
         c->at[k] = p;
         if (k + 1 > c->n) {
-            uint32_t b = c->ent[k] == INFINITY ? 0 : block_bytes(p, c->end);
-            if (!b && c->ent[k] != INFINITY) return NULL;
+            uint32_t b = c->ent[k] == GS__DB_MIN_INF ? 0 : block_bytes(p, c->end);
+            if (!b && c->ent[k] != GS__DB_MIN_INF) return NULL;
             c->n = k + 1;
             c->next = p + b;
         }
@@ -148,13 +148,16 @@ static int decode_coef(const gs__db_fblock *b, double *c, float *cf)
         return 1;
     }
     if (b->e < GS__FB_EXP_MIN || b->e > GS__FB_EXP_MAX) return 0;
-    uint64_t bits = (uint64_t)(1023 + b->e) << 52; /* 2^e, a normal double */
-    double s;
-    memcpy(&s, &bits, sizeof s);
-    for (uint32_t k = 0; k < n; ++k) {
+    double s = gs__db_pow2(b->e);
+    uint32_t w = b->wide;
+    for (uint32_t k = 0; k < w; ++k) {
         int16_t q;
         memcpy(&q, b->coef + 2 * (size_t)k, 2);
         c[k] = q * s;
+        cf[k] = (float)c[k];
+    }
+    for (uint32_t k = w; k < n; ++k) {
+        c[k] = (signed char)b->coef[w + k] * s;
         cf[k] = (float)c[k];
     }
     return 1;
@@ -238,7 +241,8 @@ static double sampled_pair(const dfun *a, const dfun *b)
 static double pair_min(const gs_db *db, cursor *cx, cursor *cy, uint32_t k, uint32_t c)
 {
     dfun a, b;
-    if (!decode(cursor_block(cx, k), cx->end, cx->ent[k], &a) || !decode(cursor_block(cy, k), cy->end, cy->ent[k], &b))
+    if (!decode(cursor_block(cx, k), cx->end, gs__db_min_value(cx->ent[k]), &a) ||
+        !decode(cursor_block(cy, k), cy->end, gs__db_min_value(cy->ent[k]), &b))
         return NAN;
     if (a.b.sampled || b.b.sampled) return sampled_pair(&a, &b);
     uint32_t d1 = db->curves[c].degree1;
@@ -292,7 +296,7 @@ static double cross(const gs_db *db, uint32_t x, uint32_t y, uint32_t top, uint3
     cursor cx, cy;
     cursor_init(db, x, nfx, &cx);
     cursor_init(db, y, nfy, &cy);
-    const float *ex = cx.ent, *ey = cy.ent;
+    const uint16_t *ex = cx.ent, *ey = cy.ent;
     uint32_t K = db->nodes[top].curve_prefix + db->nodes[top].n_curves;
     double best = INFINITY;
     if (K <= 64) {
@@ -301,7 +305,7 @@ static double cross(const gs_db *db, uint32_t x, uint32_t y, uint32_t top, uint3
             uint32_t kb = 0;
             double bb = INFINITY;
             for (uint32_t k = 0; k < K; ++k) {
-                double b = (double)ex[k] + (double)ey[k];
+                double b = (double)gs__db_min_value(ex[k]) + (double)gs__db_min_value(ey[k]);
                 if (b < bb && !(done >> k & 1)) bb = b, kb = k;
             }
             if (!(bb < best)) return best; /* all others rejected too (and unreachable) */
@@ -312,7 +316,7 @@ static double cross(const gs_db *db, uint32_t x, uint32_t y, uint32_t top, uint3
         }
     }
     for (uint32_t k = 0; k < K; ++k) { /* > 64 curves: rare */
-        if ((double)ex[k] + (double)ey[k] >= best) continue;
+        if ((double)gs__db_min_value(ex[k]) + (double)gs__db_min_value(ey[k]) >= best) continue;
         double d = pair_min(db, &cx, &cy, k, curve_of(db, top, k));
         if (d != d) return NAN;
         if (d < best) best = d;
