@@ -230,6 +230,38 @@ static inline int gs__db_fblock_parse(const unsigned char *p, uint64_t avail, gs
     return 1;
 }
 
+/* The size of the block at p (what gs__db_fblock_parse gives as bytes), 0
+ * when gs__db_fblock_parse would refuse it: the query's walk over the
+ * blocks before the one it needs, without decoding them. */
+static inline uint32_t gs__db_fblock_size(const unsigned char *p, uint64_t avail)
+{
+    if (avail < 3) return 0; /* no block is shorter than 4 bytes */
+    uint32_t meta = p[0], code = meta & GS__FB_DEG_MASK, n, cb;
+    int e = (int)(signed char)p[1];
+    if (code == GS__FB_SAMPLED) {
+        uint16_t m;
+        if (avail < 4) return 0;
+        memcpy(&m, p + 2, 2);
+        if (m < 1 || e != GS__FB_F32) return 0;
+        n = 4, cb = 4 * ((uint32_t)m + 1);
+    } else if (code > 24) {
+        return 0;
+    } else if (e == GS__FB_F32) {
+        n = 2, cb = 4 * (code + 1);
+    } else {
+        if (p[2] > code + 1) return 0;
+        n = 3, cb = code + 1 + p[2];
+    }
+    if (meta & GS__FB_CLOSED) {
+        if (avail < n + 4) return 0;
+        float s = gs__ldf(p + n);
+        if (!(fabsf(s) <= (float)GS__DB_MAX_SHIFT)) return 0;
+        n += 4;
+    }
+    if (meta & GS__FB_DIP) n += 16;
+    return avail >= (uint64_t)n + cb ? n + cb : 0;
+}
+
 /* The integer coefficient q_k of a parsed integer block (k <= degree). */
 static inline int gs__db_fblock_q(const gs__db_fblock *b, uint32_t k)
 {

@@ -85,8 +85,7 @@ static inline void cursor_init(const gs_db *db, uint32_t x, uint32_t nf, cursor 
 /* The size of the block at p (0: malformed, or past the record's end). */
 static inline uint32_t block_bytes(const unsigned char *p, const unsigned char *end)
 {
-    gs__db_fblock b;
-    return gs__db_fblock_parse(p, (uint64_t)(end - p), &b) ? b.bytes : 0;
+    return gs__db_fblock_size(p, (uint64_t)(end - p));
 }
 
 /* Function k's block (k reachable: its minimum finite), NULL if the walk
