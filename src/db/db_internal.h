@@ -1,5 +1,5 @@
 /* db_internal.h - an opened database (struct gs_db): the file's bytes,
- * validated at attach (doc/database-format.md, format version 3) and used
+ * validated at attach (doc/database-format.md, format version 4) and used
  * in place; nothing is built at open. The packer the builder calls.
  * Internal. */
 #ifndef GS_DB_INTERNAL_H
@@ -30,14 +30,14 @@ struct gs_db {
     const uint32_t *leaf;
     const gs__db_node *nodes;
     const gs__db_disk_curve *curves;
-    const uint32_t *index;         /* nv+1: records in 8-byte units          */
+    const uint32_t *index;         /* nv+1: records in 2-byte units          */
     const unsigned char *records;
     const uint32_t *leaf_vstart, *leaf_local; /* NULL without leaf tables */
     const uint64_t *leaf_dstart;
     const double *leaf_dist;
 };
 
-/* Vertex x's record: its nf minima (float) then its function blocks;
+/* Vertex x's record: its nf minima (u16) then its function blocks;
  * *end receives the byte after it. Guaranteed in bounds by the structural
  * validation (index increasing, last entry = records_bytes). */
 static inline const unsigned char *gs__db_record(const gs_db *db, uint32_t x, const unsigned char **end)

@@ -1,4 +1,4 @@
-/* db_read.c - the database reader (doc/database-format.md, version 3): map
+/* db_read.c - the database reader (doc/database-format.md, version 4): map
  * the file and validate its structure (header, section table, counts,
  * offsets, the tree and the record index: what makes every read of a
  * query land inside the file); the full check (checksums, every record and

@@ -1,10 +1,11 @@
 /* db_write.c - the database writer: packs a gs__db_content (paper sec. 3.1)
- * into format version 3 (doc/database-format.md) and attaches the bytes;
- * the atomic save. Each function is stored compactly: 16-bit coefficients
- * against a power-of-two step when that keeps the stored function within
- * GS__DB_QREL of its minimum (else float32), its minimum as a float rounded
- * down below the stored function, and for a sharp dip (a vertex near the
- * curve) the dip the query's minimiser starts from. */
+ * into format version 4 (doc/database-format.md) and attaches the bytes;
+ * the atomic save. Each function is stored compactly: integer coefficients
+ * against the coarsest power-of-two step that keeps the stored function
+ * within GS__DB_QREL of its minimum (int16 leading ones, int8 tail; else
+ * float32), its minimum as a u16 code rounded down below the stored
+ * function, and for a sharp dip (a vertex near the curve) the dip the
+ * query's minimiser starts from. */
 #include "db_internal.h"
 #include "../io/atomic_file.h"
 
@@ -13,11 +14,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* 16-bit coefficients when the stored function then differs from the
- * fitted one by at most this much relative to its minimum (half the
- * tightest fit tolerance, GS_BUILD default tol 0.002; measured on bunny-5k:
- * ME, RMSE, p99.9, max and near-pair ME unchanged to the digits printed,
- * also at 2e-3), else float32 coefficients. */
+/* Integer coefficients when the stored function then differs from the
+ * fitted one by at most this much relative to its minimum (a third of the
+ * tightest fit tolerance, the default tol 0.003 at the root; measured over
+ * all vertex pairs of bunny-5k and spot with the coarsest such step: ME,
+ * RMSE, p99.9 and max unchanged to the digits of doc/accuracy.md), else
+ * float32 coefficients. */
 #define GS__DB_QREL 1e-3
 
 /* ---- one function ---------------------------------------------------- */

@@ -1,4 +1,4 @@
-/* format.c - what the reader and the writer share of format version 3
+/* format.c - what the reader and the writer share of format version 4
  * (doc/database-format.md): the checksum, the section sizes and names. */
 #include "format.h"
 

@@ -1,10 +1,11 @@
 /* query.c - online point-to-point queries (paper sec. 3.2, eq. 4-5, Theorem
  * 2.1): same leaf -> Euclidean (or the stored exact table); otherwise the
  * minimum over the curves of the common ancestors, with the quick reject on
- * the stored minima. Reads the file's records in place (format version 3):
+ * the stored minima. Reads the file's records in place (format version 4):
  * each vertex's minima, then its functions' blocks, decoded as needed; the
- * two functions of a curve are tabulated on the curve's grid and their sum
- * minimised (src/fit/fun.c gs__fun_pair_min_grid). Every read stays inside
+ * two functions of a curve are tabulated on the grid of their larger
+ * degree (pair_grid.c) and their sum minimised (pair_min.c
+ * gs__fun_pair_min_grid). Every read stays inside
  * the vertex's record (a malformed block gives NaN). The hot path: no
  * allocation, no locks. */
 #include "../db/db_internal.h"
@@ -246,7 +247,10 @@ static double pair_min(const gs_db *db, cursor *cx, cursor *cy, uint32_t k, uint
     if (a.b.sampled || b.b.sampled) return sampled_pair(&a, &b);
     uint32_t d1 = db->curves[c].degree1;
     if (!d1) return gs__fun_pair_min(&a.f, &b.f, NULL);
-    uint32_t g = gs__fun_grid_points(a.f.degree > b.f.degree ? a.f.degree : b.f.degree);
+    /* paths: the grid of the pair's larger degree; loops: of the curve's
+     * (near a loop's seam a coarser grid sends more pairs to the robust
+     * minimiser, whose tables cost memory) */
+    uint32_t g = gs__fun_grid_points(a.f.closed ? d1 - 1 : (a.f.degree > b.f.degree ? a.f.degree : b.f.degree));
     float va[GS_FUN_GRID_MAX + 8], vb[GS_FUN_GRID_MAX + 8];
     if (a.f.closed) gs__grid_values(&a.f, g, va);
     else gs__grid_values_path(a.cf, a.f.degree, a.f.squared, g, va);
