@@ -78,6 +78,9 @@ void print_distance(FILE *f, double d);
  * printed to out; stops at the first bad line. 0, or an exit code (message
  * printed). r stays open. */
 int query_pairs(const gs_db *db, uint32_t n, line_reader *r, FILE *out);
+/* The same by input vertex ids (gs_db_input_distance; ids below
+ * gs_db_num_input_vertices). */
+int query_input_pairs(const gs_db *db, line_reader *r, FILE *out);
 /* query --points: two points per line (mesh: "f b0 b1 b2" each, else
  * "v0 v1 v2 l0 l1 l2"), as query_pairs. */
 int query_points(const gs_db *db, const gs_mesh *mesh, line_reader *r, FILE *out);

@@ -41,11 +41,12 @@ const char usage_build[] =
     "  (--quiet: neither).\n"
     "  --repair: repair the mesh in memory first (geosep repair --help; what was\n"
     "  done goes to stderr): the database is of the repaired mesh, whose vertex\n"
-    "  ids are the input's plus appended copies, and the vertex map (input id ->\n"
-    "  repaired ids, doc/repair.md) is written next to it as DB.vmap.\n";
+    "  ids are the input's plus appended copies, and it stores where every input\n"
+    "  vertex went (doc/repair.md): query --input-ids and field --input-ids\n"
+    "  answer by the input's ids.\n";
 const char usage_query[] =
-    "usage: geosep query DB X Y\n"
-    "       geosep query DB --pairs FILE                (FILE: lines 'X Y')\n"
+    "usage: geosep query DB X Y [--input-ids]\n"
+    "       geosep query DB --pairs FILE [--input-ids]  (FILE: lines 'X Y')\n"
     "       geosep query DB --points FILE               (lines 'v0 v1 v2 l0 l1 l2  w0 w1 w2 m0 m1 m2')\n"
     "       geosep query DB --points FILE --mesh MESH   (lines 'f b0 b1 b2  g c0 c1 c2')\n"
     "  Approximate geodesic distance between vertices X and Y, one per line\n"
@@ -57,6 +58,10 @@ const char usage_query[] =
     "  three barycentric weights. Weights: finite, >= -1e-12, summing to 1\n"
     "  within 1e-9. A vertex v is 'v v v 1 0 0' (or any face of it with\n"
     "  weight 1 at v).\n"
+    "  --input-ids: X and Y are the ids of the mesh given to geosep build\n"
+    "  --repair: each answers the least distance over the vertices it became\n"
+    "  (a split vertex: its copies; a welded one: the vertex it joined). On a\n"
+    "  database built without --repair, input ids are the vertex ids.\n"
     "  The database is opened without reading it whole (its structure is\n"
     "  checked, not its checksums: geosep verify DB checks those).\n";
 const char usage_verify[] =
@@ -66,7 +71,7 @@ const char usage_verify[] =
     "  not above its values), positions and leaf tables. Prints 'DB: ok' and\n"
     "  a summary, or names the section, vertex and field that is wrong (exit 1).\n";
 const char usage_field[] =
-    "usage: geosep field DB --source X [-o OUT]\n"
+    "usage: geosep field DB --source X [--input-ids] [-o OUT]\n"
     "       geosep field DB --point V0,V1,V2:L0,L1,L2 [-o OUT]\n"
     "       geosep field DB --mesh MESH --source-point F:b0,b1,b2 [-o OUT]\n"
     "       geosep field DB --format gt --sources-from FILE.gt -o OUT.gt\n"
@@ -74,7 +79,10 @@ const char usage_field[] =
     "  --format gt, for every source of FILE.gt, written as GEOGT1).\n"
     "  --point: from the surface point L0 V0 + L1 V1 + L2 V2 (a face's corners\n"
     "  and barycentric weights); --source-point: from the point of face F of\n"
-    "  MESH (the database's mesh) with barycentric weights b0,b1,b2.\n";
+    "  MESH (the database's mesh) with barycentric weights b0,b1,b2.\n"
+    "  --input-ids (with --source): X and the lines are the ids of the mesh\n"
+    "  given to geosep build --repair (one line per input vertex; geosep query\n"
+    "  --help says how they are answered).\n";
 const char usage_eval[] =
     "usage: geosep eval DB --groundtruth FILE.gt\n"
     "  Compare the database with exact distances (GEOGT1): ME and RMSE of the\n"
@@ -163,6 +171,18 @@ static int build_option(gs_build_options *o, const char **out, int *quiet, int a
     return fail(EXIT_USAGE, "build: unknown or incomplete option '%s'", a);
 }
 
+/* A database of a repaired mesh: how many input ids it answers by (nothing
+ * when every input id is only itself). */
+static void print_input_ids(const gs_db *db, const gs_db_info *i)
+{
+    uint32_t n = gs_db_num_input_vertices(db), k = 0, a;
+    for (uint32_t v = 0; v < n; ++v) k += gs_db_input_aliases(db, v, &a, 1) != 1 || a != v;
+    if (n == i->n_vertices && k == 0) return;
+    printf("input ids (a repaired mesh): %u input vertices, %u of them answered through other vertices (query "
+           "--input-ids)\n",
+           n, k);
+}
+
 /* One line: the build parameters the database records. */
 static void print_params(const gs_db_info *i)
 {
@@ -207,6 +227,7 @@ int cmd_build(int argc, char **argv)
     bar b = {isatty(2) && !quiet, now(), now(), NULL, -1};
     o.progress = on_progress;
     o.progress_user = &b;
+    o.repair = rep; /* --repair: the input ids' aliases go into the database */
     gs_db *db = NULL;
     gs_build_stats st = {0};
     gs_error err = {0};
@@ -222,15 +243,6 @@ int cmd_build(int argc, char **argv)
     rc = gs_db_save(db, out, &err);
     tw = now() - tw;
     if (rc) rc = lib_fail(out, rc, &err);
-    if (!rc && rep) { /* the map next to the database; without it, no database */
-        size_t n = strlen(out) + 8;
-        char *map = malloc(n);
-        if (!map) rc = fail(EXIT_RUNTIME, "out of memory");
-        else snprintf(map, n, "%s.vmap", out);
-        if (!rc && (rc = write_vertex_map(map, rep))) unlink(out);
-        if (!rc && !quiet) printf("%s: vertex map of the repair (input id -> repaired ids)\n", map);
-        free(map);
-    }
     gs_db_info info;
     if (!rc && !quiet && gs_db_get_info(db, &info, &err) == GS_OK) {
         printf("%s: %u vertices, %u nodes (%u leaves), %u curves, depth avg %.2f max %u\n", out,
@@ -246,6 +258,7 @@ int cmd_build(int argc, char **argv)
         printf("size: %llu bytes, %.1f bytes/vertex, cost %.1f numbers/vertex\n",
                (unsigned long long)info.file_bytes, info.bytes_per_vertex, info.cost);
         print_params(&info);
+        print_input_ids(db, &info);
     }
     gs_db_free(db);
     gs_mesh_free(m);
@@ -262,10 +275,12 @@ static int open_db(const char *path, gs_db **db)
     return rc ? lib_fail(path, rc, &err) : 0;
 }
 
-static int query_id(const char *s, uint32_t n, uint32_t *v)
+static int query_id(const char *s, uint32_t n, int input, uint32_t *v)
 {
-    if (parse_u32(s, v)) return fail(EXIT_USAGE, "query: '%s' is not a vertex id", s);
-    if (*v >= n) return fail(EXIT_USAGE, "query: vertex %u out of range (the database has %u)", *v, n);
+    if (parse_u32(s, v)) return fail(EXIT_USAGE, "query: '%s' is not a%s vertex id", s, input ? "n input" : "");
+    if (*v >= n)
+        return fail(EXIT_USAGE, "query: %svertex %u out of range (the database has %u%s)", input ? "input " : "", *v, n,
+                    input ? " input vertices" : "");
     return 0;
 }
 
@@ -317,6 +332,8 @@ int cmd_verify(int argc, char **argv)
            "verified)\n",
            dbp, info.format_version, info.n_vertices, (unsigned long long)info.n_functions,
            (unsigned long long)info.file_bytes, info.bytes_per_vertex);
+    print_params(&info);
+    print_input_ids(db, &info);
     gs_db_free(db);
     return 0;
 }
@@ -324,10 +341,11 @@ int cmd_verify(int argc, char **argv)
 int cmd_query(int argc, char **argv)
 {
     const char *dbp = NULL, *pairs = NULL, *points = NULL, *meshp = NULL, *ids[2] = {NULL, NULL}, *v;
-    int n_ids = 0;
+    int n_ids = 0, input = 0;
     for (int i = 1; i < argc; ++i) {
         if (is_help(argv[i])) return fputs(usage_query, stdout), 0;
-        if ((v = opt_value(argc, argv, &i, "--pairs"))) pairs = v;
+        if (!strcmp(argv[i], "--input-ids")) input = 1;
+        else if ((v = opt_value(argc, argv, &i, "--pairs"))) pairs = v;
         else if ((v = opt_value(argc, argv, &i, "--points"))) points = v;
         else if ((v = opt_value(argc, argv, &i, "--mesh"))) meshp = v;
         else if (argv[i][0] == '-' && argv[i][1]) return fail(EXIT_USAGE, "query: unknown or incomplete option '%s'", argv[i]);
@@ -338,21 +356,28 @@ int cmd_query(int argc, char **argv)
     if (!dbp || (!!pairs + !!points + (n_ids > 0)) != 1 || (n_ids && n_ids != 2))
         return fail(EXIT_USAGE, "query: need DB X Y, DB --pairs FILE or DB --points FILE [--mesh MESH]");
     if (meshp && !points) return fail(EXIT_USAGE, "query: --mesh goes with --points");
+    if (input && points)
+        return fail(EXIT_USAGE, "query: --input-ids goes with X Y or --pairs (surface points name the database's "
+                                "own faces and vertices)");
     gs_db *db = NULL;
     int rc = open_db(dbp, &db);
     if (rc) return rc;
     gs_db_info info;
     gs_db_get_info(db, &info, NULL);
-    if (pairs)
+    if (pairs && input) {
+        line_reader r;
+        if (!(rc = lines_open(&r, pairs))) rc = query_input_pairs(db, &r, stdout);
+        lines_close(&r);
+    } else if (pairs)
         rc = query_file(db, NULL, info.n_vertices, pairs, 0);
     else if (points) {
         gs_mesh *m = NULL;
         if (!meshp || !(rc = load_db_mesh(meshp, db, info.n_vertices, &m))) rc = query_file(db, m, info.n_vertices, points, 1);
         gs_mesh_free(m);
     } else {
-        uint32_t x, y;
-        if (!(rc = query_id(ids[0], info.n_vertices, &x)) && !(rc = query_id(ids[1], info.n_vertices, &y)))
-            print_distance(stdout, gs_db_distance(db, x, y));
+        uint32_t x, y, n = input ? gs_db_num_input_vertices(db) : info.n_vertices;
+        if (!(rc = query_id(ids[0], n, input, &x)) && !(rc = query_id(ids[1], n, input, &y)))
+            print_distance(stdout, input ? gs_db_input_distance(db, x, y) : gs_db_distance(db, x, y));
     }
     gs_db_free(db);
     return rc;
@@ -404,9 +429,11 @@ int cmd_field(int argc, char **argv)
 {
     const char *dbp = NULL, *out = NULL, *from = NULL, *src = NULL, *fmt = NULL, *point = NULL, *spoint = NULL,
                *meshp = NULL, *v;
+    int input = 0;
     for (int i = 1; i < argc; ++i) {
         if (is_help(argv[i])) return fputs(usage_field, stdout), 0;
-        if ((v = opt_value(argc, argv, &i, "-o"))) out = v;
+        if (!strcmp(argv[i], "--input-ids")) input = 1;
+        else if ((v = opt_value(argc, argv, &i, "-o"))) out = v;
         else if ((v = opt_value(argc, argv, &i, "--source-point"))) spoint = v;
         else if ((v = opt_value(argc, argv, &i, "--source"))) src = v;
         else if ((v = opt_value(argc, argv, &i, "--sources-from"))) from = v;
@@ -426,22 +453,23 @@ int cmd_field(int argc, char **argv)
         return fail(EXIT_USAGE, "field: need DB --source X, DB --point V0,V1,V2:L0,L1,L2, DB --mesh MESH "
                                 "--source-point F:b0,b1,b2, or DB --format gt --sources-from FILE.gt -o OUT.gt");
     if (!meshp != !spoint) return fail(EXIT_USAGE, "field: --source-point and --mesh go together");
+    if (input && !src) return fail(EXIT_USAGE, "field: --input-ids goes with --source X");
     gs_db *db = NULL;
     int rc = open_db(dbp, &db);
     if (rc) return rc;
     gs_db_info info;
     gs_db_get_info(db, &info, NULL);
-    uint32_t n = info.n_vertices, x;
+    uint32_t n = input ? gs_db_num_input_vertices(db) : info.n_vertices, x; /* input: with --source only */
     if (gt)
         rc = field_gt(db, n, from, out);
     else if (point || spoint)
         rc = field_point(db, n, point ? "--point" : "--source-point", point ? point : spoint, meshp, out);
-    else if (!(rc = query_id(src, n, &x))) {
+    else if (!(rc = query_id(src, n, input, &x))) {
         double *d = malloc((n ? n : 1) * sizeof *d);
         gs_error err = {0};
         if (!d)
             rc = fail(EXIT_RUNTIME, "out of memory");
-        else if ((rc = gs_db_field(db, x, d, &err)))
+        else if ((rc = input ? gs_db_input_field(db, x, d, &err) : gs_db_field(db, x, d, &err)))
             rc = lib_fail("field", rc, &err);
         else
             rc = write_text(out, d, n);

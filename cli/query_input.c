@@ -15,7 +15,9 @@ void print_distance(FILE *f, double d)
         fprintf(f, "%.17g\n", d);
 }
 
-int query_pairs(const gs_db *db, uint32_t n, line_reader *r, FILE *out)
+/* Lines 'X Y' answered by gs_db_distance (ids below n), or with input ids
+ * by gs_db_input_distance (ids below n_input_vertices). */
+static int pairs_loop(const gs_db *db, uint32_t n, int input, line_reader *r, FILE *out)
 {
     int rc = 0, got = 0;
     while (!rc && (got = lines_next(r)) > 0) {
@@ -24,12 +26,23 @@ int query_pairs(const gs_db *db, uint32_t n, line_reader *r, FILE *out)
         if (k == 0) continue;
         uint32_t x, y;
         if (k != 2 || parse_u32(t[0], &x) || parse_u32(t[1], &y) || x >= n || y >= n)
-            rc = fail(EXIT_RUNTIME, "%s:%lu: expected two vertex ids below %u", r->path, r->ln, n);
+            rc = fail(EXIT_RUNTIME, "%s:%lu: expected two %s ids below %u", r->path, r->ln,
+                      input ? "input vertex" : "vertex", n);
         else
-            print_distance(out, gs_db_distance(db, x, y));
+            print_distance(out, input ? gs_db_input_distance(db, x, y) : gs_db_distance(db, x, y));
     }
     if (got < 0) rc = EXIT_RUNTIME;
     return rc;
+}
+
+int query_pairs(const gs_db *db, uint32_t n, line_reader *r, FILE *out)
+{
+    return pairs_loop(db, n, 0, r, out);
+}
+
+int query_input_pairs(const gs_db *db, line_reader *r, FILE *out)
+{
+    return pairs_loop(db, gs_db_num_input_vertices(db), 1, r, out);
 }
 
 /* A validation message without the library's "surface point: " prefix. */

@@ -7,7 +7,8 @@
  * in full): a distance between vertices in range is >= 0 or +inf, never
  * NaN; ids out of range give NaN (gs_db_distance) or GS_EARG (batches,
  * fields); batches answer as single queries, bit for bit; two vertices as
- * surface points answer as gs_db_distance. */
+ * surface points answer as gs_db_distance; queries by input id (the alias
+ * section) answer >= 0 or +inf in range, NaN / GS_EARG out of it. */
 #include "geosep.h"
 #include "fuzz_check.h"
 
@@ -88,6 +89,31 @@ static void query(const gs_db *db, const uint8_t *data, size_t size, int strict)
             rc = gs_db_point_field(db, &p, f, &err);
             if (strict) FUZZ_CHECK(rc == GS_OK);
         }
+        free(f);
+    }
+    /* by input id (the alias section, or the vertex ids without it) */
+    uint32_t ni = gs_db_num_input_vertices(db), al[8];
+    FUZZ_CHECK(ni <= n);
+    for (int k = 0; k < 4; ++k) {
+        uint32_t x = id_from(data, size, 16 + 2 * (size_t)k, ni), y = id_from(data, size, 17 + 2 * (size_t)k, ni);
+        double d = gs_db_input_distance(db, x, y);
+        uint32_t na = gs_db_input_aliases(db, x, al, 8);
+        if (x >= ni || y >= ni) {
+            FUZZ_CHECK(isnan(d));
+        } else {
+            FUZZ_CHECK(na >= 1);
+            for (uint32_t i = 0; i < na && i < 8; ++i) FUZZ_CHECK(al[i] < n);
+            if (strict) FUZZ_CHECK(!isnan(d) && d >= 0);
+        }
+        if (x >= ni) FUZZ_CHECK(na == 0);
+    }
+    if (ni > 0 && ni <= (1u << 16)) {
+        double *f = malloc(ni * sizeof *f);
+        FUZZ_CHECK(f != NULL);
+        uint32_t x = id_from(data, size, 30, ni);
+        rc = gs_db_input_field(db, x, f, &err);
+        FUZZ_CHECK(x >= ni ? rc == GS_EARG : (rc == GS_OK || rc == GS_ENOMEM));
+        for (uint32_t y = 0; strict && rc == GS_OK && y < ni; ++y) FUZZ_CHECK(!isnan(f[y]) && f[y] >= 0);
         free(f);
     }
     for (uint32_t node = 0; node < info.n_nodes && node < 4096; ++node) {

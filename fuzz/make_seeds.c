@@ -273,6 +273,29 @@ static void database(const char *spec, const char *name, int leaf_exact, int sam
     gs_mesh_free(m);
 }
 
+/* A flawed soup repaired, its database storing the input ids (the alias
+ * section) and leaf tables. */
+static void repaired_database(const soup *s)
+{
+    gs_mesh *m = NULL;
+    gs_repair *r = NULL;
+    gs_db *db = NULL;
+    gs_error err = {0};
+    if (gs_mesh_repair(s->xyz, s->nv, s->tri, s->nf, &m, &r, &err)) die(s->name, err.message);
+    gs_build_options o;
+    gs_build_options_default(&o);
+    o.threads = 1;
+    o.vmax = 8;
+    o.repair = r;
+    if (gs_db_build(m, &o, &db, NULL, &err)) die(s->name, err.message);
+    char path[1024];
+    snprintf(path, sizeof path, "%s/fuzz_db/%s-repaired.db", g_dir, s->name);
+    if (gs_db_save(db, path, &err)) die(path, err.message);
+    gs_db_free(db);
+    gs_repair_free(r);
+    gs_mesh_free(m);
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2) {
@@ -299,6 +322,8 @@ int main(int argc, char **argv)
     database("two:4", "two-components", 0, 0);
     database("sphere:1", "sphere-leaf-exact", 1, 0);
     database("grid:6,4", "grid-sampled", 0, 1);
+    repaired_database(&(soup){"bowtie", 12, 2, grid_xyz, bowtie});
+    repaired_database(&(soup){"seam", 12, 8, grid_xyz, seam});
 
     /* mode byte (see fuzz_cli_input.c), then the text */
     FILE *f = open_seed("fuzz_cli_input", "pairs");

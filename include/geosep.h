@@ -574,6 +574,12 @@ typedef struct gs_build_options {
                              /*   (heat) + the database [384]                  */
     gs_progress_fn progress; /* may be NULL                                    */
     void *progress_user;
+    const gs_repair *repair; /* the repair that made the mesh (gs_mesh_repair's */
+                             /*   info), or NULL [NULL]: its input-id aliases */
+                             /*   are stored, and the database then answers   */
+                             /*   by input id too (gs_db_input_distance); its */
+                             /*   n_vertices must be the mesh's (GS_EARG).    */
+                             /*   Only read during gs_db_build                */
 } gs_build_options;
 
 GS_API void gs_build_options_default(gs_build_options *opt);
@@ -784,6 +790,43 @@ GS_API int gs_db_point_field(const gs_db *db, const gs_surface_point *p, double 
  * argument is NULL; GS_ENOMEM if the work arrays cannot be allocated.
  * Cost: k calls of gs_db_field; memory: 2 x n_vertices doubles, freed
  * before returning. Thread-safe (the database is only read). */
+/* ---- Queries by input vertex id (src/query/input.c; doc/repair.md) ------
+ * A database built from a repaired mesh (gs_build_options.repair, geosep
+ * build --repair) stores where every input vertex went: input vertex v
+ * became the repaired vertices of its alias list (itself; a split vertex
+ * also its copies; a welded vertex the one it was welded into). A query by
+ * input ids answers the least distance over the aliases of each side:
+ * d_in(x, y) = min over aliases a of x, b of y of gs_db_distance(a, b)
+ * (0 when x == y). Without aliases stored, input ids are the vertex ids
+ * and these calls answer as gs_db_distance / gs_db_field. */
+
+/* The number of input vertices (n_vertices without aliases); 0 if db is
+ * NULL. Thread-safe, allocation free. */
+GS_API uint32_t gs_db_num_input_vertices(const gs_db *db);
+
+/* Input vertex v's aliases (repaired vertex ids, the first the vertex v
+ * became, then increasing): the first min(count, cap) written to out
+ * (caller's array; may be NULL with cap 0). Returns the count (at least
+ * 1), or 0 if v >= gs_db_num_input_vertices or db is NULL. Thread-safe,
+ * allocation free. */
+GS_API uint32_t gs_db_input_aliases(const gs_db *db, uint32_t v, uint32_t *out, uint32_t cap);
+
+/* d_in(x, y) above: +INFINITY if not connected, NaN if an id is >=
+ * gs_db_num_input_vertices. Thread-safe, allocation free. */
+GS_API double gs_db_input_distance(const gs_db *db, uint32_t x, uint32_t y);
+
+/* n pairs of input ids (pairs[2i], pairs[2i+1]) -> out[i]. Out-of-range ids
+ * give NaN in out[] and GS_EARG naming the first; the other pairs are still
+ * answered. Thread-safe, allocation free. */
+GS_API int gs_db_input_distances(const gs_db *db, const uint32_t *pairs, size_t n, double *out, gs_error *err);
+
+/* d_in from input vertex x to every input vertex (out: caller's array of
+ * gs_db_num_input_vertices doubles), from gs_db_field of x's aliases.
+ * GS_EARG for x out of range or a NULL argument; GS_ENOMEM if the work
+ * arrays (8 bytes per repaired vertex, 16 when x has several aliases; freed
+ * before returning) cannot be allocated. Thread-safe. */
+GS_API int gs_db_input_field(const gs_db *db, uint32_t x, double *out, gs_error *err);
+
 GS_API int gs_db_farthest_point_sampling(const gs_db *db, uint32_t k, uint32_t seed_vertex, uint32_t *out,
                                          gs_error *err);
 

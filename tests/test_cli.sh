@@ -228,6 +228,10 @@ run build "$D" -o "$T/grid.gsdb" --quiet
 { [ "$rc" -eq 0 ] && [ -s "$T/grid.gsdb" ] && [ ! -s "$T/out" ]; }; verdict "build --quiet writes a database"
 run build "$D" -o "$T/grid2.gsdb" --threads 1 --vmax 20 --mmax 12 --tol 0.005 --spacing 0.4
 { [ "$rc" -eq 0 ] && grep -q "nodes" "$T/out" && grep -q "time: tree" "$T/out" && grep -q "cost" "$T/out"; }; verdict "build prints tree, times and size"
+run build "$G" -o "$T/dgg.gsdb" --method dgg --dgg-eps 0.01 --threads 1
+{ [ "$rc" -eq 0 ] && grep -q "built with: method dgg (eps 0.01)" "$T/out"; }; verdict "build --method dgg: the database records eps"
+run verify "$T/dgg.gsdb"
+{ [ "$rc" -eq 0 ] && grep -q "built with: method dgg (eps 0.01)" "$T/out"; }; verdict "verify: prints the recorded dgg eps"
 run build "$D" -o "$T/grid3.gsdb" --no-leaf-exact --quiet
 { [ "$rc" -eq 0 ] && [ "$(stat -c %s "$T/grid3.gsdb")" -lt "$(stat -c %s "$T/grid.gsdb")" ]; }; verdict "build stores the leaf tables unless --no-leaf-exact"
 # a flat grid: the database distance is close to the Euclidean one
@@ -251,9 +255,9 @@ cp "$T/grid.gsdb" "$T/flip.gsdb"
 printf '\x55' | dd of="$T/flip.gsdb" bs=1 seek=2000 conv=notrunc 2>/dev/null
 expect_fail 1 "flip.gsdb: section '(records|positions|curves|nodes|leaves|vertex_index)': checksum mismatch" "verify: a corrupted database is refused, naming the section" verify "$T/flip.gsdb"
 run verify "$T/grid.gsdb"
-{ [ "$rc" -eq 0 ] && grep -q "grid.gsdb: ok (format 4, 400 vertices" "$T/out"; }; verdict "verify: a good database is ok"
-printf '\x02' | dd of="$T/flip.gsdb" bs=1 seek=8 conv=notrunc 2>/dev/null
-expect_fail 1 "format_version 2; this geosep reads version 4 only" "query: another format version is named" query "$T/flip.gsdb" 0 1
+{ [ "$rc" -eq 0 ] && grep -q "grid.gsdb: ok (format 5, 400 vertices" "$T/out"; }; verdict "verify: a good database is ok"
+printf '\x04' | dd of="$T/flip.gsdb" bs=1 seek=8 conv=notrunc 2>/dev/null
+expect_fail 1 "format_version 4; this geosep reads version 5 only \\(an older file: rebuild it with geosep build\\)" "query: another format version is named" query "$T/flip.gsdb" 0 1
 expect_fail 2 "verify: need DB" "verify: no database" verify
 run field "$T/grid.gsdb" --source 0 -o "$T/f0.txt"
 { [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/f0.txt")" -eq 400 ] && [ "$(head -1 "$T/f0.txt")" = "0" ]; }; verdict "field writes one distance per vertex"
@@ -476,11 +480,35 @@ expect_fail 2 "vertex out of range" "solve --repair: ids checked against the inp
 expect_fail 2 "format gt is not supported" "solve --repair --format gt: refused" solve "$T/bowtie.obj" --repair --format gt --random 2 -o "$T/x.gt"
 expect_fail 1 "non-manifold vertex" "build refuses the flawed file" build "$T/bowtie.obj" -o "$T/bt.gsdb"
 { [ ! -e "$T/bt.gsdb" ]; }; verdict "build: refused, no database"
-run build "$T/bowtie.obj" --repair -o "$T/bt.gsdb" --quiet
-{ [ "$rc" -eq 0 ] && [ -s "$T/bt.gsdb" ] && cmp -s "$T/bt.gsdb.vmap" "$T/map.txt" && grep -q "split" "$T/err"; }
-verdict "build --repair: the database and DB.vmap (the same map as repair --map)"
+run build "$T/bowtie.obj" --repair -o "$T/bt.gsdb"
+{ [ "$rc" -eq 0 ] && [ -s "$T/bt.gsdb" ] && [ ! -e "$T/bt.gsdb.vmap" ] && grep -q "split" "$T/err" &&
+  grep -q "input ids (a repaired mesh): 5 input vertices, 1 of them answered through other vertices" "$T/out"; }
+verdict "build --repair: the database holds the input ids (no DB.vmap beside it)"
 run query "$T/bt.gsdb" 5 3
 { [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = 1 ]; }; verdict "build --repair: the database answers by repaired id"
+# by input id: vertex 1 became {1, 5}; from 3 (the second triangle) through
+# the copy 5, from 0 through 1 itself; 0 and 3 are not connected
+run query "$T/bt.gsdb" --input-ids 1 3
+{ [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = 1 ]; }; verdict "query --input-ids: a split vertex answers through its copy"
+run query "$T/bt.gsdb" --input-ids 3 0
+{ [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = inf ]; }; verdict "query --input-ids: other component inf"
+printf '1 3\n0 1\n\n1 1\n4 3\n' >"$T/inpairs.txt"
+run query "$T/bt.gsdb" --input-ids --pairs "$T/inpairs.txt"
+{ [ "$rc" -eq 0 ] && [ "$(tr '\n' ' ' <"$T/out")" = "1 1 0 1 " ]; }
+verdict "query --input-ids --pairs: one line per pair"
+run field "$T/bt.gsdb" --input-ids --source 3 -o "$T/bt3f.txt"
+{ [ "$rc" -eq 0 ] && [ "$(tr '\n' ' ' <"$T/bt3f.txt")" = "$(tr '\n' ' ' <"$T/bt3.dist")" ]; }
+verdict "field --input-ids: one line per input vertex, as solve --repair answers"
+expect_fail 2 "input vertex 5 out of range \\(the database has 5 input vertices\\)" "query --input-ids: ids checked against the input" query "$T/bt.gsdb" --input-ids 5 0
+printf '0 5\n' >"$T/inbad.txt"
+expect_fail 1 "inbad.txt:1: expected two input vertex ids below 5" "query --input-ids --pairs: ids checked" query "$T/bt.gsdb" --input-ids --pairs "$T/inbad.txt"
+expect_fail 2 "input-ids goes with X Y or --pairs" "query --input-ids --points: refused" query "$T/bt.gsdb" --input-ids --points "$T/inbad.txt"
+expect_fail 2 "input-ids goes with --source" "field --input-ids --point: refused" field "$T/bt.gsdb" --input-ids --point 0,1,2:1,0,0
+run verify "$T/bt.gsdb"
+{ [ "$rc" -eq 0 ] && grep -q "input ids (a repaired mesh): 5 input vertices" "$T/out"; }; verdict "verify: names the input ids"
+run query "$T/grid.gsdb" --input-ids 0 399
+{ [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = "$("$BIN" query "$T/grid.gsdb" 0 399)" ]; }
+verdict "query --input-ids: without a repair, input ids are vertex ids"
 # an unwelded seam: grid:5,3 cut along x = 0.5, the right part using appended
 # duplicates of the seam vertices (accepted as two components, but wrong)
 run generate grid:5,3 -o "$T/g53.obj"

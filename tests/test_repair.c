@@ -308,6 +308,93 @@ static void check_flat(const result *x, const soup *s, const char *name, uint32_
     free(d);
 }
 
+/* A database of the repaired mesh built with its repair (gs_build_options.
+ * repair) answers by input id as the least over the aliases: for up to 40
+ * input sources x and every input vertex y, gs_db_input_distance against
+ * the minimum of gs_db_distance over the alias pairs (brute force, bit for
+ * bit; 0 for x == y), gs_db_input_field against the pairs, the stored
+ * aliases against the repair's; saved and re-opened, the same answers.
+ * With against_exact, also against exact distances by input id (the
+ * repaired mesh's exact fields, least over the aliases of both ends): +inf
+ * exactly where they are, mean relative error below max_me. vmax: the
+ * tree's leaf size. */
+static void check_input_db(const result *x, const soup *s, const char *name, uint32_t vmax, int against_exact,
+                           double max_me)
+{
+    if (!x->m) return;
+    const gs_repair *r = x->r;
+    gs_build_options o;
+    gs_build_options_default(&o);
+    o.vmax = vmax;
+    o.threads = 1;
+    o.repair = r;
+    gs_db *db = NULL, *re = NULL;
+    gs_error err = {0};
+    int rc = gs_db_build(x->m, &o, &db, NULL, &err);
+    CHECK_MSG(rc == GS_OK, "%s: build with the repair: %s", name, err.message);
+    if (rc) return;
+    char path[512];
+    snprintf(path, sizeof path, "%s/test_repair_%u.gsdb", GEOSEP_BINARY_DIR, s->nv);
+    CHECK(gs_db_save(db, path, &err) == GS_OK);
+    CHECK_MSG(gs_db_open_ex(path, GS_DB_OPEN_VERIFY, &re, &err) == GS_OK, "%s: %s", name, err.message);
+    remove(path);
+    uint32_t n_in = s->nv, nv = gs_mesh_num_vertices(x->m);
+    CHECK(gs_db_num_input_vertices(db) == n_in && (!re || gs_db_num_input_vertices(re) == n_in));
+    uint32_t al[64];
+    int bad_alias = 0;
+    for (uint32_t v = 0; v < n_in; ++v) {
+        uint32_t a = r->alias_start[v], k = r->alias_start[v + 1] - a, got = gs_db_input_aliases(db, v, al, 64);
+        bad_alias += got != k || (k <= 64 && memcmp(al, r->alias + a, k * sizeof *al));
+    }
+    CHECK_MSG(bad_alias == 0, "%s: %d input vertices' stored aliases differ from the repair's", name, bad_alias);
+    double *field = malloc(n_in * sizeof *field), *ex = NULL, *exin = malloc(n_in * sizeof *exin);
+    uint64_t n_bad = 0, n_pairs = 0, n_inf = 0, n_cmp = 0;
+    double sum = 0.0;
+    uint32_t step = n_in > 40 ? n_in / 40 : 1;
+    for (uint32_t xs = 0; xs < n_in; xs += step) {
+        CHECK(gs_db_input_field(db, xs, field, &err) == GS_OK);
+        if (against_exact) { /* exact by input id: least over xs's aliases, then over each y's */
+            for (uint32_t y = 0; y < n_in; ++y) exin[y] = INFINITY;
+            for (uint32_t i = r->alias_start[xs]; i < r->alias_start[xs + 1]; ++i) {
+                ex = exact_field(x->m, r->alias[i]);
+                for (uint32_t y = 0; y < n_in; ++y)
+                    for (uint32_t j = r->alias_start[y]; j < r->alias_start[y + 1]; ++j)
+                        exin[y] = fmin(exin[y], ex[r->alias[j]]);
+                free(ex);
+            }
+            exin[xs] = 0.0;
+        }
+        for (uint32_t y = 0; y < n_in; ++y) {
+            double want = INFINITY;
+            for (uint32_t i = r->alias_start[xs]; i < r->alias_start[xs + 1]; ++i)
+                for (uint32_t j = r->alias_start[y]; j < r->alias_start[y + 1]; ++j)
+                    want = fmin(want, gs_db_distance(db, r->alias[i], r->alias[j]));
+            if (y == xs) want = 0.0;
+            double d = gs_db_input_distance(db, xs, y), e = re ? gs_db_input_distance(re, xs, y) : d;
+            n_pairs++;
+            n_bad += d != want || field[y] != want || gs_db_input_distance(db, y, xs) != want || e != want;
+            if (against_exact) {
+                if (isinf(exin[y]) || isinf(d)) n_inf += isinf(exin[y]) != isinf(d);
+                else if (exin[y] > 0) sum += fabs(d - exin[y]) / exin[y], n_cmp++;
+            }
+        }
+    }
+    CHECK_MSG(n_bad == 0, "%s: %llu of %llu input-id answers are not the least over the aliases", name,
+              (unsigned long long)n_bad, (unsigned long long)n_pairs);
+    if (against_exact) {
+        CHECK_MSG(n_inf == 0, "%s: %llu input pairs unreachable in one of database and exact only", name,
+                  (unsigned long long)n_inf);
+        CHECK_MSG(n_cmp == 0 || sum / n_cmp <= max_me, "%s: mean relative error by input id %.3g%% (> %.3g%%)", name,
+                  100 * sum / n_cmp, 100 * max_me);
+    }
+    CHECK(isnan(gs_db_input_distance(db, n_in, 0)) && gs_db_input_field(db, n_in, field, NULL) == GS_EARG);
+    (void)nv;
+    free(field);
+    free(exin);
+    gs_db_free(re);
+    gs_db_free(db);
+}
+
 static int same_faces(const gs_mesh *m, const soup *s)
 {
     return gs_mesh_num_faces(m) == s->nf && !memcmp(gs_mesh_faces(m), s->tri, 3 * (size_t)s->nf * sizeof *s->tri);
@@ -373,6 +460,9 @@ static void test_pinched_vertex(void)
         CHECK_NEAR(d[s.nv], slant, 1e-12); /* the lower cone's apex is the copy */
         CHECK(isinf(d[apex]));
         free(d);
+        /* by input id the apex reaches both cones: ring to ring through it */
+        check_input_db(&x, &s, "pinched vertex", 30, 1, 1e-3);
+        check_input_db(&x, &s, "pinched vertex, small leaves", 4, 1, 0.01);
     }
     done(&x);
     soup_free(&s);
@@ -426,6 +516,7 @@ static void seam_case(int flip_right)
         }
         gs_mesh_free(wm);
         check_flat(&x, &s, name, 3, 0, s.nv);
+        check_input_db(&x, &s, name, 12, 1, 0.01); /* a welded copy answers as its representative */
     }
     done(&x);
     soup_free(&s);
@@ -856,6 +947,7 @@ static void test_random_soups(void)
                 char name[64];
                 snprintf(name, sizeof name, "random soup %d", it);
                 result x = repair(&s, name);
+                if (it % 8 == 0) check_input_db(&x, &s, name, 6, 0, 0); /* every kind of alias list */
                 done(&x);
                 n_ok++;
             }
@@ -972,6 +1064,8 @@ static void test_sphere_all_flaws(void)
             free(want_d);
             gs_db_free(db);
         }
+        /* by input id (each seam copy answers as its representative) */
+        check_input_db(&x, &s, "sphere with every reversible flaw", 30, 1, 0.005);
     }
     done(&x);
     free(up), free(used), free(dup);

@@ -158,6 +158,7 @@ static PyObject *db_build(PyObject *cls, PyObject *args, PyObject *kwargs)
         gspy_solver_options(heat_time, heat_refine, fmm_start, dgg_eps, &o.solver) < 0)
         return NULL;
     if (!heat_refine || heat_refine == Py_None) o.solver.heat_refine = refine_default;
+    o.repair = ((gspy_Mesh *)mesh)->repair; /* a repaired Mesh: its input ids go into the database */
 
     progress_state ps = {0};
     ps.percent = -1;
@@ -250,7 +251,7 @@ static PyObject *db_info(gspy_Database *self, PyObject *Py_UNUSED(ignored))
     int rc = gs_db_get_info(self->db, &i, &err);
     if (rc) return gspy_raise(rc, &err, GSPY_CTX_DB, NULL, 0);
     const char *method = gs_method_name(i.method);
-    return Py_BuildValue("{s:I,s:I,s:I,s:I,s:I,s:d,s:I,s:d,s:d,s:K,s:s,s:I,s:I,s:d,s:O,s:O,s:O,s:d,s:I,s:I,s:d,s:I,s:d}",
+    return Py_BuildValue("{s:I,s:I,s:I,s:I,s:I,s:d,s:I,s:d,s:d,s:K,s:s,s:I,s:I,s:d,s:O,s:O,s:O,s:d,s:I,s:I,s:d,s:I,s:d,s:d,s:I}",
                          "format_version", i.format_version, "n_vertices", i.n_vertices, "n_nodes", i.n_nodes,
                          "n_leaves", i.n_leaves, "n_curves", i.n_curves, "avg_depth", i.avg_depth, "max_depth",
                          i.max_depth, "cost", i.cost, "bytes_per_vertex", i.bytes_per_vertex, "file_bytes",
@@ -259,7 +260,8 @@ static PyObject *db_info(gspy_Database *self, PyObject *Py_UNUSED(ignored))
                          "sampled", i.sampled ? Py_True : Py_False, "leaf_exact", i.leaf_exact ? Py_True : Py_False,
                          "spacing", i.sample_spacing, "seed", i.seed, "max_samples", i.max_samples, "heat_time",
                          i.solver.heat_time, "heat_refine", i.solver.heat_refine, "fmm_start",
-                         i.solver.fmm_exact_start);
+                         i.solver.fmm_exact_start, "dgg_eps", i.solver.dgg_eps, "n_input_vertices",
+                         gs_db_num_input_vertices(self->db));
 }
 
 static PyObject *db_get_n_vertices(gspy_Database *self, void *Py_UNUSED(closure))
@@ -299,6 +301,10 @@ static void db_dealloc(gspy_Database *self)
 
 static PyGetSetDef db_getset[] = {
     {"n_vertices", (getter)db_get_n_vertices, NULL, "Number of vertices of the mesh it was built from.", NULL},
+    {"n_input_vertices", (getter)gspy_db_get_n_input_vertices, NULL,
+     "Number of input vertices: of the mesh before repair for a database built\n"
+     "from a repaired Mesh (input_distance), else n_vertices.",
+     NULL},
     {"vertices", (getter)db_get_vertices, NULL,
      "The vertex positions it was built from: a read-only (n_vertices, 3) float64 array.", NULL},
     {"mesh", (getter)db_get_mesh, NULL,
@@ -330,6 +336,8 @@ static PyMethodDef db_methods[] = {
      "  seed (partitioning seed, 1), max_samples (per curve, 192; 0: no cap),\n"
      "  field_memory (MiB per block of fields, 384), heat_time, heat_refine\n"
      "  (0..3 or \"auto\", the default), fmm_start, dgg_eps (method \"dgg\").\n"
+     "A Mesh made with repair=True gives a database that also answers by the\n"
+     "input's vertex ids (input_distance, input_field).\n"
      "An unknown option raises TypeError, a value out of range ValueError. The\n"
      "GIL is released during the build."},
     {"open", (PyCFunction)(void (*)(void))db_open, METH_VARARGS | METH_KEYWORDS | METH_CLASS,
@@ -352,8 +360,10 @@ static PyMethodDef db_methods[] = {
      "max_depth, cost (numbers stored per vertex), bytes_per_vertex, file_bytes,\n"
      "and the build's parameters: method, vmax, mmax, tol, vertex_sources,\n"
      "sampled, leaf_exact, spacing, seed, max_samples, heat_time, heat_refine,\n"
-     "fmm_start."},
+     "fmm_start, dgg_eps (method \"dgg\"; 0 for the others), n_input_vertices\n"
+     "(input_distance)."},
     GSPY_DB_QUERY_METHODS,
+    GSPY_DB_INPUT_METHODS,
     {NULL, NULL, 0, NULL}};
 
 PyTypeObject gspy_DatabaseType = {

@@ -130,6 +130,19 @@ PyObject *gspy_db_point_distance(PyObject *self, PyObject *args, PyObject *kwarg
 PyObject *gspy_db_farthest_point_sampling(PyObject *self, PyObject *args, PyObject *kwargs);
 extern const char gspy_db_distance_doc[], gspy_db_pairwise_doc[], gspy_db_field_doc[],
     gspy_db_point_distance_doc[], gspy_db_farthest_point_sampling_doc[];
+/* dbinput.c: the queries by input vertex id (a repaired mesh's database) */
+PyObject *gspy_db_input_distance(PyObject *self, PyObject *args);
+PyObject *gspy_db_input_field(PyObject *self, PyObject *arg);
+PyObject *gspy_db_input_aliases(PyObject *self, PyObject *arg);
+PyObject *gspy_db_get_n_input_vertices(PyObject *self, void *closure);
+extern const char gspy_db_input_distance_doc[], gspy_db_input_field_doc[], gspy_db_input_aliases_doc[];
+#define GSPY_DB_INPUT_METHODS                                                                                 \
+    {"input_distance", (PyCFunction)gspy_db_input_distance, METH_VARARGS, gspy_db_input_distance_doc},        \
+        {"input_field", (PyCFunction)gspy_db_input_field, METH_O, gspy_db_input_field_doc},                   \
+    {                                                                                                         \
+        "input_aliases", (PyCFunction)gspy_db_input_aliases, METH_O, gspy_db_input_aliases_doc                \
+    }
+
 #define GSPY_DB_QUERY_METHODS                                                                                 \
     {"distance", (PyCFunction)gspy_db_distance, METH_VARARGS, gspy_db_distance_doc},                          \
         {"pairwise", (PyCFunction)(void (*)(void))gspy_db_pairwise, METH_VARARGS | METH_KEYWORDS,             \

@@ -154,3 +154,65 @@ def test_repair_arrays_still_refuses_bad_data():
         geosep.Mesh(V, [[0, 1, 2]], repair=True)
     with pytest.raises(geosep.MeshError):
         geosep.Mesh(V[:2], [[0, 1, 2]], repair=True)
+
+
+def brute_input_distance(db, m, x, y):
+    """min over the aliases of x and y of db.distance (the documented rule)."""
+    if x == y:
+        return 0.0
+    return min(db.distance(int(a), int(b)) for a in m.input_aliases(x) for b in m.input_aliases(y))
+
+
+def test_database_by_input_ids(tmp_path):
+    """A database built from a repaired Mesh stores the input ids: the seam
+    (welded vertices) and a pinched vertex (split), answered by input id as
+    the least over the aliases; saved and opened, the same; an unrepaired
+    database answers input ids as vertex ids."""
+    V, F, _ = seam_arrays()
+    m = geosep.Mesh(V, F, repair=True)
+    db = geosep.Database.build(m, vmax=20)
+    n_in = len(V)
+    assert db.n_input_vertices == n_in and db.info()["n_input_vertices"] == n_in and db.n_vertices == m.n_vertices
+    for v in (0, 10, 231, 241):
+        assert db.input_aliases(v).tolist() == m.input_aliases(v).tolist()
+    rng = np.random.default_rng(3)
+    xs, ys = rng.integers(0, n_in, 300), rng.integers(0, n_in, 300)
+    xs[:11], ys[:11] = np.arange(231, 242), np.arange(10, 231, 21)  # each welded copy and its representative
+    want = np.array([brute_input_distance(db, m, int(x), int(y)) for x, y in zip(xs, ys)])
+    assert np.array_equal(db.input_distance(xs, ys), want)
+    assert np.all(want[:11] == 0.0)
+    assert db.input_distance(int(xs[20]), int(ys[20])) == want[20]
+    f = db.input_field(231)
+    assert f.shape == (n_in,) and f[10] == 0.0
+    assert np.array_equal(f, [brute_input_distance(db, m, 231, v) for v in range(n_in)])
+    with pytest.raises(IndexError, match="input vertex id"):
+        db.input_distance(0, n_in)
+    with pytest.raises(IndexError):
+        db.input_field(n_in)
+    path = tmp_path / "seam.gsdb"
+    db.save(str(path))
+    re = geosep.Database.open(str(path), verify=True)
+    assert re.n_input_vertices == n_in and np.array_equal(re.input_field(231), f)
+
+    # a pinched vertex split in two: from the second triangle through the copy
+    Vp = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0]], float)
+    mp = geosep.Mesh(Vp, np.array([[0, 1, 2], [0, 3, 4]]), repair=True)
+    dbp = geosep.Database.build(mp)
+    assert dbp.n_input_vertices == 5 and dbp.n_vertices == 6 and len(dbp.input_aliases(0)) == 2
+    assert dbp.input_distance(0, 3) == 1.0 and dbp.input_distance(0, 1) == 1.0
+    assert np.isinf(dbp.distance(0, 3))  # vertex 0 itself is in the first triangle
+    assert np.isinf(dbp.input_distance(1, 3))  # the two triangles only touched at 0: now apart
+
+    # not repaired: input ids are vertex ids
+    V2, F2 = grid_arrays(6, 5)
+    plain = geosep.Database.build(geosep.Mesh(V2, F2))
+    assert plain.n_input_vertices == plain.n_vertices
+    assert np.array_equal(plain.input_field(3), plain.field(3))
+    assert plain.input_aliases(4).tolist() == [4]
+
+
+def test_database_info_dgg_eps():
+    V, F = grid_arrays(8, 6)
+    m = geosep.Mesh(V, F)
+    assert geosep.Database.build(m, method="dgg", dgg_eps=0.01).info()["dgg_eps"] == 0.01
+    assert geosep.Database.build(m).info()["dgg_eps"] == 0.0

@@ -40,6 +40,13 @@ typedef struct gs__db_content {
     const uint32_t *leaf_verts;
     const uint64_t *leaf_dstart;  /* n_nodes+1                               */
     const double *leaf_dist;
+    /* Optional input-id aliases (a repaired mesh), else n_input = 0: input
+     * vertex v became the vertices alias[alias_start[v] .. alias_start[v+1])
+     * (gs_repair's CSR: each list non-empty, every alias < nv). The writer
+     * stores the lists that are not exactly {v}. */
+    uint32_t n_input;             /* <= nv                                   */
+    const uint32_t *alias_start;  /* n_input + 1                             */
+    const uint32_t *alias;
     /* build parameters, recorded in the file */
     uint32_t method;              /* gs_method                               */
     uint32_t vmax, mmax;
@@ -49,6 +56,7 @@ typedef struct gs__db_content {
     uint32_t seed;                /* partitioning seed                       */
     uint32_t max_samples;         /* cap on samples per curve (0: none)      */
     double heat_time, fmm_exact_start; /* gs_solver_options                  */
+    double dgg_eps;               /* gs_solver_options; 0 unless method dgg  */
     uint32_t heat_refine;         /* gs_solver_options, 0..3                 */
     double avg_depth;
     uint32_t max_depth, n_leaves;

@@ -1,5 +1,5 @@
 /* db_internal.h - an opened database (struct gs_db): the file's bytes,
- * validated at attach (doc/database-format.md, format version 4) and used
+ * validated at attach (doc/database-format.md, format version 5) and used
  * in place; nothing is built at open. The packer the builder calls.
  * Internal. */
 #ifndef GS_DB_INTERNAL_H
@@ -23,8 +23,10 @@ struct gs_db {
     uint64_t n_functions, records_bytes, leaf_entries;
     uint32_t flags, build_flags, method, vmax, mmax;
     double avg_depth, tol, cost;
-    double sample_spacing, heat_time, fmm_exact_start;
+    double sample_spacing, heat_time, fmm_exact_start, dgg_eps;
     uint32_t seed, max_samples;
+    uint32_t n_input, alias_exceptions; /* n_input: nv without aliases      */
+    uint64_t alias_entries;
     /* sections, in place */
     const double *xyz;
     const uint32_t *leaf;
@@ -32,10 +34,22 @@ struct gs_db {
     const gs__db_disk_curve *curves;
     const uint32_t *index;         /* nv+1: records in 2-byte units          */
     const unsigned char *records;
-    const uint32_t *leaf_vstart, *leaf_local; /* NULL without leaf tables */
-    const uint64_t *leaf_dstart;
-    const double *leaf_dist;
+    /* leaf tables (NULL without): per node, its table; per vertex, its
+     * number in its leaf (u8, or u16 with GS__DB_FLAG_LEAF_LOCAL16) */
+    const gs__db_leaf_node *leaf_nodes;
+    const uint8_t *leaf_local8;
+    const uint16_t *leaf_local16;
+    const uint16_t *leaf_q;
+    /* input-id aliases (NULL without) */
+    const gs__db_alias_head *alias_index; /* alias_exceptions + 1          */
+    const uint32_t *alias_list;
 };
+
+/* Vertex x's number in its leaf (leaf tables present). */
+static inline uint32_t gs__db_leaf_local(const gs_db *db, uint32_t x)
+{
+    return db->leaf_local8 ? db->leaf_local8[x] : db->leaf_local16[x];
+}
 
 /* Vertex x's record: its nf minima (u16) then its function blocks;
  * *end receives the byte after it. Guaranteed in bounds by the structural

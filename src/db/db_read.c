@@ -1,4 +1,4 @@
-/* db_read.c - the database reader (doc/database-format.md, version 4): map
+/* db_read.c - the database reader (doc/database-format.md, version 5): map
  * the file and validate its structure (header, section table, counts,
  * offsets, the tree and the record index: what makes every read of a
  * query land inside the file); the full check (checksums, every record and
@@ -18,9 +18,9 @@ typedef struct reader {
     gs_db *db;
     const char *name;
     gs_error *err;
-    const unsigned char *sec[GS__SEC_COUNT_FULL + 1];
-    uint64_t sec_size[GS__SEC_COUNT_FULL + 1];
-    uint32_t n_sec;
+    const unsigned char *sec[GS__SEC_MAX + 1];
+    uint64_t sec_size[GS__SEC_MAX + 1];
+    uint32_t n_sec, ids[GS__SEC_MAX]; /* the sections present, in order */
 } reader;
 
 #define BAD(r, ...) gs__fail((r)->err, GS_EPARSE, __VA_ARGS__)
@@ -69,14 +69,20 @@ static void read_header(gs_db *db, const unsigned char *b)
     db->max_samples = gs__get32(b + GS__H_MAX_SAMPLES);
     db->heat_time = gs__getf64(b + GS__H_HEAT_TIME);
     db->fmm_exact_start = gs__getf64(b + GS__H_FMM_START);
+    db->dgg_eps = gs__getf64(b + GS__H_DGG_EPS);
+    db->n_input = gs__get32(b + GS__H_N_INPUT);
+    db->alias_exceptions = gs__get32(b + GS__H_ALIAS_EXCEPTIONS);
+    db->alias_entries = gs__get64(b + GS__H_ALIAS_ENTRIES);
 }
 
 static int check_header(reader *r, const unsigned char *b, uint64_t size)
 {
     gs_db *db = r->db;
-    if (db->flags & ~GS__DB_FLAG_LEAF_EXACT)
+    if (db->flags & ~GS__DB_FLAGS_KNOWN)
         return BAD(r, "%s: header: flags 0x%X has unknown bits", r->name, db->flags);
-    uint32_t want = (db->flags & GS__DB_FLAG_LEAF_EXACT) ? GS__SEC_COUNT_FULL : GS__SEC_COUNT_BASE;
+    if ((db->flags & GS__DB_FLAG_LEAF_LOCAL16) && !(db->flags & GS__DB_FLAG_LEAF_EXACT))
+        return BAD(r, "%s: header: flags 0x%X: 16-bit leaf numbers without leaf tables", r->name, db->flags);
+    uint32_t want = gs__db_section_ids(db->flags, r->ids);
     r->n_sec = gs__get32(b + GS__H_SECTIONS);
     if (r->n_sec != want) return BAD(r, "%s: header: n_sections %u (flags require %u)", r->name, r->n_sec, want);
     if (gs__get32(b + GS__H_HEADER_BYTES) != GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * want)
@@ -117,6 +123,21 @@ static int check_counts(reader *r)
                    GS_HEAT_TIME_MAX);
     if (!(db->fmm_exact_start >= 0 && isfinite(db->fmm_exact_start)))
         return BAD(r, "%s: header: fmm_exact_start %g not finite and >= 0", r->name, db->fmm_exact_start);
+    if (db->method == GS_METHOD_DGG ? !(db->dgg_eps >= GS_DGG_EPS_MIN && db->dgg_eps <= GS_DGG_EPS_MAX)
+                                    : db->dgg_eps != 0)
+        return BAD(r, "%s: header: dgg_eps %g (method %s: %s)", r->name, db->dgg_eps,
+                   gs_method_name((gs_method)db->method),
+                   db->method == GS_METHOD_DGG ? "must be in [1e-05, 0.5]" : "must be 0");
+    if (db->flags & GS__DB_FLAG_ALIASES) {
+        if (db->n_input == 0 || db->n_input > db->nv || db->alias_entries < db->alias_exceptions ||
+            db->alias_entries > UINT32_MAX)
+            return BAD(r, "%s: header: n_input %u, alias_exceptions %u, alias_entries %llu (need 1 <= n_input <= "
+                          "n_vertices %u, exceptions <= entries < 2^32)",
+                       r->name, db->n_input, db->alias_exceptions, (unsigned long long)db->alias_entries, db->nv);
+    } else if (db->n_input || db->alias_exceptions || db->alias_entries) {
+        return BAD(r, "%s: header: n_input %u, alias_exceptions %u, alias_entries %llu without aliases (flags bit 2)",
+                   r->name, db->n_input, db->alias_exceptions, (unsigned long long)db->alias_entries);
+    }
     if (!(db->flags & GS__DB_FLAG_LEAF_EXACT) && db->leaf_entries)
         return BAD(r, "%s: header: leaf_entries %llu without leaf tables", r->name,
                    (unsigned long long)db->leaf_entries);
@@ -130,16 +151,18 @@ static int check_counts(reader *r)
 static int check_table(reader *r, const unsigned char *b, uint64_t size, int verify)
 {
     gs_db *db = r->db;
-    uint64_t want[GS__SEC_COUNT_FULL + 1];
-    if (!gs__db_layout(db->nv, db->n_nodes, db->n_curves, db->records_bytes, db->leaf_entries,
-                       r->n_sec == GS__SEC_COUNT_FULL, want))
-        return BAD(r, "%s: header: records_bytes or leaf_entries absurdly large", r->name);
+    uint64_t want[GS__SEC_MAX + 1];
+    gs__db_counts cn = {db->flags, db->nv, db->n_nodes, db->n_curves, db->records_bytes, db->leaf_entries,
+                        db->alias_exceptions, db->alias_entries};
+    if (!gs__db_layout(&cn, want))
+        return BAD(r, "%s: header: records_bytes, leaf_entries or alias_entries absurdly large", r->name);
     uint64_t off = GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * (uint64_t)r->n_sec;
-    for (uint32_t s = 1; s <= r->n_sec; ++s) {
-        const unsigned char *t = b + GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * (s - 1);
+    for (uint32_t e = 0; e < r->n_sec; ++e) {
+        uint32_t s = r->ids[e];
+        const unsigned char *t = b + GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * e;
         uint64_t o = gs__get64(t + 8), sz = gs__get64(t + 16);
         if (gs__get32(t) != s || gs__get32(t + 4) != 0)
-            return BAD(r, "%s: section table: entry %u has id %u, reserved %u (expected id %u, 0)", r->name, s - 1,
+            return BAD(r, "%s: section table: entry %u has id %u, reserved %u (expected id %u, 0)", r->name, e,
                        gs__get32(t), gs__get32(t + 4), s);
         if (o != off)
             return BAD(r, "%s: section '%s': offset %llu (expected %llu)", r->name, SEC(s), (unsigned long long)o,
@@ -282,78 +305,147 @@ static int check_index(reader *r)
 
 /* ---- leaf tables: the structure at open, the values by verify ---------- */
 
+/* Every vertex's number is below its leaf's n (0 for unreferenced
+ * vertices). wide: u16 numbers (a constant where it is called: one loop
+ * per width, the open's longest one). */
+static inline int check_local_bounds(reader *r, int wide)
+{
+    const gs_db *db = r->db;
+    for (uint32_t x = 0; x < db->nv; ++x) {
+        uint32_t l = db->leaf[x], k = wide ? db->leaf_local16[x] : db->leaf_local8[x];
+        if (l == GS_NONE ? k != 0 : k >= db->leaf_nodes[l].n)
+            return l == GS_NONE
+                       ? BAD(r, "%s: section 'leaf_local': unreferenced vertex %u has number %u (must be 0)", r->name,
+                             x, k)
+                       : BAD(r, "%s: section 'leaf_local': vertex %u has number %u in leaf %u (%u vertices)", r->name,
+                             x, k, l, db->leaf_nodes[l].n);
+    }
+    return GS_OK;
+}
+
+/* At open, what keeps every same-leaf read in bounds: each node's n at
+ * most 256 (65,536 with 16-bit numbers), the tables contiguous from 0 to
+ * leaf_entries, every vertex's number below its leaf's n; padding zero.
+ * O(nodes + vertices), no allocation. That each n is its leaf's vertex
+ * count and no two vertices share a number: verify
+ * (check_leaf_numbering). */
 static int check_leaf_structure(reader *r)
 {
     gs_db *db = r->db;
-    if (!db->leaf_vstart) return GS_OK;
-    int rc = check_padding(r, GS__SEC_LEAF_VSTART, 4 * ((uint64_t)db->n_nodes + 1));
-    if (!rc) rc = check_padding(r, GS__SEC_LEAF_LOCAL, 4 * (uint64_t)db->nv);
+    if (!db->leaf_nodes) return GS_OK;
+    const uint64_t wl = db->leaf_local8 ? 1 : 2;
+    int rc = check_padding(r, GS__SEC_LEAF_LOCAL, wl * db->nv);
+    if (!rc) rc = check_padding(r, GS__SEC_LEAF_Q, 2 * db->leaf_entries);
     if (rc) return rc;
+    uint64_t q = 0;
+    const uint64_t nmax = db->leaf_local8 ? 256 : 65536;
+    for (uint32_t l = 0; l < db->n_nodes; ++l) {
+        const gs__db_leaf_node *t = &db->leaf_nodes[l];
+        if (t->n > nmax)
+            return BAD(r, "%s: section 'leaf_nodes': node %u has a table of %u vertices (at most %llu)", r->name, l,
+                       t->n, (unsigned long long)nmax);
+        if (t->qstart != q)
+            return BAD(r, "%s: section 'leaf_nodes': node %u's table starts at entry %llu (expected %llu)", r->name, l,
+                       (unsigned long long)t->qstart, (unsigned long long)q);
+        q += gs__db_leaf_tri(t->n);
+    }
+    if (q != db->leaf_entries)
+        return BAD(r, "%s: section 'leaf_nodes': the tables hold %llu entries, header leaf_entries %llu", r->name,
+                   (unsigned long long)q, (unsigned long long)db->leaf_entries);
+    return db->leaf_local8 ? check_local_bounds(r, 0) : check_local_bounds(r, 1);
+}
+
+/* Verify: each node's n is the number of vertices in it, and the vertices
+ * of a leaf have distinct numbers (so the table has a row per vertex). */
+static int check_leaf_numbering(reader *r)
+{
+    gs_db *db = r->db;
     uint32_t *count = gs__calloc(db->n_nodes, sizeof *count);
+    uint64_t *first = gs__calloc((size_t)db->n_nodes + 1, sizeof *first); /* seen[] offset of each node */
     unsigned char *seen = gs__calloc((size_t)db->nv + 1, 1);
-    if (!count || !seen) rc = gs__fail(r->err, GS_ENOMEM, "%s: out of memory", r->name);
+    int rc = count && first && seen ? GS_OK : gs__fail(r->err, GS_ENOMEM, "%s: out of memory", r->name);
     for (uint32_t x = 0; x < db->nv && !rc; ++x)
         if (db->leaf[x] != GS_NONE) count[db->leaf[x]]++;
-    if (!rc && (db->leaf_vstart[0] || db->leaf_dstart[0]))
-        rc = BAD(r, "%s: section 'leaf_vstart': first entries must be 0", r->name);
     for (uint32_t l = 0; l < db->n_nodes && !rc; ++l) {
-        uint64_t nl = (uint64_t)db->leaf_vstart[l + 1] - db->leaf_vstart[l];
-        if (db->leaf_vstart[l + 1] < db->leaf_vstart[l] || nl != count[l])
-            rc = BAD(r, "%s: section 'leaf_vstart': node %u has %lld table vertices, %u vertices are in it", r->name,
-                     l, (long long)db->leaf_vstart[l + 1] - (long long)db->leaf_vstart[l], count[l]);
-        else if (db->leaf_dstart[l + 1] < db->leaf_dstart[l] || db->leaf_dstart[l + 1] - db->leaf_dstart[l] != nl * nl)
-            rc = BAD(r, "%s: section 'leaf_dstart': node %u table size disagrees with its %llu vertices", r->name, l,
-                     (unsigned long long)nl);
+        if (db->leaf_nodes[l].n != count[l])
+            rc = BAD(r, "%s: section 'leaf_nodes': node %u has a table of %u vertices, %u vertices are in it", r->name,
+                     l, db->leaf_nodes[l].n, count[l]);
+        first[l + 1] = first[l] + count[l];
     }
-    if (!rc && db->leaf_dstart[db->n_nodes] != db->leaf_entries)
-        rc = BAD(r, "%s: section 'leaf_dstart': sentinel %llu but leaf_entries %llu", r->name,
-                 (unsigned long long)db->leaf_dstart[db->n_nodes], (unsigned long long)db->leaf_entries);
-    if (!rc && db->leaf_vstart[db->n_nodes] > db->nv)
-        rc = BAD(r, "%s: section 'leaf_vstart': %u table vertices > n_vertices", r->name, db->leaf_vstart[db->n_nodes]);
     for (uint32_t x = 0; x < db->nv && !rc; ++x) {
-        uint32_t l = db->leaf[x], k = db->leaf_local[x];
-        if (l == GS_NONE) {
-            if (k != GS_NONE) rc = BAD(r, "%s: section 'leaf_local': unreferenced vertex %u has %u", r->name, x, k);
-            continue;
-        }
-        uint32_t nl = db->leaf_vstart[l + 1] - db->leaf_vstart[l];
-        if (k >= nl || seen[db->leaf_vstart[l] + (uint64_t)k])
-            rc = BAD(r, "%s: section 'leaf_local': vertex %u has number %u in leaf %u (%u vertices, or taken)",
-                     r->name, x, k, l, nl);
-        else
-            seen[db->leaf_vstart[l] + (uint64_t)k] = 1;
+        uint32_t l = db->leaf[x], k = gs__db_leaf_local(db, x);
+        if (l == GS_NONE) continue;
+        if (seen[first[l] + k]) /* k < n = count[l]: checked */
+            rc = BAD(r, "%s: section 'leaf_local': vertex %u has number %u in leaf %u, taken by another vertex",
+                     r->name, x, k, l);
+        seen[first[l] + k] = 1;
     }
     free(count);
+    free(first);
     free(seen);
     return rc;
 }
 
+/* The scales (finite, in [0, 1e30], 0 for internal nodes) and that each
+ * scale is its table's largest finite excess over the straight segment
+ * (its largest finite entry is GS__DB_LEAF_QMAX, or 0 when the scale is
+ * 0). */
 static int check_leaf_values(reader *r)
 {
     gs_db *db = r->db;
-    if (!db->leaf_vstart) return GS_OK;
-    /* bounded: surface points square them; a leaf's geodesic distances on
-     * a mesh that loads are far below 1e100 */
-    for (uint64_t i = 0; i < db->leaf_entries; ++i)
-        if (!(db->leaf_dist[i] >= 0 && (db->leaf_dist[i] <= 1e100 || db->leaf_dist[i] == INFINITY)))
-            return BAD(r, "%s: section 'leaf_dist': entry %llu is %g (must be in [0, 1e100] or inf)", r->name,
-                       (unsigned long long)i, db->leaf_dist[i]);
-    for (uint32_t l = 0; l < db->n_nodes; ++l) { /* d(x,y) == d(y,x), d(x,x) == 0 */
-        uint64_t nl = (uint64_t)db->leaf_vstart[l + 1] - db->leaf_vstart[l];
-        const double *t = db->leaf_dist + db->leaf_dstart[l];
-        for (uint64_t i = 0; i < nl; ++i) {
-            if (t[i * nl + i] != 0)
-                return BAD(r, "%s: section 'leaf_dist': leaf %u's diagonal entry %llu is %g (must be 0)", r->name, l,
-                           (unsigned long long)i, t[i * nl + i]);
-            for (uint64_t j = i + 1; j < nl; ++j)
-                if (t[i * nl + j] != t[j * nl + i])
-                    return BAD(r, "%s: section 'leaf_dist': leaf %u's table is not symmetric ([%llu][%llu] %.17g, "
-                                  "[%llu][%llu] %.17g)",
-                               r->name, l, (unsigned long long)i, (unsigned long long)j, t[i * nl + j],
-                               (unsigned long long)j, (unsigned long long)i, t[j * nl + i]);
+    if (!db->leaf_nodes) return GS_OK;
+    int rc = check_leaf_numbering(r);
+    if (rc) return rc;
+    for (uint32_t l = 0; l < db->n_nodes; ++l) {
+        const gs__db_leaf_node *t = &db->leaf_nodes[l];
+        if (!(t->scale >= 0 && t->scale <= GS__DB_LEAF_MAX_SCALE) || (t->n == 0 && t->scale != 0))
+            return BAD(r, "%s: section 'leaf_nodes': node %u (%u vertices) has scale %g (must be in [0, 1e30], 0 "
+                          "without vertices)",
+                       r->name, l, t->n, (double)t->scale);
+        uint32_t top = 0;
+        int finite = 0;
+        for (uint64_t i = 0; i < gs__db_leaf_tri(t->n); ++i) {
+            uint32_t v = db->leaf_q[t->qstart + i];
+            if (v == GS__DB_LEAF_QINF) continue;
+            finite = 1;
+            top = v > top ? v : top;
         }
+        if (finite && top != (t->scale > 0 ? GS__DB_LEAF_QMAX : 0u))
+            return BAD(r, "%s: section 'leaf_q': node %u's largest finite entry is %u (its scale %g: expected %u)",
+                       r->name, l, top, (double)t->scale, t->scale > 0 ? GS__DB_LEAF_QMAX : 0u);
     }
     return GS_OK;
+}
+
+/* ---- input-id aliases: the whole section at open (a few bytes per
+ * repaired vertex) --------------------------------------------------------- */
+
+/* Exceptions sorted by input vertex (each < n_input), lists non-empty and
+ * contiguous from 0 to alias_entries (the sentinel: {n_input,
+ * alias_entries}), every alias < n_vertices; padding zero. */
+static int check_aliases(reader *r)
+{
+    gs_db *db = r->db;
+    if (!db->alias_index) return GS_OK;
+    const gs__db_alias_head *h = db->alias_index;
+    uint32_t ne = db->alias_exceptions;
+    if (h[0].start != 0) return BAD(r, "%s: section 'alias_index': entry 0 starts at %u (must be 0)", r->name, h[0].start);
+    for (uint32_t k = 0; k < ne; ++k) {
+        if (h[k].v >= db->n_input || (k && h[k].v <= h[k - 1].v))
+            return BAD(r, "%s: section 'alias_index': entry %u names input vertex %u (increasing, below n_input %u)",
+                       r->name, k, h[k].v, db->n_input);
+        if (h[k + 1].start <= h[k].start)
+            return BAD(r, "%s: section 'alias_index': input vertex %u's list [%u, %u) is empty or reversed", r->name,
+                       h[k].v, h[k].start, h[k + 1].start);
+    }
+    if (h[ne].v != db->n_input || h[ne].start != db->alias_entries)
+        return BAD(r, "%s: section 'alias_index': sentinel {%u, %u}, expected {n_input %u, alias_entries %llu}",
+                   r->name, h[ne].v, h[ne].start, db->n_input, (unsigned long long)db->alias_entries);
+    for (uint64_t i = 0; i < db->alias_entries; ++i)
+        if (db->alias_list[i] >= db->nv)
+            return BAD(r, "%s: section 'alias_list': entry %llu is vertex %u (n_vertices %u)", r->name,
+                       (unsigned long long)i, db->alias_list[i], db->nv);
+    return check_padding(r, GS__SEC_ALIAS_LIST, 4 * db->alias_entries);
 }
 
 /* ---- records: every block and value (verify) --------------------------- */
@@ -471,11 +563,17 @@ static void set_pointers(reader *r)
     db->curves = (const gs__db_disk_curve *)r->sec[GS__SEC_CURVES];
     db->index = (const uint32_t *)r->sec[GS__SEC_INDEX];
     db->records = r->sec[GS__SEC_RECORDS];
-    if (r->n_sec == GS__SEC_COUNT_FULL) {
-        db->leaf_vstart = (const uint32_t *)r->sec[GS__SEC_LEAF_VSTART];
-        db->leaf_local = (const uint32_t *)r->sec[GS__SEC_LEAF_LOCAL];
-        db->leaf_dstart = (const uint64_t *)r->sec[GS__SEC_LEAF_DSTART];
-        db->leaf_dist = (const double *)r->sec[GS__SEC_LEAF_DIST];
+    if (db->flags & GS__DB_FLAG_LEAF_EXACT) {
+        db->leaf_nodes = (const gs__db_leaf_node *)r->sec[GS__SEC_LEAF_NODES];
+        if (db->flags & GS__DB_FLAG_LEAF_LOCAL16) db->leaf_local16 = (const uint16_t *)r->sec[GS__SEC_LEAF_LOCAL];
+        else db->leaf_local8 = r->sec[GS__SEC_LEAF_LOCAL];
+        db->leaf_q = (const uint16_t *)r->sec[GS__SEC_LEAF_Q];
+    }
+    if (db->flags & GS__DB_FLAG_ALIASES) {
+        db->alias_index = (const gs__db_alias_head *)r->sec[GS__SEC_ALIAS_INDEX];
+        db->alias_list = (const uint32_t *)r->sec[GS__SEC_ALIAS_LIST];
+    } else {
+        db->n_input = db->nv;
     }
 }
 
@@ -498,6 +596,7 @@ static int validate(reader *r, const unsigned char *b, uint64_t size, int verify
     free(n_children);
     if (!rc) rc = check_index(r);
     if (!rc) rc = check_leaf_structure(r);
+    if (!rc) rc = check_aliases(r);
     if (!rc && verify) rc = check_values(r);
     return rc;
 }
@@ -610,12 +709,13 @@ int gs_db_get_info(const gs_db *db, gs_db_info *info, gs_error *err)
     info->tol = db->tol;
     info->vertex_sources = (db->build_flags & GS__DB_BUILD_VERTEX_SOURCES) != 0;
     info->sampled = (db->build_flags & GS__DB_BUILD_SAMPLED) != 0;
-    info->leaf_exact = db->leaf_vstart != NULL;
+    info->leaf_exact = db->leaf_nodes != NULL;
     info->sample_spacing = db->sample_spacing;
     info->seed = db->seed;
     info->max_samples = db->max_samples;
     info->solver.heat_time = db->heat_time;
     info->solver.fmm_exact_start = db->fmm_exact_start;
+    info->solver.dgg_eps = db->dgg_eps;
     info->solver.heat_refine = (db->build_flags & GS__DB_BUILD_HEAT_REFINE_MASK) >> GS__DB_BUILD_HEAT_REFINE_SHIFT;
     return GS_OK;
 }

@@ -1,5 +1,5 @@
 /* db_write.c - the database writer: packs a gs__db_content (paper sec. 3.1)
- * into format version 4 (doc/database-format.md) and attaches the bytes;
+ * into format version 5 (doc/database-format.md) and attaches the bytes;
  * the atomic save. Each function is stored compactly: integer coefficients
  * against the coarsest power-of-two step that keeps the stored function
  * within GS__DB_QREL of its minimum (int16 leading ones, int8 tail; else
@@ -214,12 +214,12 @@ static int curve_grids(const gs__db_content *c, uint32_t *grid, uint32_t *fcurve
 }
 
 static void write_header(unsigned char *b, const gs__db_content *c, uint32_t n_sec, uint64_t file_bytes,
-                         uint64_t records_bytes, uint64_t leaf_entries, int tables, uint64_t numbers)
+                         const gs__db_counts *cn, uint64_t numbers)
 {
     memcpy(b, GS__DB_MAGIC, 8);
     gs__put32(b + GS__H_VERSION, GS__DB_VERSION);
     gs__put32(b + GS__H_ENDIAN, GS__DB_ENDIAN_TAG);
-    gs__put32(b + GS__H_FLAGS, tables ? GS__DB_FLAG_LEAF_EXACT : 0);
+    gs__put32(b + GS__H_FLAGS, cn->flags);
     gs__put32(b + GS__H_HEADER_BYTES, GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * n_sec);
     gs__put64(b + GS__H_FILE_BYTES, file_bytes);
     gs__put32(b + GS__H_NV, c->nv);
@@ -227,7 +227,7 @@ static void write_header(unsigned char *b, const gs__db_content *c, uint32_t n_s
     gs__put32(b + GS__H_CURVES, c->n_curves);
     gs__put32(b + GS__H_LEAVES, c->n_leaves);
     gs__put64(b + GS__H_FUNCTIONS, c->fun_start[c->nv]);
-    gs__put64(b + GS__H_RECORDS_BYTES, records_bytes);
+    gs__put64(b + GS__H_RECORDS_BYTES, cn->records_bytes);
     gs__put32(b + GS__H_SECTIONS, n_sec);
     gs__put32(b + GS__H_MAX_DEPTH, c->max_depth);
     gs__putf64(b + GS__H_AVG_DEPTH, c->avg_depth);
@@ -238,7 +238,7 @@ static void write_header(unsigned char *b, const gs__db_content *c, uint32_t n_s
               (c->vertex_sources ? GS__DB_BUILD_VERTEX_SOURCES : 0) | (c->sampled ? GS__DB_BUILD_SAMPLED : 0) |
                   ((c->heat_refine << GS__DB_BUILD_HEAT_REFINE_SHIFT) & GS__DB_BUILD_HEAT_REFINE_MASK));
     gs__putf64(b + GS__H_TOL, c->tol);
-    gs__put64(b + GS__H_LEAF_ENTRIES, leaf_entries);
+    gs__put64(b + GS__H_LEAF_ENTRIES, cn->leaf_entries);
     /* Table 1 counts what describes the functions: coefficients and loop
      * shifts; minima and block heads are index overhead (bytes/vertex). */
     gs__putf64(b + GS__H_COST, c->nv ? (double)numbers / c->nv : 0.0);
@@ -247,6 +247,12 @@ static void write_header(unsigned char *b, const gs__db_content *c, uint32_t n_s
     gs__put32(b + GS__H_MAX_SAMPLES, c->max_samples);
     gs__putf64(b + GS__H_HEAT_TIME, c->heat_time);
     gs__putf64(b + GS__H_FMM_START, c->fmm_exact_start);
+    gs__putf64(b + GS__H_DGG_EPS, c->method == GS_METHOD_DGG ? c->dgg_eps : 0.0);
+    if (cn->flags & GS__DB_FLAG_ALIASES) {
+        gs__put32(b + GS__H_N_INPUT, c->n_input);
+        gs__put32(b + GS__H_ALIAS_EXCEPTIONS, cn->alias_exceptions);
+        gs__put64(b + GS__H_ALIAS_ENTRIES, cn->alias_entries);
+    }
 }
 
 static void write_tree(unsigned char *const sec[], const gs__db_content *c, const uint32_t *grid)
@@ -261,22 +267,151 @@ static void write_tree(unsigned char *const sec[], const gs__db_content *c, cons
     }
 }
 
-static void write_leaf_tables(unsigned char *const sec[], const gs__db_content *c)
+/* ---- leaf tables: the upper triangle in 16 bits against a per-leaf scale */
+
+/* A float at least v >= 0 (finite). */
+static float float_above(double v)
 {
-    memcpy(sec[GS__SEC_LEAF_VSTART], c->leaf_vstart, 4 * ((size_t)c->n_nodes + 1));
-    memcpy(sec[GS__SEC_LEAF_DSTART], c->leaf_dstart, 8 * ((size_t)c->n_nodes + 1));
-    memcpy(sec[GS__SEC_LEAF_DIST], c->leaf_dist, 8 * (size_t)c->leaf_dstart[c->n_nodes]);
-    unsigned char *loc = sec[GS__SEC_LEAF_LOCAL];
-    for (uint32_t x = 0; x < c->nv; ++x) gs__put32(loc + 4 * (uint64_t)x, GS_NONE);
-    for (uint32_t l = 0; l < c->n_nodes; ++l)
-        for (uint32_t k = c->leaf_vstart[l]; k < c->leaf_vstart[l + 1]; ++k)
-            if (c->leaf_verts[k] < c->nv) gs__put32(loc + 4 * (uint64_t)c->leaf_verts[k], k - c->leaf_vstart[l]);
+    float f = (float)v;
+    if (f < v) f = nextafterf(f, INFINITY);
+    return f;
 }
 
-static void write_table(unsigned char *buf, unsigned char *const sec[], const uint64_t size[], uint32_t n_sec)
+/* Check the builder's tables and size them: entries over all leaves, and
+ * whether a leaf has more than 256 vertices (16-bit local numbers). */
+static int leaf_plan(const gs__db_content *c, uint64_t *entries, int *local16, gs_error *err)
+{
+    uint64_t q = 0;
+    uint32_t nmax = 0;
+    for (uint32_t l = 0; l < c->n_nodes; ++l) {
+        if (c->leaf_vstart[l + 1] < c->leaf_vstart[l] || c->leaf_vstart[l + 1] > c->nv)
+            return gs__fail(err, GS_EINTERNAL, "database: leaf table ranges out of order at node %u", l);
+        uint32_t n = c->leaf_vstart[l + 1] - c->leaf_vstart[l];
+        if (c->leaf_dstart[l + 1] - c->leaf_dstart[l] != (uint64_t)n * n)
+            return gs__fail(err, GS_EINTERNAL, "database: node %u's leaf table is not %u x %u", l, n, n);
+        const double *t = c->leaf_dist + c->leaf_dstart[l];
+        for (uint32_t k = c->leaf_vstart[l]; k < c->leaf_vstart[l + 1]; ++k)
+            if (c->leaf_verts[k] >= c->nv)
+                return gs__fail(err, GS_EINTERNAL, "database: leaf %u lists vertex %u (n_vertices %u)", l,
+                                c->leaf_verts[k], c->nv);
+        for (uint64_t i = 0; i < n; ++i)
+            for (uint64_t j = i + 1; j < n; ++j)
+                if (!(t[i * n + j] >= 0 && (t[i * n + j] <= GS__DB_LEAF_MAX_SCALE || t[i * n + j] == INFINITY)))
+                    return gs__fail(err, GS_ELIMIT, "database: leaf %u: exact distance %g (must be in [0, 1e30] or inf)",
+                                    l, t[i * n + j]);
+        nmax = n > nmax ? n : nmax;
+        q += gs__db_leaf_tri(n);
+    }
+    if (nmax > 65536)
+        return gs__fail(err, GS_ELIMIT, "database: a leaf of %u vertices (leaf tables hold at most 65536; lower vmax)",
+                        nmax);
+    *entries = q;
+    *local16 = nmax > 256;
+    return GS_OK;
+}
+
+/* The excess of leaf distance t[i n + j] over the straight segment between
+ * the two vertices (0 if rounding put it below; inf stays inf). */
+static double leaf_excess(const gs__db_content *c, const uint32_t *verts, const double *t, uint64_t n, uint64_t i,
+                          uint64_t j)
+{
+    double d = t[i * n + j];
+    if (d == INFINITY) return d;
+    double e = gs__db_segment(c->xyz + 3 * (size_t)verts[i], c->xyz + 3 * (size_t)verts[j]);
+    return d > e ? d - e : 0.0;
+}
+
+/* Each leaf's scale s (its largest finite excess over the straight
+ * segment, as a float rounded up) and its upper triangle as q = round(QMAX
+ * excess / s) (QINF: +inf); each vertex's number in its leaf. Storing the
+ * excess makes a flat or straight pair exact and shrinks the step to the
+ * leaf's largest detour (bunny-5k: the largest distance is several times
+ * it). */
+static void write_leaf_tables(unsigned char *const sec[], const gs__db_content *c, int local16)
+{
+    uint64_t qstart = 0;
+    uint16_t *qv = (uint16_t *)(void *)sec[GS__SEC_LEAF_Q];
+    for (uint32_t l = 0; l < c->n_nodes; ++l) {
+        uint32_t n = c->leaf_vstart[l + 1] - c->leaf_vstart[l];
+        const uint32_t *verts = c->leaf_verts + c->leaf_vstart[l];
+        const double *t = c->leaf_dist + c->leaf_dstart[l];
+        double top = 0.0;
+        for (uint64_t i = 0; i < n; ++i)
+            for (uint64_t j = i + 1; j < n; ++j) {
+                double x = leaf_excess(c, verts, t, n, i, j);
+                if (x < INFINITY && x > top) top = x;
+            }
+        gs__db_leaf_node ln = {qstart, n, float_above(top)};
+        memcpy(sec[GS__SEC_LEAF_NODES] + 16 * (uint64_t)l, &ln, 16);
+        double s = ln.scale;
+        for (uint64_t i = 0; i < n; ++i)
+            for (uint64_t j = i + 1; j < n; ++j) {
+                double x = leaf_excess(c, verts, t, n, i, j), r = s > 0 ? nearbyint(GS__DB_LEAF_QMAX * (x / s)) : 0.0;
+                qv[qstart + gs__db_leaf_at(n, i, j)] =
+                    x == INFINITY ? (uint16_t)GS__DB_LEAF_QINF : (uint16_t)(r > GS__DB_LEAF_QMAX ? GS__DB_LEAF_QMAX : r);
+            }
+        qstart += gs__db_leaf_tri(n);
+        for (uint32_t k = 0; k < n; ++k) {
+            uint32_t x = verts[k];
+            if (x >= c->nv) continue;
+            if (local16) gs__put16(sec[GS__SEC_LEAF_LOCAL] + 2 * (uint64_t)x, (uint16_t)k);
+            else sec[GS__SEC_LEAF_LOCAL][x] = (unsigned char)k;
+        }
+    }
+}
+
+/* ---- input-id aliases: the lists other than {v} ------------------------- */
+
+static int alias_is_plain(const gs__db_content *c, uint32_t v)
+{
+    return c->alias_start[v + 1] - c->alias_start[v] == 1 && c->alias[c->alias_start[v]] == v;
+}
+
+static int alias_plan(const gs__db_content *c, uint32_t *exceptions, uint64_t *entries, gs_error *err)
+{
+    if (c->n_input > c->nv || !c->alias_start || !c->alias)
+        return gs__fail(err, GS_EARG, "database: %u input vertices for %u vertices", c->n_input, c->nv);
+    uint64_t e = 0;
+    uint32_t k = 0;
+    for (uint32_t v = 0; v < c->n_input; ++v) {
+        if (c->alias_start[v + 1] <= c->alias_start[v])
+            return gs__fail(err, GS_EARG, "database: input vertex %u has no alias", v);
+        for (uint32_t i = c->alias_start[v]; i < c->alias_start[v + 1]; ++i)
+            if (c->alias[i] >= c->nv)
+                return gs__fail(err, GS_EARG, "database: input vertex %u's alias %u >= n_vertices %u", v, c->alias[i],
+                                c->nv);
+        if (alias_is_plain(c, v)) continue;
+        ++k;
+        e += c->alias_start[v + 1] - c->alias_start[v];
+    }
+    if (e > UINT32_MAX) return gs__fail(err, GS_ELIMIT, "database: %llu aliases", (unsigned long long)e);
+    *exceptions = k;
+    *entries = e;
+    return GS_OK;
+}
+
+static void write_aliases(unsigned char *const sec[], const gs__db_content *c)
+{
+    unsigned char *h = sec[GS__SEC_ALIAS_INDEX];
+    uint32_t *list = (uint32_t *)(void *)sec[GS__SEC_ALIAS_LIST];
+    uint32_t at = 0;
+    for (uint32_t v = 0; v < c->n_input; ++v) {
+        if (alias_is_plain(c, v)) continue;
+        gs__put32(h, v);
+        gs__put32(h + 4, at);
+        h += 8;
+        for (uint32_t i = c->alias_start[v]; i < c->alias_start[v + 1]; ++i) list[at++] = c->alias[i];
+    }
+    gs__put32(h, c->n_input);
+    gs__put32(h + 4, at);
+}
+
+static void write_table(unsigned char *buf, unsigned char *const sec[], const uint64_t size[], const uint32_t *ids,
+                        uint32_t n_sec)
 {
     unsigned char *t = buf + GS__DB_HEADER_BYTES;
-    for (uint32_t s = 1; s <= n_sec; ++s, t += GS__DB_ENTRY_BYTES) {
+    for (uint32_t e = 0; e < n_sec; ++e, t += GS__DB_ENTRY_BYTES) {
+        uint32_t s = ids[e];
         gs__put32(t, s);
         gs__put32(t + 4, 0);
         gs__put64(t + 8, (uint64_t)(sec[s] - buf));
@@ -320,20 +455,26 @@ int gs__db_pack(const gs__db_content *c, gs_db **out, gs_error *err)
         index[c->nv] = (uint32_t)(records / GS__DB_RECORD_UNIT);
         records = gs__pad8(records); /* the section: zero bytes to a multiple of 8 */
     }
-    uint64_t leaf_entries = tables ? c->leaf_dstart[c->n_nodes] : 0, size[GS__SEC_COUNT_FULL + 1];
-    uint32_t n_sec = tables ? GS__SEC_COUNT_FULL : GS__SEC_COUNT_BASE;
-    if (!rc && !gs__db_layout(c->nv, c->n_nodes, c->n_curves, records, leaf_entries, tables, size))
+    gs__db_counts cn = {0, c->nv, c->n_nodes, c->n_curves, records, 0, 0, 0};
+    int local16 = 0;
+    if (!rc && tables && !(rc = leaf_plan(c, &cn.leaf_entries, &local16, err)))
+        cn.flags |= GS__DB_FLAG_LEAF_EXACT | (local16 ? GS__DB_FLAG_LEAF_LOCAL16 : 0);
+    if (!rc && c->n_input && !(rc = alias_plan(c, &cn.alias_exceptions, &cn.alias_entries, err)))
+        cn.flags |= GS__DB_FLAG_ALIASES;
+    uint64_t size[GS__SEC_MAX + 1];
+    uint32_t ids[GS__SEC_MAX], n_sec = gs__db_section_ids(cn.flags, ids);
+    if (!rc && !gs__db_layout(&cn, size))
         rc = gs__fail(err, GS_ELIMIT, "database: too many records or leaf entries");
     uint64_t total = GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * n_sec;
-    for (uint32_t s = 1; s <= n_sec && !rc; ++s) total += size[s];
+    for (uint32_t e = 0; e < n_sec && !rc; ++e) total += size[ids[e]];
     if (!rc && total > SIZE_MAX) rc = gs__fail(err, GS_ELIMIT, "database: %llu bytes", (unsigned long long)total);
     unsigned char *buf = rc ? NULL : gs__calloc((size_t)total, 1);
     if (!rc && !buf) rc = gs__fail(err, GS_ENOMEM, "database: out of memory (%llu bytes)", (unsigned long long)total);
     if (!rc) {
-        unsigned char *sec[GS__SEC_COUNT_FULL + 1] = {0};
+        unsigned char *sec[GS__SEC_MAX + 1] = {0};
         uint64_t off = GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * n_sec;
-        for (uint32_t s = 1; s <= n_sec; ++s) sec[s] = buf + off, off += size[s];
-        write_header(buf, c, n_sec, total, records, leaf_entries, tables, numbers);
+        for (uint32_t e = 0; e < n_sec; ++e) sec[ids[e]] = buf + off, off += size[ids[e]];
+        write_header(buf, c, n_sec, total, &cn, numbers);
         write_tree(sec, c, grid);
         memcpy(sec[GS__SEC_INDEX], index, 4 * ((size_t)c->nv + 1));
         uint64_t unused = 0;
@@ -341,8 +482,9 @@ int gs__db_pack(const gs__db_content *c, gs_db **out, gs_error *err)
 #pragma omp parallel for schedule(dynamic, 512) reduction(+ : unused) reduction(| : unused_bad)
         for (uint32_t x = 0; x < c->nv; ++x)
             encode_vertex(c, grid, fcurve, x, sec[GS__SEC_RECORDS] + GS__DB_RECORD_UNIT * (uint64_t)index[x], &unused, &unused_bad);
-        if (tables) write_leaf_tables(sec, c);
-        write_table(buf, sec, size, n_sec);
+        if (tables) write_leaf_tables(sec, c, local16);
+        if (cn.flags & GS__DB_FLAG_ALIASES) write_aliases(sec, c);
+        write_table(buf, sec, size, ids, n_sec);
         rc = gs__db_attach(buf, (size_t)total, 0, "built database", 0, out, err);
         if (rc) free(buf);
     }

@@ -1,4 +1,4 @@
-/* format.c - what the reader and the writer share of format version 4
+/* format.c - what the reader and the writer share of format version 5
  * (doc/database-format.md): the checksum, the section sizes and names. */
 #include "format.h"
 
@@ -94,27 +94,40 @@ int gs__db_host_little_endian(void)
     return c == 1;
 }
 
-const char *const gs__db_section_name[GS__SEC_COUNT_FULL + 1] = {
-    "?", "positions", "leaves", "nodes", "curves", "vertex_index", "records", "leaf_vstart", "leaf_local",
-    "leaf_dstart", "leaf_dist"};
+const char *const gs__db_section_name[GS__SEC_MAX + 1] = {
+    "?",          "positions",  "leaves", "nodes",       "curves",    "vertex_index",
+    "records",    "leaf_nodes", "leaf_local", "leaf_q", "alias_index", "alias_list"};
 
-int gs__db_layout(uint32_t nv, uint32_t n_nodes, uint32_t n_curves, uint64_t records_bytes,
-                  uint64_t leaf_entries, int tables, uint64_t size[GS__SEC_COUNT_FULL + 1])
+uint32_t gs__db_section_ids(uint32_t flags, uint32_t ids[GS__SEC_MAX])
+{
+    uint32_t n = 0;
+    for (uint32_t s = GS__SEC_POSITIONS; s <= GS__SEC_RECORDS; ++s) ids[n++] = s;
+    if (flags & GS__DB_FLAG_LEAF_EXACT)
+        for (uint32_t s = GS__SEC_LEAF_NODES; s <= GS__SEC_LEAF_Q; ++s) ids[n++] = s;
+    if (flags & GS__DB_FLAG_ALIASES)
+        for (uint32_t s = GS__SEC_ALIAS_INDEX; s <= GS__SEC_ALIAS_LIST; ++s) ids[n++] = s;
+    return n;
+}
+
+int gs__db_layout(const gs__db_counts *c, uint64_t size[GS__SEC_MAX + 1])
 {
     const uint64_t lim = (uint64_t)1 << 62;
-    if (records_bytes > lim || leaf_entries > lim / 8) return 0;
-    memset(size, 0, sizeof(uint64_t) * (GS__SEC_COUNT_FULL + 1));
-    size[GS__SEC_POSITIONS] = 24 * (uint64_t)nv;
-    size[GS__SEC_LEAVES] = gs__pad8(4 * (uint64_t)nv);
-    size[GS__SEC_NODES] = gs__pad8(20 * (uint64_t)n_nodes);
-    size[GS__SEC_CURVES] = 24 * (uint64_t)n_curves;
-    size[GS__SEC_INDEX] = gs__pad8(4 * ((uint64_t)nv + 1));
-    size[GS__SEC_RECORDS] = records_bytes;
-    if (tables) {
-        size[GS__SEC_LEAF_VSTART] = gs__pad8(4 * ((uint64_t)n_nodes + 1));
-        size[GS__SEC_LEAF_LOCAL] = gs__pad8(4 * (uint64_t)nv);
-        size[GS__SEC_LEAF_DSTART] = 8 * ((uint64_t)n_nodes + 1);
-        size[GS__SEC_LEAF_DIST] = 8 * leaf_entries;
+    if (c->records_bytes > lim || c->leaf_entries > lim / 8 || c->alias_entries > lim / 8) return 0;
+    memset(size, 0, sizeof(uint64_t) * (GS__SEC_MAX + 1));
+    size[GS__SEC_POSITIONS] = 24 * (uint64_t)c->nv;
+    size[GS__SEC_LEAVES] = gs__pad8(4 * (uint64_t)c->nv);
+    size[GS__SEC_NODES] = gs__pad8(20 * (uint64_t)c->n_nodes);
+    size[GS__SEC_CURVES] = 24 * (uint64_t)c->n_curves;
+    size[GS__SEC_INDEX] = gs__pad8(4 * ((uint64_t)c->nv + 1));
+    size[GS__SEC_RECORDS] = c->records_bytes;
+    if (c->flags & GS__DB_FLAG_LEAF_EXACT) {
+        size[GS__SEC_LEAF_NODES] = 16 * (uint64_t)c->n_nodes;
+        size[GS__SEC_LEAF_LOCAL] = gs__pad8((c->flags & GS__DB_FLAG_LEAF_LOCAL16 ? 2 : 1) * (uint64_t)c->nv);
+        size[GS__SEC_LEAF_Q] = gs__pad8(2 * c->leaf_entries);
+    }
+    if (c->flags & GS__DB_FLAG_ALIASES) {
+        size[GS__SEC_ALIAS_INDEX] = 8 * ((uint64_t)c->alias_exceptions + 1);
+        size[GS__SEC_ALIAS_LIST] = gs__pad8(4 * c->alias_entries);
     }
     return 1;
 }

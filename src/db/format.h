@@ -1,4 +1,4 @@
-/* format.h - the on-disk layout of a geosep database, format version 4
+/* format.h - the on-disk layout of a geosep database, format version 5
  * (doc/database-format.md): constants, header offsets, section ids and
  * sizes, the checksum, and the encoding of a separator distance function's
  * block (paper sec. 3.1 items 2-3, stored compactly). Shared by the writer
@@ -15,12 +15,15 @@
 #include <string.h>
 
 #define GS__DB_MAGIC "GSEPDB\0\0"
-#define GS__DB_VERSION 4u
+#define GS__DB_VERSION 5u
 #define GS__DB_ENDIAN_TAG 0x0A0B0C0Du
-#define GS__DB_HEADER_BYTES 160u
-#define GS__DB_CHECKSUM_AT 152u /* header_checksum: the header's last field */
+#define GS__DB_HEADER_BYTES 184u
+#define GS__DB_CHECKSUM_AT 176u /* header_checksum: the header's last field */
 #define GS__DB_ENTRY_BYTES 32u
-#define GS__DB_FLAG_LEAF_EXACT 1u
+#define GS__DB_FLAG_LEAF_EXACT 1u   /* leaf tables: sections 7-9            */
+#define GS__DB_FLAG_LEAF_LOCAL16 2u /* leaf_local holds u16 (else u8)       */
+#define GS__DB_FLAG_ALIASES 4u      /* input-id aliases: sections 10-11     */
+#define GS__DB_FLAGS_KNOWN 7u
 #define GS__DB_BUILD_VERTEX_SOURCES 1u
 #define GS__DB_BUILD_SAMPLED 2u
 /* bits 2-3: gs_solver_options.heat_refine */
@@ -61,7 +64,11 @@ enum {
     GS__H_SEED = 128,
     GS__H_MAX_SAMPLES = 132,
     GS__H_HEAT_TIME = 136,
-    GS__H_FMM_START = 144
+    GS__H_FMM_START = 144,
+    GS__H_DGG_EPS = 152,
+    GS__H_N_INPUT = 160,
+    GS__H_ALIAS_EXCEPTIONS = 164,
+    GS__H_ALIAS_ENTRIES = 168
 };
 
 enum {
@@ -71,16 +78,60 @@ enum {
     GS__SEC_CURVES,
     GS__SEC_INDEX,
     GS__SEC_RECORDS,
-    GS__SEC_LEAF_VSTART,
+    GS__SEC_LEAF_NODES, /* flags bit 0 */
     GS__SEC_LEAF_LOCAL,
-    GS__SEC_LEAF_DSTART,
-    GS__SEC_LEAF_DIST,
-    GS__SEC_COUNT_BASE = 6,
-    GS__SEC_COUNT_FULL = 10
+    GS__SEC_LEAF_Q,
+    GS__SEC_ALIAS_INDEX, /* flags bit 2 */
+    GS__SEC_ALIAS_LIST,
+    GS__SEC_MAX = GS__SEC_ALIAS_LIST
 };
 
 /* Section names for messages, by id (0 unused). */
-extern const char *const gs__db_section_name[GS__SEC_COUNT_FULL + 1];
+extern const char *const gs__db_section_name[GS__SEC_MAX + 1];
+
+/* The ids of the sections a file with these header flags holds, in file
+ * order (the section table lists exactly these); returns their number. */
+uint32_t gs__db_section_ids(uint32_t flags, uint32_t ids[GS__SEC_MAX]);
+
+/* A node's leaf table (section 'leaf_nodes', 16 bytes, in place): the
+ * upper triangle of the n x n exact distances of its vertices (n = 0 for
+ * internal nodes), each as its excess over the straight segment,
+ * d = e + q scale / GS__DB_LEAF_QMAX with e = gs__db_segment(x, y), stored
+ * as u16 q = round(GS__DB_LEAF_QMAX (d - e) / scale) at entries [qstart,
+ * qstart + n (n - 1) / 2) of leaf_q; q = GS__DB_LEAF_QINF: +inf. */
+typedef struct gs__db_leaf_node {
+    uint64_t qstart;
+    uint32_t n;
+    float scale; /* the largest finite excess in the leaf, rounded up */
+} gs__db_leaf_node;
+
+/* The straight distance between two stored positions, as the writer and
+ * the query compute it (symmetric bit for bit). */
+static inline double gs__db_segment(const double *p, const double *q)
+{
+    double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+    return sqrt(dx * dx + dy * dy + dz * dz);
+}
+#define GS__DB_LEAF_QMAX 65534u
+#define GS__DB_LEAF_QINF 65535u
+#define GS__DB_LEAF_MAX_SCALE 1e30
+
+/* Entries of a leaf table of n vertices (n (n - 1) / 2), and where the
+ * pair of local numbers i < j < n is in it. */
+static inline uint64_t gs__db_leaf_tri(uint64_t n)
+{
+    return n ? n * (n - 1) / 2 : 0;
+}
+static inline uint64_t gs__db_leaf_at(uint64_t n, uint64_t i, uint64_t j)
+{
+    return i * n - i * (i + 1) / 2 + (j - i - 1);
+}
+
+/* An input vertex with aliases other than itself (section 'alias_index',
+ * 8 bytes): its list is alias_list[start, next entry's start). */
+typedef struct gs__db_alias_head {
+    uint32_t v, start;
+} gs__db_alias_head;
 
 /* A node of the bisection tree (section 'nodes', 20 bytes, in place). */
 typedef struct gs__db_node {
@@ -302,11 +353,18 @@ static inline int gs__db_fblock_coef(const gs__db_fblock *b, double *c)
     return 1;
 }
 
-/* Sizes in bytes of sections 1..10 (size[0] unused) from the header
- * counts; tables: leaf exact tables present (else size[7..10] = 0).
- * Returns 0 if a size would exceed 2^62. */
-int gs__db_layout(uint32_t nv, uint32_t n_nodes, uint32_t n_curves, uint64_t records_bytes,
-                  uint64_t leaf_entries, int tables, uint64_t size[GS__SEC_COUNT_FULL + 1]);
+/* The header counts that size the sections. */
+typedef struct gs__db_counts {
+    uint32_t flags, nv, n_nodes, n_curves;
+    uint64_t records_bytes, leaf_entries;
+    uint32_t alias_exceptions;
+    uint64_t alias_entries;
+} gs__db_counts;
+
+/* Sizes in bytes of sections 1..GS__SEC_MAX (size[0] unused) from the
+ * header counts; 0 for the sections the flags leave out. Returns 0 if a
+ * size would exceed 2^62. */
+int gs__db_layout(const gs__db_counts *c, uint64_t size[GS__SEC_MAX + 1]);
 
 /* The format's 64-bit checksum (doc "Checksum") of a then b (b may be NULL
  * with nb == 0). */
@@ -337,6 +395,10 @@ static inline double gs__getf64(const unsigned char *p)
     double v;
     memcpy(&v, p, 8);
     return v;
+}
+static inline void gs__put16(unsigned char *p, uint16_t v)
+{
+    memcpy(p, &v, 2);
 }
 static inline void gs__put32(unsigned char *p, uint32_t v)
 {

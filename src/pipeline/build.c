@@ -198,6 +198,12 @@ static int assemble(gs__builder *b, const gs__leaf_tables *lt, gs_db **out, gs_e
     c.max_samples = b->opt->max_samples;
     c.heat_time = b->opt->solver.heat_time;
     c.fmm_exact_start = b->opt->solver.fmm_exact_start;
+    c.dgg_eps = b->opt->method == GS_METHOD_DGG ? b->opt->solver.dgg_eps : 0.0;
+    if (b->opt->repair) { /* input-id aliases (checked against the mesh by check_options) */
+        c.n_input = b->opt->repair->n_input_vertices;
+        c.alias_start = b->opt->repair->alias_start;
+        c.alias = b->opt->repair->alias;
+    }
     c.heat_refine = b->opt->solver.heat_refine;
     c.sampled = (uint32_t)b->opt->sampled;
     c.avg_depth = t->avg_leaf_depth;
@@ -231,6 +237,23 @@ static int check_options(const gs_build_options *o, gs_error *err)
     if (o->solver.heat_refine > GS_HEAT_REFINE_MAX && o->solver.heat_refine != GS_HEAT_REFINE_AUTO)
         return gs__fail(err, GS_EARG, "solver.heat_refine %u must be at most %d (or GS_HEAT_REFINE_AUTO)",
                         o->solver.heat_refine, GS_HEAT_REFINE_MAX);
+    if (o->method == GS_METHOD_DGG && !(o->solver.dgg_eps >= GS_DGG_EPS_MIN && o->solver.dgg_eps <= GS_DGG_EPS_MAX))
+        return gs__fail(err, GS_EARG, "solver.dgg_eps %g out of range [%g, %g]", o->solver.dgg_eps, GS_DGG_EPS_MIN,
+                        GS_DGG_EPS_MAX);
+    return GS_OK;
+}
+
+/* opt->repair must describe this mesh: its repaired vertex count, and the
+ * alias lists the writer stores (each list non-empty, every alias a vertex
+ * of the mesh: the writer checks those). */
+static int check_repair(const gs_repair *r, const gs_mesh *mesh, gs_error *err)
+{
+    uint32_t nv = gs_mesh_num_vertices(mesh);
+    if (r->n_vertices != nv || r->n_input_vertices == 0 || r->n_input_vertices > nv || !r->alias_start || !r->alias)
+        return gs__fail(err, GS_EARG,
+                        "repair: made a mesh of %u vertices from %u input vertices, but the mesh has %u vertices "
+                        "(the repair's mesh only)",
+                        r->n_vertices, r->n_input_vertices, nv);
     return GS_OK;
 }
 
@@ -286,6 +309,7 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
     if (resolved.vertex_sources < 0) resolved.vertex_sources = resolved.method != GS_METHOD_EXACT;
     const gs_build_options *opt = &resolved;
     int rc = check_options(opt, err);
+    if (!rc && opt->repair) rc = check_repair(opt->repair, mesh, err);
     if (rc) return rc;
     /* the heat method's resolution from the whole mesh's size, the same for
      * every patch; other methods ignore it (recorded as 0) */

@@ -1,7 +1,7 @@
 /* query.c - online point-to-point queries (paper sec. 3.2, eq. 4-5, Theorem
  * 2.1): same leaf -> Euclidean (or the stored exact table); otherwise the
  * minimum over the curves of the common ancestors, with the quick reject on
- * the stored minima. Reads the file's records in place (format version 4):
+ * the stored minima. Reads the file's records in place (format version 5):
  * each vertex's minima, then its functions' blocks, decoded as needed; the
  * two functions of a curve are tabulated on the grid of their larger
  * degree (pair_grid.c) and their sum minimised (pair_min.c
@@ -18,9 +18,7 @@
 
 static double euclidean(const gs_db *db, uint32_t x, uint32_t y)
 {
-    const double *p = db->xyz + 3 * (size_t)x, *q = db->xyz + 3 * (size_t)y;
-    double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
-    return sqrt(dx * dx + dy * dy + dz * dz);
+    return gs__db_segment(db->xyz + 3 * (size_t)x, db->xyz + 3 * (size_t)y);
 }
 
 /* A geodesic is never shorter than the straight segment: the bound catches a
@@ -31,14 +29,26 @@ static double at_least_euclidean(const gs_db *db, uint32_t x, uint32_t y, double
     return d < e ? e : d;
 }
 
+/* Same leaf: the straight segment plus the stored table's 16-bit excess
+ * (format: "Leaf exact tables"); the Euclidean distance without tables. In
+ * bounds: local numbers < the leaf's n and its table inside leaf_q
+ * (validated at open); i == j only for x == y, which callers answer 0
+ * before. */
 static double same_leaf(const gs_db *db, uint32_t l, uint32_t x, uint32_t y)
 {
-    if (db->leaf_dist) { /* never below the straight segment, as cross-leaf answers */
-        uint64_t n = (uint64_t)db->leaf_vstart[l + 1] - db->leaf_vstart[l];
-        return at_least_euclidean(db, x, y,
-                                  db->leaf_dist[db->leaf_dstart[l] + db->leaf_local[x] * n + db->leaf_local[y]]);
+    double e = euclidean(db, x, y);
+    if (!db->leaf_nodes) return e;
+    const gs__db_leaf_node *t = &db->leaf_nodes[l];
+    uint32_t i = gs__db_leaf_local(db, x), j = gs__db_leaf_local(db, y);
+    if (i == j) return e;
+    if (i > j) {
+        uint32_t s = i;
+        i = j, j = s;
     }
-    return euclidean(db, x, y);
+    uint32_t q = db->leaf_q[t->qstart + gs__db_leaf_at(t->n, i, j)];
+    if (q == GS__DB_LEAF_QINF) return INFINITY;
+    double excess = q * ((double)t->scale / GS__DB_LEAF_QMAX);
+    return excess > 0 ? e + excess : e; /* never below the segment (a corrupt scale: still not) */
 }
 
 /* Lowest common ancestor: parents have smaller depth (validated), so both

@@ -115,3 +115,24 @@ gs_db *fixture_db(fixture *f, int leaf_exact)
     return db;
 }
 
+
+void fixture_add_aliases(fixture *f)
+{
+    static const uint32_t start[6] = {0, 1, 3, 5, 6, 7}, alias[7] = {0, 1, 5, 2, 6, 3, 2};
+    memcpy(f->alias_start, start, sizeof start);
+    memcpy(f->alias, alias, sizeof alias);
+    f->c.n_input = 5;
+    f->c.alias_start = f->alias_start;
+    f->c.alias = f->alias;
+}
+
+gs_db *fixture_db_full(fixture *f)
+{
+    make_fixture(f, 1);
+    fixture_add_aliases(f);
+    gs_db *db = NULL;
+    gs_error err = {0};
+    int rc = gs__db_pack(&f->c, &db, &err);
+    CHECK_MSG(rc == GS_OK, "pack: %s", err.message);
+    return db;
+}

@@ -27,11 +27,18 @@ typedef struct fixture {
     uint32_t leaf_vstart[6], leaf_verts[6];
     uint64_t leaf_dstart[6];
     double leaf_dist[12];
+    uint32_t alias_start[6], alias[7];
     gs__db_content c;
 } fixture;
 
 /* Fill *f (leaf tables when leaf_exact). */
 void make_fixture(fixture *f, int leaf_exact);
+/* Input-id aliases as a repair would make them: 5 input vertices; 0 and 3
+ * are themselves, 1 became {1, 5} and 2 {2, 6} (split), 4 was welded into
+ * 2. */
+void fixture_add_aliases(fixture *f);
+/* make_fixture with leaf tables and aliases, packed (every section). */
+gs_db *fixture_db_full(fixture *f);
 /* make_fixture, then pack it: a new database (caller frees), NULL on failure
  * (a failed CHECK). */
 gs_db *fixture_db(fixture *f, int leaf_exact);
