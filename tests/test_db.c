@@ -798,6 +798,27 @@ static void test_dgg_eps(void)
     gs_db_free(db);
 }
 
+/* The 16-bit minima: every code's value is at most what was encoded (a
+ * lower bound for the quick reject) and within 2^-8 of it for normal
+ * floats; 0 and below give 0, +inf its own code, beyond FLT_MAX the
+ * largest finite code. */
+static void test_min16(void)
+{
+    long bad = 0;
+    double v = 1e-45;
+    for (int i = 0; i < 200000; ++i, v *= 1.00107) {
+        uint16_t q = gs__db_min_encode(v);
+        double w = gs__db_min_value(q);
+        bad += !(w <= v) || (v >= 1.2e-38 && v <= 3.4e38 && !(w >= v * (1 - 1.0 / 128))) || q >= GS__DB_MIN_INF;
+    }
+    CHECK_MSG(bad == 0, "%ld minima not stored as a close lower bound", bad);
+    CHECK(gs__db_min_encode(0.0) == 0 && gs__db_min_encode(-1.0) == 0 && gs__db_min_encode(NAN) == 0);
+    CHECK(gs__db_min_encode(INFINITY) == GS__DB_MIN_INF && gs__db_min_value(GS__DB_MIN_INF) == INFINITY);
+    CHECK(gs__db_min_value(gs__db_min_encode(3.4028234663852886e38)) <= 3.4028234663852886e38);
+    CHECK(gs__db_min_value(gs__db_min_encode(1e300)) <= 3.4028234663852886e38);
+    CHECK(gs__db_min_value(0xFFFF) != gs__db_min_value(0xFFFF)); /* codes above +inf: NaN (refused by verify) */
+}
+
 int main(void)
 {
     snprintf(tmpdir, sizeof tmpdir, "%s/test_db_tmp", GEOSEP_BINARY_DIR);
@@ -811,6 +832,7 @@ int main(void)
     test_huge_coefficients();
     test_leaf_floor();
     test_minval_above();
+    test_min16();
     test_aliases();
     test_dgg_eps();
     test_files();

@@ -180,7 +180,8 @@ static inline float gs__db_min_get(const unsigned char *p, uint64_t k)
 static inline uint16_t gs__db_min_encode(double v)
 {
     if (!(v > 0.0)) return 0;
-    if (v > 3.3e38) return v == INFINITY ? (uint16_t)GS__DB_MIN_INF : (uint16_t)(GS__DB_MIN_INF - 1);
+    if (v > 3.4028234663852886e38) /* beyond FLT_MAX: FLT_MAX's code (its value is below it) */
+        return v == INFINITY ? (uint16_t)GS__DB_MIN_INF : (uint16_t)(GS__DB_MIN_INF - 1);
     float f = (float)v;
     if (f > v) f = nextafterf(f, 0.0f);
     uint32_t u;
