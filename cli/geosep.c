@@ -87,12 +87,14 @@ static void print_usage(FILE *f)
             "  generate SPEC -o OUT.obj        write a generated test mesh\n"
             "  subdivide MESH -o OUT.obj       1-to-4 midpoint subdivision (same surface)\n"
             "  solve MESH --source V ...       distance field from sources\n"
+            "  path DB X Y --mesh MESH         geodesic path from a database (a polyline)\n"
             "  path --exact MESH X Y           exact shortest path (a polyline)\n"
             "  build MESH -o DB                build a query database\n"
             "  query DB X Y                    approximate geodesic distance\n"
             "  query DB --points FILE          ... between surface points (face, weights)\n"
             "  verify DB                       check a database whole (checksums, records)\n"
             "  field DB --source X             distances from X through the database\n"
+            "  within DB X R                   every vertex within distance R of X\n"
             "  sample DB K [--seed S]          farthest-point sampling: K vertex ids\n"
             "  eval DB --groundtruth F.gt      accuracy against exact distances\n"
             "  land MESH --landmarks M ...     the LAND baseline, evaluated\n"
@@ -603,6 +605,7 @@ static const command commands[] = {
     {"query", cmd_query, usage_query},
     {"verify", cmd_verify, usage_verify},
     {"field", cmd_field, usage_field},
+    {"within", cmd_within, usage_within},
     {"sample", cmd_sample, usage_sample},
     {"eval", cmd_eval, usage_eval},
     {"land", cmd_land, usage_land},

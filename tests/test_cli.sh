@@ -55,7 +55,7 @@ run help
 { [ "$rc" -eq 0 ] && grep -q "usage: geosep" "$T/out"; }; verdict "help exits 0"
 run help solve
 { [ "$rc" -eq 0 ] && grep -q -- "--sources-from" "$T/out"; }; verdict "help solve"
-for c in info generate subdivide solve repair sample; do
+for c in info generate subdivide solve repair sample within; do
     run "$c" --help
     { [ "$rc" -eq 0 ] && grep -q "usage: geosep $c" "$T/out"; }; verdict "$c --help"
 done
@@ -561,6 +561,35 @@ expect_fail 2 "need DB K" "sample: missing K" sample "$T/grid.gsdb"
 expect_fail 2 "unknown or incomplete option" "sample: unknown option" sample "$T/grid.gsdb" 2 --k 3
 expect_fail 1 "nope.gsdb" "sample: missing database" sample "$T/nope.gsdb" 2
 
+# ---- within (neighbourhoods) -------------------------------------------------
+# the thresholded field: "id distance" of every vertex of f0.txt at most R,
+# by distance then id
+thresholded() { awk -v r="$1" '$1 != "inf" && $1 + 0 <= r + 0 { printf "%d %s\n", NR - 1, $1 }' "$T/f0.txt" | sort -s -k2,2g -k1,1n; }
+R=$(sed -n 60p "$T/f0.txt")
+run within "$T/grid.gsdb" 0 "$R"
+{ [ "$rc" -eq 0 ] && [ -s "$T/out" ] && [ "$(head -1 "$T/out")" = "0 0" ] && thresholded "$R" | cmp -s - "$T/out"; }
+verdict "within: the vertices of the field at most R (R a field value: its vertex included), by distance"
+run within "$T/grid.gsdb" 0 0.3 -o "$T/w.txt"
+{ [ "$rc" -eq 0 ] && [ ! -s "$T/out" ] && thresholded 0.3 | cmp -s - "$T/w.txt"; }; verdict "within -o: written to the file"
+run within "$T/grid.gsdb" 0 0
+{ [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = "0 0" ]; }; verdict "within: R = 0 gives X alone"
+run within "$T/grid.gsdb" 0 inf
+{ [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/out")" -eq 400 ] && [ "$(tail -1 "$T/out")" = "399 $(sed -n 400p "$T/f0.txt")" ]; }
+verdict "within: R = inf lists every vertex, the farthest last"
+run within "$T/two_s.gsdb" 0 inf
+{ [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/out")" -gt 1 ] && ! grep -q inf "$T/out" && [ "$(wc -l <"$T/out")" -lt "$("$BIN" field "$T/two_s.gsdb" --source 0 | wc -l)" ]; }
+verdict "within: R = inf stops at X's component"
+expect_fail 2 "R '-1' is not a distance" "within: negative R" within "$T/grid.gsdb" 0 -1
+expect_fail 2 "R 'nan' is not a distance" "within: R nan" within "$T/grid.gsdb" 0 nan
+expect_fail 2 "R '1x' is not a distance" "within: R not a number" within "$T/grid.gsdb" 0 1x
+expect_fail 2 "X 'a' is not a vertex id" "within: X not an id" within "$T/grid.gsdb" a 1
+expect_fail 2 "vertex 400 out of range \(the database has 400\)" "within: X out of range" within "$T/grid.gsdb" 400 1
+expect_fail 2 "need DB X R" "within: missing R" within "$T/grid.gsdb" 0
+expect_fail 2 "unexpected argument" "within: one argument too many" within "$T/grid.gsdb" 0 1 2
+expect_fail 2 "unknown or incomplete option" "within: unknown option" within "$T/grid.gsdb" --k 3 0 1
+expect_fail 1 "nope.gsdb" "within: missing database" within "$T/nope.gsdb" 0 1
+{ [ ! -e "$T/w2.txt" ]; run within "$T/grid.gsdb" 400 1 -o "$T/w2.txt"; [ ! -e "$T/w2.txt" ]; }; verdict "within: a failure leaves no file"
+
 # ---- path (exact paths) ------------------------------------------------------
 run generate grid:5,5 -o "$T/g55.obj"
 run path --exact "$T/g55.obj" 0 24
@@ -574,12 +603,48 @@ verdict "path --format faces -o: from a surface point, face and weights per line
 run generate two:3 -o "$T/two.obj"
 run path --exact "$T/two.obj" 0 17
 { [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = "# length inf" ]; }; verdict "path: another component: length inf, no points"
-expect_fail 2 "give --exact" "path: without --exact" path "$T/g55.obj" 0 1
+expect_fail 2 "give the database's mesh" "path: neither a database nor --exact" path "$T/g55.obj" 0 1
 expect_fail 2 "expected --exact MESH X Y" "path: missing Y" path --exact "$T/g55.obj" 0
 expect_fail 2 "expected a vertex id or F:b0,b1,b2" "path: bad X" path --exact "$T/g55.obj" x 1
 expect_fail 2 "expected xyz or faces" "path: bad format" path --exact "$T/g55.obj" 0 1 --format obj
 expect_fail 1 "target: vertex 99 out of range" "path: Y out of range" path --exact "$T/g55.obj" 0 99
 expect_fail 1 "must be 1" "path: weights not summing to 1" path --exact "$T/g55.obj" 0 1:0.5,0.6,0
+
+# ---- path from a database ------------------------------------------------------
+# $D is a 20 x 20 grid on [0,1]^2 (flat): every path is the straight segment
+run path "$T/grid.gsdb" 0 399 --mesh "$D"
+{ [ "$rc" -eq 0 ] && head -1 "$T/out" | awk '{ exit !($1 == "#" && $2 == "length" && ($3 - sqrt(2)) ^ 2 < 1e-24) }' &&
+  awk '!/^#/ { if (($1 - $2) ^ 2 > 1e-24 || $3 != 0) bad = 1; n++ } END { exit bad || n < 2 }' "$T/out"; }
+verdict "path DB --mesh: the diagonal of a flat grid, straight, its length sqrt(2)"
+run path "$T/grid.gsdb" 0 399 --mesh "$D" --exact
+{ [ "$rc" -eq 0 ] && head -1 "$T/out" | grep -q '^# length 1.41421356237309'; }; verdict "path DB --mesh --exact: the exact path"
+run path "$T/grid.gsdb" 5:0.2,0.3,0.5 390 --mesh "$D" --format faces -o "$T/pf.txt"
+{ [ "$rc" -eq 0 ] && [ ! -s "$T/out" ] && head -2 "$T/pf.txt" | tail -1 | grep -q '^5 0.2' &&
+  awk '!/^#/ { s = $2 + $3 + $4; if (s < 1 - 1e-12 || s > 1 + 1e-12 || $2 < 0 || $3 < 0 || $4 < 0) bad = 1 } END { exit bad }' "$T/pf.txt"; }
+verdict "path DB --format faces -o: from a surface point, face and weights per line"
+awk '$1 == "v" && !done { $4 = 0.001; done = 1 } { print }' "$D" >"$T/moved.obj"
+expect_fail 1 "grid.gsdb and .*moved.obj: the mesh is not the database.s: vertex 0 is at" "path: a mesh that is not the database's" path "$T/grid.gsdb" 0 399 --mesh "$T/moved.obj"
+expect_fail 1 "g55.obj: the mesh is not the database.s: it has 25 vertices, the database 400" "path: a mesh with another vertex count" path "$T/grid.gsdb" 0 3 --mesh "$T/g55.obj"
+expect_fail 1 "Y: vertex 400 out of range" "path DB: Y out of range" path "$T/grid.gsdb" 0 400 --mesh "$D"
+expect_fail 1 "X: face 9999 out of range" "path DB: face out of range" path "$T/grid.gsdb" 9999:1,0,0 3 --mesh "$D"
+expect_fail 2 "expected DB X Y --mesh MESH" "path DB: missing Y" path "$T/grid.gsdb" 0 --mesh "$D"
+expect_fail 2 "--mesh needs a value" "path DB: --mesh without a value" path "$T/grid.gsdb" 0 1 --mesh
+expect_fail 1 "nope.gsdb" "path: missing database" path "$T/nope.gsdb" 0 1 --mesh "$D"
+# render --path / --points: the path drawn over the surface
+run path "$T/grid.gsdb" 0 399 --mesh "$D" -o "$T/diag.txt"
+printf '# a comment\n0.5 0.5 0\n0.25 0.75 0\n' >"$T/dots.txt"
+run render "$D" -o "$T/plain.png" --view 0,0 --size 120x120
+run render "$D" -o "$T/pathpic.png" --view 0,0 --size 120x120 --path "$T/diag.txt" --points "$T/dots.txt"
+{ [ "$rc" -eq 0 ] && png_ok "$T/pathpic.png" && ! cmp -s "$T/pathpic.png" "$T/plain.png"; }; verdict "render --path --points: drawn over the surface"
+printf '0 0 0\n1 1 0\n\n0 1 0\n1 0 0\n' >"$T/two_lines.txt"
+run render "$D" -o "$T/two.png" --view 0,0 --size 120x120 --path "$T/two_lines.txt" --path "$T/diag.txt"
+{ [ "$rc" -eq 0 ] && png_ok "$T/two.png"; }; verdict "render --path: blank lines separate polylines, repeatable"
+printf '0 0 0\n1 1\n' >"$T/badpath.txt"
+expect_fail 1 "badpath.txt:2: 2 fields \\(expected .x y z.\\)" "render --path: a line without 3 numbers" render "$D" -o "$T/x.png" --path "$T/badpath.txt"
+printf '0 0 nan\n' >"$T/nanpts.txt"
+expect_fail 1 "nanpts.txt:1: 'nan' is not a finite number" "render --points: nan" render "$D" -o "$T/x.png" --points "$T/nanpts.txt"
+expect_fail 1 "nofile.txt: cannot open" "render --path: missing file" render "$D" -o "$T/x.png" --path "$T/nofile.txt"
+{ [ ! -e "$T/x.png" ]; }; verdict "render: no picture left after a bad --path or --points"
 
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -3,7 +3,8 @@
  * background, one colour for a constant field, K isolines crossed by a
  * scanline, no holes in a closed sphere's silhouette, grey for
  * unreachable vertices, the view's orientation, dots hidden behind the
- * surface, separator curves between the root's two subtrees, the PNG read
+ * surface, paths (a white line in a dark border) where they run and
+ * hidden behind the surface, separator curves between the root's two subtrees, the PNG read
  * back with libpng equal to the buffer, every bad argument, and no file
  * (nor a partial one) after a failed write. */
 #include "check.h"
@@ -303,6 +304,53 @@ static void test_points(void)
     gs_mesh_free(m);
 }
 
+/* Paths: a white line in a dark border along the polyline, hidden behind
+ * the surface; the pixels of a face-on grid's middle line. */
+static void test_paths(void)
+{
+    gs_mesh *m = gen("grid:11,11");
+    /* the line y = 0.5 from x = 0.1 to 0.9 in three pieces, and a second
+     * path: the vertical x = 0.25 from y = 0.6 to 0.9 */
+
+    double pts2[18] = {0.1, 0.5, 0, 0.4, 0.5, 0, 0.6, 0.5, 0, 0.9, 0.5, 0, 0.25, 0.6, 0, 0.25, 0.9, 0};
+    uint32_t starts[3] = {0, 4, 6};
+    gs_render_options o = opts(200, 200, 0, 0);
+    o.paths = pts2;
+    o.path_starts = starts;
+    o.n_paths = 2;
+
+    image im = render(m, &o);
+    o.n_paths = 0;
+    image none = render(m, &o);
+    /* the unit square spans 180 pixels: x = 10 + 180 u, y = 190 - 180 v */
+    for (uint32_t x = 30; x <= 170; x += 20) {
+        const uint8_t *c = px(&im, x, 100), *d = px(&im, x, 102), *e = px(&im, x, 104), *n = px(&none, x, 104);
+        CHECK_MSG(c[0] == 255 && c[1] == 255 && c[2] == 255, "x %u: centre %u,%u,%u, expected white", x, c[0], c[1], c[2]);
+        CHECK_MSG(d[0] < 40 && d[1] < 40 && d[2] < 40, "x %u: border %u,%u,%u, expected dark", x, d[0], d[1], d[2]);
+        CHECK_MSG(!memcmp(e, n, 3), "x %u: beside the path %u,%u,%u, expected the surface", x, e[0], e[1], e[2]);
+    }
+    const uint8_t *v = px(&im, 55, 46), *beyond = px(&im, 55, 20), *nb = px(&none, 55, 20); /* (0.25, 0.8); (0.25, 0.95) */
+    CHECK_MSG(v[0] == 255 && v[1] == 255 && v[2] == 255, "second path: %u,%u,%u, expected white", v[0], v[1], v[2]);
+    CHECK(!memcmp(beyond, nb, 3));
+    /* nothing else changes: the rows far from both paths are the same */
+    for (uint32_t y = 130; y < 200; ++y) CHECK(!memcmp(px(&im, 0, y), px(&none, 0, y), 3 * 200));
+    free(im.p);
+    free(none.p);
+    gs_mesh_free(m);
+    /* behind a sphere: not drawn */
+    m = gen("sphere:3");
+    double back[6] = {-0.1, 0, -1, 0.1, 0, -1};
+    uint32_t s2[2] = {0, 2};
+    o = opts(120, 120, 0, 0);
+    image a = render(m, &o);
+    o.paths = back, o.path_starts = s2, o.n_paths = 1;
+    image b = render(m, &o);
+    CHECK(memcmp(a.p, b.p, (size_t)120 * 120 * 3) == 0);
+    free(a.p);
+    free(b.p);
+    gs_mesh_free(m);
+}
+
 /* Separators: the tree accessors, and the root's (red) curve drawn
  * between the vertices of its two subtrees. */
 static void test_separators(void)
@@ -550,6 +598,21 @@ static void test_bad_args(void)
     expect_earg(m, &b, buf, "point 1");
     b.n_points = 1;
     CHECK(gs_render(m, &b, buf, &err) == GS_OK);
+    {
+        gs_render_options c = o;
+        double pp[6] = {0, 0, 0, 1, 1, 0};
+        uint32_t st[2] = {0, 2}, bad_st[2] = {1, 2}, down[3] = {0, 2, 1};
+        c.n_paths = 1;
+        expect_earg(m, &c, buf, "paths or path_starts is NULL");
+        c.paths = pp, c.path_starts = bad_st;
+        expect_earg(m, &c, buf, "path_starts[0] is 1");
+        c.path_starts = down, c.n_paths = 2;
+        expect_earg(m, &c, buf, "path_starts[1] is 2, path_starts[2] 1");
+        c.path_starts = st, c.n_paths = 1;
+        CHECK(gs_render(m, &c, buf, &err) == GS_OK);
+        pp[4] = NAN;
+        expect_earg(m, &c, buf, "path point 1");
+    }
     double far[6] = {-1e300, 1e300, 1e300, 1e300, -1e300, -1e300}; /* far off: not drawn, no crash */
     b.points = far;
     b.n_points = 2;
@@ -576,6 +639,7 @@ int main(void)
     test_unreachable();
     test_orientation();
     test_points();
+    test_paths();
     test_separators();
     test_extremes();
     test_png();

@@ -114,6 +114,17 @@ PyObject *gspy_distance_field(PyObject *module, PyObject *args, PyObject *kwargs
 extern const char gspy_distance_field_doc[];
 PyObject *gspy_geodesic_path(PyObject *module, PyObject *args, PyObject *kwargs);
 extern const char gspy_geodesic_path_doc[];
+/* One end of a path: a vertex id, or (face, (b0, b1, b2)). 0, or -1 with
+ * TypeError / IndexError / ValueError set. */
+int gspy_path_end(PyObject *obj, const gs_mesh *m, const char *name, gs_source *out);
+/* A path as numpy arrays: (k, 3) xyz, or (xyz, faces (k,), bary (k, 3)). */
+PyObject *gspy_path_arrays(const gs_path *p, int with_faces);
+
+/* dbpath.c: Database.path */
+PyObject *gspy_db_path(PyObject *self, PyObject *args, PyObject *kwargs);
+extern const char gspy_db_path_doc[];
+#define GSPY_DB_PATH_METHODS                                                                                  \
+    {"path", (PyCFunction)(void (*)(void))gspy_db_path, METH_VARARGS | METH_KEYWORDS, gspy_db_path_doc}
 
 /* render.c */
 PyObject *gspy_render(PyObject *module, PyObject *args, PyObject *kwargs);
@@ -153,6 +164,19 @@ extern const char gspy_db_input_distance_doc[], gspy_db_input_field_doc[], gspy_
     {                                                                                                         \
         "point_distance", (PyCFunction)(void (*)(void))gspy_db_point_distance, METH_VARARGS | METH_KEYWORDS,  \
             gspy_db_point_distance_doc                                                                        \
+    }
+
+/* dbwithin.c: neighbourhoods, methods of Database */
+PyObject *gspy_db_within(PyObject *self, PyObject *args);
+PyObject *gspy_db_nearest(PyObject *self, PyObject *args);
+PyObject *gspy_db_radius_matrix(PyObject *self, PyObject *args, PyObject *kwargs);
+extern const char gspy_db_within_doc[], gspy_db_nearest_doc[], gspy_db_radius_matrix_doc[];
+#define GSPY_DB_WITHIN_METHODS                                                                                \
+    {"within", (PyCFunction)gspy_db_within, METH_VARARGS, gspy_db_within_doc},                                \
+        {"nearest", (PyCFunction)gspy_db_nearest, METH_VARARGS, gspy_db_nearest_doc},                         \
+    {                                                                                                         \
+        "radius_matrix", (PyCFunction)(void (*)(void))gspy_db_radius_matrix, METH_VARARGS | METH_KEYWORDS,    \
+            gspy_db_radius_matrix_doc                                                                         \
     }
 
 #endif /* GEOSEP_PY_H */

@@ -26,15 +26,70 @@ static int pair(PyObject *obj, const char *name, double out[2])
     return 0;
 }
 
+/* polylines=: one (k, 3) array or a sequence of them, into the options
+ * (*xyz and *starts: PyMem buffers, the caller frees them). 0 or -1. */
+static int polylines(PyObject *obj, double **xyz, uint32_t **starts, gs_render_options *o)
+{
+    PyArrayObject *one = (PyArrayObject *)PyArray_FROM_OTF(obj, NPY_DOUBLE, NPY_ARRAY_IN_ARRAY);
+    int single = one && PyArray_NDIM(one) == 2 && PyArray_DIM(one, 1) == 3;
+    if (!single) {
+        Py_XDECREF(one);
+        PyErr_Clear();
+    }
+    PyObject *seq = single ? NULL : PySequence_Fast(obj, "");
+    if (!single && !seq) {
+        PyErr_SetString(PyExc_TypeError, "polylines must be a (k, 3) array or a sequence of them");
+        return -1;
+    }
+    Py_ssize_t n = single ? 1 : PySequence_Fast_GET_SIZE(seq), total = 0;
+    PyArrayObject **arr = PyMem_New(PyArrayObject *, (size_t)n + 1);
+    int rc = arr ? 0 : (PyErr_NoMemory(), -1);
+    Py_ssize_t got = 0;
+    for (Py_ssize_t i = 0; i < n && !rc; ++i, ++got) {
+        arr[i] = single ? one : (PyArrayObject *)PyArray_FROM_OTF(PySequence_Fast_GET_ITEM(seq, i), NPY_DOUBLE,
+                                                                 NPY_ARRAY_IN_ARRAY);
+        if (!arr[i] || PyArray_NDIM(arr[i]) != 2 || PyArray_DIM(arr[i], 1) != 3) {
+            if (arr[i]) Py_DECREF(arr[i]);
+            PyErr_Clear();
+            PyErr_Format(PyExc_ValueError, "polylines[%zd] must be a (k, 3) array of points", i);
+            rc = -1;
+            break;
+        }
+        total += PyArray_DIM(arr[i], 0);
+    }
+    if (!rc && (total >= UINT32_MAX || n >= UINT32_MAX)) {
+        PyErr_SetString(PyExc_ValueError, "polylines: too many points");
+        rc = -1;
+    }
+    if (!rc && (!(*xyz = PyMem_New(double, 3 * (size_t)total + 1)) || !(*starts = PyMem_New(uint32_t, (size_t)n + 1))))
+        rc = (PyErr_NoMemory(), -1);
+    if (!rc) {
+        (*starts)[0] = 0;
+        for (Py_ssize_t i = 0; i < n; ++i) {
+            npy_intp k = PyArray_DIM(arr[i], 0);
+            memcpy(*xyz + 3 * (size_t)(*starts)[i], PyArray_DATA(arr[i]), 3 * (size_t)k * sizeof(double));
+            (*starts)[i + 1] = (*starts)[i] + (uint32_t)k;
+        }
+        o->paths = *xyz, o->path_starts = *starts, o->n_paths = (uint32_t)n;
+    }
+    for (Py_ssize_t i = 0; i < got; ++i) Py_DECREF(arr[i]);
+    PyMem_Free(arr);
+    Py_XDECREF(seq);
+    if (single && !arr) Py_DECREF(one);
+    return rc;
+}
+
 const char gspy_render_doc[] =
-    "render(mesh, field=None, *, isolines=10, separators=None, points=None, size=(640, 480), view=(30, 20), "
-    "path=None)\n--\n\n"
+    "render(mesh, field=None, *, isolines=10, separators=None, points=None, polylines=None, size=(640, 480), "
+    "view=(30, 20), path=None)\n--\n\n"
     "Draw a mesh: shaded, coloured by a field (n_vertices values, e.g. a\n"
     "distance field; viridis from its smallest to its largest finite value,\n"
     "grey where not finite) with `isolines` dark lines at evenly spaced\n"
     "levels; separators: a Database of this mesh, whose separator curves are\n"
     "drawn (red: the root's, then orange, blue, green, purple by depth);\n"
-    "points: (k, 3) positions drawn as dots. size: (width, height) in pixels;\n"
+    "points: (k, 3) positions drawn as dots; polylines: a (k, 3) array of a\n"
+    "polyline's points (Database.path, Solver.path) or a list of them, drawn\n"
+    "as white lines in a dark border. size: (width, height) in pixels;\n"
     "view: (azimuth, elevation) in degrees ((0, 0) looks from +z, y up).\n"
     "Returns an (height, width, 3) uint8 RGB array, or, with path, writes a\n"
     "PNG file (atomically) and returns None. The GIL is released while\n"
@@ -42,11 +97,11 @@ const char gspy_render_doc[] =
 
 PyObject *gspy_render(PyObject *Py_UNUSED(module), PyObject *args, PyObject *kwargs)
 {
-    static char *kw[] = {"mesh", "field", "isolines", "separators", "points", "size", "view", "path", NULL};
+    static char *kw[] = {"mesh", "field", "isolines", "separators", "points", "polylines", "size", "view", "path", NULL};
     PyObject *mesh_obj, *field_obj = Py_None, *iso_obj = NULL, *sep_obj = Py_None, *pts_obj = Py_None,
-                        *size_obj = NULL, *view_obj = NULL, *path_obj = Py_None;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O!|O$OOOOOO:render", kw, &gspy_MeshType, &mesh_obj, &field_obj,
-                                     &iso_obj, &sep_obj, &pts_obj, &size_obj, &view_obj, &path_obj))
+                        *lines_obj = Py_None, *size_obj = NULL, *view_obj = NULL, *path_obj = Py_None;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O!|O$OOOOOOO:render", kw, &gspy_MeshType, &mesh_obj, &field_obj,
+                                     &iso_obj, &sep_obj, &pts_obj, &lines_obj, &size_obj, &view_obj, &path_obj))
         return NULL;
     const gs_mesh *mesh = ((gspy_Mesh *)mesh_obj)->mesh;
     gs_render_options o;
@@ -76,6 +131,8 @@ PyObject *gspy_render(PyObject *Py_UNUSED(module), PyObject *args, PyObject *kwa
     }
     PyArrayObject *field = NULL, *points = NULL;
     PyObject *path = NULL, *out = NULL, *result = NULL;
+    double *lines = NULL;
+    uint32_t *starts = NULL;
     uint32_t n = gs_mesh_num_vertices(mesh);
     if (field_obj != Py_None) {
         field = (PyArrayObject *)PyArray_FROM_OTF(field_obj, NPY_DOUBLE, NPY_ARRAY_IN_ARRAY);
@@ -97,6 +154,7 @@ PyObject *gspy_render(PyObject *Py_UNUSED(module), PyObject *args, PyObject *kwa
         o.points = PyArray_DATA(points);
         o.n_points = (uint32_t)PyArray_DIM(points, 0);
     }
+    if (lines_obj != Py_None && polylines(lines_obj, &lines, &starts, &o) < 0) goto done;
     gs_error err = {0};
     int rc, saved_errno = 0;
     if (path_obj != Py_None) {
@@ -125,5 +183,7 @@ done:
     Py_XDECREF(path);
     Py_XDECREF(field);
     Py_XDECREF(points);
+    PyMem_Free(lines);
+    PyMem_Free(starts);
     return result;
 }

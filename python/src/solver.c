@@ -104,7 +104,7 @@ static PyObject *solver_field(gspy_Solver *self, PyObject *args, PyObject *kwarg
 
 /* One end of a path: a vertex id, or (face, (b0, b1, b2)). 0, or -1 with
  * TypeError / IndexError / ValueError set. */
-static int path_end(PyObject *obj, const gs_mesh *m, const char *name, gs_source *out)
+int gspy_path_end(PyObject *obj, const gs_mesh *m, const char *name, gs_source *out)
 {
     uint32_t v;
     if (gspy_is_int_scalar(obj)) {
@@ -138,7 +138,7 @@ static int path_end(PyObject *obj, const gs_mesh *m, const char *name, gs_source
 }
 
 /* The path as numpy arrays: (k, 3) xyz, or (xyz, faces (k,), bary (k, 3)). */
-static PyObject *path_arrays(const gs_path *p, int with_faces)
+PyObject *gspy_path_arrays(const gs_path *p, int with_faces)
 {
     npy_intp k = gs_path_num_points(p), d2[2] = {k, 3}, d1[1] = {k};
     PyObject *xyz = PyArray_SimpleNew(2, d2, NPY_DOUBLE);
@@ -171,7 +171,7 @@ static PyObject *find_path(gs_solver *solver, const gs_source *x, const gs_sourc
     if (lock) PyThread_release_lock(lock);
     Py_END_ALLOW_THREADS
     if (rc) return gspy_raise(rc, &err, GSPY_CTX_OTHER, NULL, 0);
-    PyObject *out = path_arrays(p, with_faces);
+    PyObject *out = gspy_path_arrays(p, with_faces);
     gs_path_free(p);
     return out;
 }
@@ -202,7 +202,7 @@ static PyObject *solver_path(gspy_Solver *self, PyObject *args, PyObject *kwargs
     }
     const gs_mesh *m = ((gspy_Mesh *)self->mesh)->mesh;
     gs_source x, y;
-    if (path_end(xo, m, "x", &x) < 0 || path_end(yo, m, "y", &y) < 0) return NULL;
+    if (gspy_path_end(xo, m, "x", &x) < 0 || gspy_path_end(yo, m, "y", &y) < 0) return NULL;
     return find_path(self->solver, &x, &y, with_faces, self->lock);
 }
 
@@ -329,7 +329,7 @@ PyObject *gspy_geodesic_path(PyObject *Py_UNUSED(module), PyObject *args, PyObje
         return NULL;
     const gs_mesh *m = ((gspy_Mesh *)mesh)->mesh;
     gs_source x, y;
-    if (path_end(xo, m, "x", &x) < 0 || path_end(yo, m, "y", &y) < 0) return NULL;
+    if (gspy_path_end(xo, m, "x", &x) < 0 || gspy_path_end(yo, m, "y", &y) < 0) return NULL;
     gs_solver_options opt;
     gs_solver_options_default(&opt);
     gs_patch *patch = NULL;

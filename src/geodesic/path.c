@@ -49,6 +49,21 @@ void gs_path_free(gs_path *p)
     free(p);
 }
 
+/* A path from its arrays (db_path.c): takes ownership of xyz, face and bary
+ * (malloc'ed; freed on failure too). */
+int gs__path_adopt(uint32_t n, double *xyz, uint32_t *face, double *bary, double length, gs_path **out,
+                   gs_error *err)
+{
+    gs_path *p = gs__calloc(1, sizeof *p);
+    if (!p) {
+        free(xyz), free(face), free(bary);
+        return gs__fail(err, GS_ENOMEM, "out of memory building a path");
+    }
+    p->n = n, p->xyz = xyz, p->face = face, p->bary = bary, p->length = length;
+    *out = p;
+    return GS_OK;
+}
+
 /* ---- points of a trace ---------------------------------------------------- */
 
 enum { PT_VERTEX, PT_EDGE, PT_FACE };

@@ -21,7 +21,12 @@
 #define DOT_RADIUS 4.5       /* pixels: a point's dot ...               */
 #define DOT_INNER 3.0        /*   ... white inside this, a dark ring    */
 
+#define PATH_WIDTH 2.5          /* pixels: a path's white core ...       */
+#define PATH_BORDER 6.0         /*   ... in a dark border                 */
+
 static const float BACKGROUND[3] = {1.0f, 1.0f, 1.0f};
+static const float PATH_RGB[3] = {1.0f, 1.0f, 1.0f};
+static const float PATH_DARK[3] = {0.08f, 0.08f, 0.08f};
 static const float PLAIN[3] = {0.86f, 0.83f, 0.75f};   /* no field       */
 static const float UNREACHED[3] = {0.55f, 0.55f, 0.55f}; /* inf/NaN: grey */
 
@@ -150,6 +155,16 @@ static int check_options(const gs_mesh *mesh, const gs_render_options *o, gs_err
             if (!isfinite(o->points[3 * (size_t)i + k]))
                 return gs__fail(err, GS_EARG, "render: point %u has a non-finite coordinate (%g)", i,
                                 o->points[3 * (size_t)i + k]);
+    if (o->n_paths && (!o->paths || !o->path_starts))
+        return gs__fail(err, GS_EARG, "render: n_paths is %u but paths or path_starts is NULL", o->n_paths);
+    for (uint32_t i = 0; i < o->n_paths; ++i)
+        if (o->path_starts[i + 1] < o->path_starts[i] || (i == 0 && o->path_starts[0] != 0))
+            return gs__fail(err, GS_EARG, "render: path_starts[%u] is %u, path_starts[%u] %u (offsets from 0, increasing)",
+                            i, o->path_starts[i], i + 1, o->path_starts[i + 1]);
+    for (size_t i = 0; o->n_paths && i < 3 * (size_t)o->path_starts[o->n_paths]; ++i)
+        if (!isfinite(o->paths[i]))
+            return gs__fail(err, GS_EARG, "render: path point %zu has a coordinate %g (must be finite)", i / 3,
+                            o->paths[i]);
     if (o->separators) {
         gs_db_info info;
         int rc = gs_db_get_info(o->separators, &info, err);
@@ -281,16 +296,23 @@ static int add_overlays(scene *s, const camera *cam, gs_error *err)
         int rc = gs__render_separators(s->mesh, o->separators, &seg, &nseg, err);
         if (rc) return rc;
     }
-    s->ov = gs__malloc(nseg + o->n_points + 1, sizeof *s->ov);
+    size_t npp = o->n_paths ? o->path_starts[o->n_paths] : 0;
+    s->ov = gs__malloc(nseg + 2 * npp + o->n_points + 1, sizeof *s->ov);
     if (!s->ov) {
         free(seg);
-        return gs__fail(err, GS_ENOMEM, "render: out of memory for %zu lines", nseg);
+        return gs__fail(err, GS_ENOMEM, "render: out of memory for %zu lines", nseg + 2 * npp);
     }
     for (size_t i = 0; i < nseg; ++i) {
         uint32_t d = seg[i].depth;
         ov_line(&s->ov[s->nov++], cam, seg[i].p[0], seg[i].p[1], sep_width(d), SEP_RGB[d < 5 ? d : 5]);
     }
     free(seg);
+    /* paths: every segment's dark border, then every white core over them */
+    for (int pass = 0; pass < 2; ++pass)
+        for (uint32_t i = 0; i < o->n_paths; ++i)
+            for (uint32_t k = o->path_starts[i]; k + 1 < o->path_starts[i + 1]; ++k)
+                ov_line(&s->ov[s->nov++], cam, o->paths + 3 * (size_t)k, o->paths + 3 * (size_t)k + 3,
+                        pass ? PATH_WIDTH : PATH_BORDER, pass ? PATH_RGB : PATH_DARK);
     for (uint32_t i = 0; i < o->n_points; ++i) {
         const double *p = o->points + 3 * (size_t)i;
         static const float black[3] = {0, 0, 0};

@@ -1,0 +1,1289 @@
+/* db_path.c - geodesic paths from a database (doc/paths.md, "From a
+ * database"): a path between two vertices or surface points of the mesh the
+ * database was built from, without solving a field.
+ *
+ * 1. Descent along the valley. The points p of the shortest path are where
+ *    g(p) = d(X, p) + d(p, Y) is smallest (= d(X, Y)); elsewhere g grows
+ *    with the square of the distance to the path. From a corner of Y's
+ *    face the path walks the mesh's edges to a corner of X's face: at each
+ *    vertex v, to the neighbour n of smallest g(n) among those strictly
+ *    closer to X than v (database distances to a corner of each end's
+ *    face). Following the valley floor of g keeps the walk within about an
+ *    edge of the shortest path where following the slope of d(X, .) alone
+ *    drifts with the fitted functions' slope errors (on bunny-5k 1% of the
+ *    paths then ended 1-2% long, on another local geodesic). A vertex
+ *    without a closer neighbour (a fitted function's dip) hands over to
+ *    A* on the edge graph (Euclidean heuristic) for the rest.
+ * 2. Sleeve. The vertex path becomes a strip of faces ("sleeve"): around
+ *    each vertex, the faces on the side of the smaller angle between the
+ *    edges it arrives and leaves by.
+ * 3. Shortening. The sleeve is unfolded into the plane and the shortest
+ *    path inside it found by the funnel algorithm (Lee & Preparata): a
+ *    polyline that bends only at sleeve vertices. At a bend vertex v whose
+ *    angle on the far side (v's total angle minus the path's angle on the
+ *    sleeve's side) is below pi, the path is shortened by going round v on
+ *    that side: the sleeve's faces at v are replaced by v's other faces
+ *    (the extrinsic counterpart of Sharp & Crane 2020's edge flips). Repeat
+ *    until no such vertex is left: the path is then locally shortest (a
+ *    geodesic: straight in every face and across every edge, bending only
+ *    at saddle or boundary vertices, with at least pi on each side).
+ *
+ * The result is a real path on the surface, so it is never shorter than
+ * the exact distance; the descent puts it in the shortest path's
+ * neighbourhood, and the shortening makes it the geodesic there.
+ * The database is only read; every call allocates its own work space:
+ * thread-safe. */
+#include "../db/db_internal.h"
+#include "../geodesic/geodesic_internal.h"
+#include "../mesh/mesh_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- a map vertex id -> slot (open addressing) --------------------------- */
+
+typedef struct vmap {
+    uint32_t *key, *val;
+    uint32_t cap, n; /* cap: a power of two */
+} vmap;
+
+static void vmap_free(vmap *m)
+{
+    free(m->key), free(m->val);
+    memset(m, 0, sizeof *m);
+}
+
+static inline uint32_t vmap_hash(uint32_t k, uint32_t cap)
+{
+    return (uint32_t)((k * 2654435761u) & (cap - 1));
+}
+
+/* The slot of k (GS_NONE: absent). */
+static inline uint32_t vmap_get(const vmap *m, uint32_t k)
+{
+    if (!m->cap) return GS_NONE;
+    for (uint32_t i = vmap_hash(k, m->cap);; i = (i + 1) & (m->cap - 1)) {
+        if (m->key[i] == GS_NONE) return GS_NONE;
+        if (m->key[i] == k) return m->val[i];
+    }
+}
+
+static int vmap_put(vmap *m, uint32_t k, uint32_t v)
+{
+    if (2 * (m->n + 1) > m->cap) {
+        uint32_t nc = m->cap ? 2 * m->cap : 1024;
+        uint32_t *nk = gs__malloc(nc, sizeof *nk), *nv = gs__malloc(nc, sizeof *nv);
+        if (!nk || !nv) {
+            free(nk), free(nv);
+            return GS_ENOMEM;
+        }
+        memset(nk, 0xff, (size_t)nc * sizeof *nk);
+        for (uint32_t i = 0; i < m->cap; ++i)
+            if (m->key[i] != GS_NONE) {
+                uint32_t j = vmap_hash(m->key[i], nc);
+                while (nk[j] != GS_NONE) j = (j + 1) & (nc - 1);
+                nk[j] = m->key[i], nv[j] = m->val[i];
+            }
+        free(m->key), free(m->val);
+        m->key = nk, m->val = nv, m->cap = nc;
+    }
+    uint32_t i = vmap_hash(k, m->cap);
+    while (m->key[i] != GS_NONE && m->key[i] != k) i = (i + 1) & (m->cap - 1);
+    if (m->key[i] == GS_NONE) m->n++;
+    m->key[i] = k, m->val[i] = v;
+    return GS_OK;
+}
+
+/* ---- growable arrays ---------------------------------------------------- */
+
+static int grow(void **p, size_t *cap, size_t need, size_t size)
+{
+    if (need <= *cap) return GS_OK;
+    size_t c = *cap ? *cap : 256;
+    while (c < need) c *= 2;
+    void *q = gs__realloc(*p, c, size);
+    if (!q) return GS_ENOMEM;
+    *p = q, *cap = c;
+    return GS_OK;
+}
+
+/* ---- points -------------------------------------------------------------- */
+
+enum { Q_VERTEX, Q_EDGE, Q_FACE };
+
+/* A surface point: vertex a; (1 - t) a + t b on edge (a, b); or bary in
+ * face f. seg: the face of the segment leaving it. */
+typedef struct qpt {
+    int type;
+    uint32_t a, b, f;
+    double t, bary[3];
+    uint32_t seg;
+} qpt;
+
+typedef struct p2 {
+    double x, y;
+} p2;
+
+static inline double cross3(p2 o, p2 a, p2 b)
+{
+    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+}
+
+static inline int eq2(p2 a, p2 b)
+{
+    return a.x == b.x && a.y == b.y;
+}
+
+/* A bend of the funnel's path: a sleeve vertex (v, at funnel portal idx)
+ * or an end (v = GS_NONE). */
+typedef struct apex {
+    p2 p;
+    uint32_t v, idx;
+} apex;
+
+/* A funnel portal: its left and right end (2D, vertex ids). */
+typedef struct portal {
+    p2 l, r;
+    uint32_t lv, rv;
+} portal;
+
+typedef struct ctx {
+    const gs_db *db;
+    const gs__topo *t;
+    gs_error *err;
+    /* the database distance to the descent's target vertex, cached */
+    uint32_t target, origin;
+    vmap dmap;
+    double *dval;
+    size_t nd, dcap;
+    /* the vertex path */
+    uint32_t *vp;
+    size_t nvp, vpcap;
+    /* the sleeve (and a second buffer to rebuild it) */
+    uint32_t *sl;
+    size_t nsl, slcap;
+    /* unfolding: 2D corners of each sleeve face (by corner 0..2) */
+    p2 *uv;
+    size_t uvcap;
+    portal *fp;
+    size_t fpcap;
+    apex *ap;
+    size_t nap, apcap;
+    /* output points */
+    qpt *q;
+    size_t nq, qcap;
+    /* A* */
+    vmap amap;
+    double *ag;
+    uint32_t *aparent, *anode;
+    uint8_t *aclosed;
+    size_t na, acap[4];
+    double *heapk;
+    uint32_t *heapv;
+    size_t nheap, heapcap, heapvcap;
+} ctx;
+
+static void ctx_free(ctx *c)
+{
+    vmap_free(&c->dmap);
+    vmap_free(&c->amap);
+    free(c->dval), free(c->vp), free(c->sl), free(c->uv), free(c->fp), free(c->ap), free(c->q);
+    free(c->ag), free(c->aparent), free(c->anode), free(c->aclosed), free(c->heapk), free(c->heapv);
+}
+
+static int oom(ctx *c)
+{
+    return gs__fail(c->err, GS_ENOMEM, "gs_db_path: out of memory");
+}
+
+static double dist3(const double *a, const double *b)
+{
+    double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    return sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+static const double *vpos(const ctx *c, uint32_t v)
+{
+    return c->t->xyz + 3 * (size_t)v;
+}
+
+/* The mesh must be the database's: every vertex the path visits is where
+ * the database has it. */
+static int check_vertex(ctx *c, uint32_t v)
+{
+    const double *a = vpos(c, v), *b = c->db->xyz + 3 * (size_t)v;
+    if (memcmp(a, b, 3 * sizeof *a))
+        return gs__fail(c->err, GS_EARG,
+                        "gs_db_path: the mesh is not the database's: vertex %u is at (%.17g, %.17g, %.17g) in the "
+                        "mesh, (%.17g, %.17g, %.17g) in the database",
+                        v, a[0], a[1], a[2], b[0], b[1], b[2]);
+    return GS_OK;
+}
+
+/* d(target, v) from the database, cached (with d(origin, v), NaN until
+ * asked). */
+static int dist_to_target(ctx *c, uint32_t v, double *out)
+{
+    uint32_t s = vmap_get(&c->dmap, v);
+    if (s != GS_NONE) {
+        *out = c->dval[2 * s];
+        return GS_OK;
+    }
+    int rc = check_vertex(c, v);
+    if (rc) return rc;
+    double d = gs_db_distance(c->db, c->target, v);
+    if (d != d)
+        return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: the database answers NaN for vertices %u and %u",
+                        c->target, v);
+    if (grow((void **)&c->dval, &c->dcap, 2 * c->nd + 2, sizeof *c->dval) || vmap_put(&c->dmap, v, (uint32_t)c->nd))
+        return oom(c);
+    c->dval[2 * c->nd] = d, c->dval[2 * c->nd + 1] = NAN;
+    c->nd++;
+    *out = d;
+    return GS_OK;
+}
+
+/* d(origin, v) of a vertex dist_to_target has seen. */
+static int dist_to_origin(ctx *c, uint32_t v, double *out)
+{
+    uint32_t s = vmap_get(&c->dmap, v);
+    double d = c->dval[2 * s + 1];
+    if (d != d) {
+        d = gs_db_distance(c->db, c->origin, v);
+        if (d != d)
+            return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: the database answers NaN for vertices %u and %u",
+                            c->origin, v);
+        c->dval[2 * s + 1] = d;
+    }
+    *out = d;
+    return GS_OK;
+}
+
+static int push_vertex(ctx *c, uint32_t v)
+{
+    if (grow((void **)&c->vp, &c->vpcap, c->nvp + 1, sizeof *c->vp)) return oom(c);
+    c->vp[c->nvp++] = v;
+    return GS_OK;
+}
+
+/* ---- A* on the edge graph (the descent's fallback) ----------------------- */
+
+static int heap_push(ctx *c, double k, uint32_t v)
+{
+    if (grow((void **)&c->heapk, &c->heapcap, c->nheap + 1, sizeof *c->heapk) ||
+        grow((void **)&c->heapv, &c->heapvcap, c->nheap + 1, sizeof *c->heapv))
+        return GS_ENOMEM;
+    size_t i = c->nheap++;
+    while (i > 0) {
+        size_t p = (i - 1) / 2;
+        if (c->heapk[p] <= k) break;
+        c->heapk[i] = c->heapk[p], c->heapv[i] = c->heapv[p];
+        i = p;
+    }
+    c->heapk[i] = k, c->heapv[i] = v;
+    return GS_OK;
+}
+
+static uint32_t heap_pop(ctx *c)
+{
+    uint32_t top = c->heapv[0];
+    double k = c->heapk[--c->nheap];
+    uint32_t v = c->heapv[c->nheap];
+    size_t i = 0, n = c->nheap;
+    for (;;) {
+        size_t l = 2 * i + 1, m = i;
+        double mk = k;
+        if (l < n && c->heapk[l] < mk) m = l, mk = c->heapk[l];
+        if (l + 1 < n && c->heapk[l + 1] < mk) m = l + 1;
+        if (m == i) break;
+        c->heapk[i] = c->heapk[m], c->heapv[i] = c->heapv[m];
+        i = m;
+    }
+    if (n) c->heapk[i] = k, c->heapv[i] = v;
+    return top;
+}
+
+/* A* node of vertex v (created on first sight). */
+static int anode(ctx *c, uint32_t v, uint32_t *slot)
+{
+    uint32_t s = vmap_get(&c->amap, v);
+    if (s == GS_NONE) {
+        if (grow((void **)&c->ag, &c->acap[0], c->na + 1, sizeof *c->ag) ||
+            grow((void **)&c->aparent, &c->acap[1], c->na + 1, sizeof *c->aparent) ||
+            grow((void **)&c->anode, &c->acap[2], c->na + 1, sizeof *c->anode) ||
+            grow((void **)&c->aclosed, &c->acap[3], c->na + 1, 1))
+            return GS_ENOMEM;
+        s = (uint32_t)c->na++;
+        c->ag[s] = INFINITY, c->aparent[s] = GS_NONE, c->anode[s] = v, c->aclosed[s] = 0;
+        if (vmap_put(&c->amap, v, s)) return GS_ENOMEM;
+    }
+    *slot = s;
+    return GS_OK;
+}
+
+/* Append the vertices of a shortest edge path from the vertex path's last
+ * vertex to `to` (Euclidean heuristic: admissible and consistent). *found:
+ * 0 if they are not connected. */
+static int astar(ctx *c, uint32_t to, int *found_it)
+{
+    const gs__topo *t = c->t;
+    uint32_t from = c->vp[c->nvp - 1], s;
+    c->na = 0, c->nheap = 0;
+    *found_it = 0;
+    if (c->amap.cap) memset(c->amap.key, 0xff, c->amap.cap * sizeof *c->amap.key), c->amap.n = 0;
+    if (anode(c, from, &s)) return oom(c);
+    c->ag[s] = 0;
+    if (heap_push(c, dist3(vpos(c, from), vpos(c, to)), s)) return oom(c);
+    uint32_t found = GS_NONE;
+    while (c->nheap) {
+        uint32_t a = heap_pop(c);
+        if (c->aclosed[a]) continue;
+        c->aclosed[a] = 1;
+        uint32_t v = c->anode[a];
+        if (v == to) {
+            found = a;
+            break;
+        }
+        double g = c->ag[a];
+        for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1]; ++i) {
+            uint32_t h = t->vc[i];
+            uint32_t nb[2] = {t->tri[gs__next(h)], t->tri[gs__prev(h)]};
+            for (int k = 0; k < 2; ++k) {
+                uint32_t b;
+                if (anode(c, nb[k], &b)) return oom(c);
+                double ng = g + dist3(vpos(c, v), vpos(c, nb[k]));
+                if (c->aclosed[b] || ng >= c->ag[b]) continue;
+                c->ag[b] = ng, c->aparent[b] = a;
+                if (heap_push(c, ng + dist3(vpos(c, nb[k]), vpos(c, to)), b)) return oom(c);
+            }
+        }
+    }
+    if (found == GS_NONE) return GS_OK;
+    size_t n0 = c->nvp, k = 0;
+    for (uint32_t a = found; a != s; a = c->aparent[a]) ++k;
+    if (grow((void **)&c->vp, &c->vpcap, n0 + k, sizeof *c->vp)) return oom(c);
+    c->nvp = n0 + k;
+    for (uint32_t a = found; a != s; a = c->aparent[a]) c->vp[n0 + --k] = c->anode[a];
+    *found_it = 1;
+    return GS_OK;
+}
+
+/* ---- 1. descent ------------------------------------------------------- */
+
+/* Extend the vertex path (its first vertex in place) down the valley to a
+ * vertex of targets[0..nt); a vertex without a neighbour closer to X hands
+ * over to A*. */
+static int descend(ctx *c, const uint32_t *targets, int nt)
+{
+    const gs__topo *t = c->t;
+    for (;;) {
+        uint32_t v = c->vp[c->nvp - 1];
+        for (int k = 0; k < nt; ++k)
+            if (v == targets[k]) return GS_OK;
+        double dv, best = INFINITY, dir[3] = {0, 0, 0};
+        uint32_t bn = GS_NONE;
+        int rc = dist_to_target(c, v, &dv);
+        if (rc) return rc;
+        if (c->nvp > 1) /* the last step's direction: neighbours behind it come last */
+            for (int k = 0; k < 3; ++k) dir[k] = vpos(c, v)[k] - vpos(c, c->vp[c->nvp - 2])[k];
+        for (int pass = 0; pass < 2 && bn == GS_NONE; ++pass)
+            for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1]; ++i) {
+                uint32_t h = t->vc[i];
+                uint32_t nb[2] = {t->tri[gs__next(h)], t->tri[gs__prev(h)]};
+                for (int k = 0; k < 2; ++k) {
+                    const double *q = vpos(c, nb[k]), *p = vpos(c, v);
+                    double ahead = (q[0] - p[0]) * dir[0] + (q[1] - p[1]) * dir[1] + (q[2] - p[2]) * dir[2];
+                    if ((ahead >= 0) == (pass == 1)) continue;
+                    double dn;
+                    if ((rc = dist_to_target(c, nb[k], &dn))) return rc;
+                    if (!(dn < dv)) continue;
+                    double dy = 0;
+                    if ((rc = dist_to_origin(c, nb[k], &dy))) return rc;
+                    double s = dn + dy;
+                    if (s < best) best = s, bn = nb[k];
+                }
+            }
+        if (bn == GS_NONE) {
+            int found;
+            if ((rc = astar(c, c->target, &found))) return rc;
+            if (!found)
+                return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: vertex %u is not connected to vertex %u", v,
+                                c->target);
+            return GS_OK;
+        }
+        if ((rc = push_vertex(c, bn))) return rc;
+    }
+}
+
+/* ---- 2. the sleeve ------------------------------------------------------- */
+
+enum { ES_NONE, ES_FACE, ES_EDGE };
+
+typedef struct endspec {
+    int type;
+    uint32_t x; /* the face, or the edge's other vertex */
+} endspec;
+
+static uint32_t corner_at(const gs__topo *t, uint32_t f, uint32_t v)
+{
+    for (uint32_t k = 0; k < 3; ++k)
+        if (t->tri[3 * f + k] == v) return 3 * f + k;
+    return GS_NONE;
+}
+
+static int face_has(const gs__topo *t, uint32_t f, uint32_t v)
+{
+    return corner_at(t, f, v) != GS_NONE;
+}
+
+/* Faces around v from `in` to `out`, turning one way: dir 0 leaves each
+ * face by its half-edge h (v -> next), dir 1 by prev(h) (prev -> v). At
+ * most cap faces into buf; returns their count, 0 if that way meets the
+ * boundary or does not arrive; *ang: the sum of their angles at v. */
+static uint32_t rotate_run(const gs__topo *t, uint32_t v, endspec in, endspec out, int dir, uint32_t *buf,
+                           uint32_t cap, double *ang)
+{
+    uint32_t h = GS_NONE;
+    if (in.type == ES_FACE) {
+        h = corner_at(t, in.x, v);
+    } else {
+        for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1] && h == GS_NONE; ++i) {
+            uint32_t k = t->vc[i];
+            if (t->tri[dir == 0 ? gs__prev(k) : gs__next(k)] == in.x) h = k;
+        }
+    }
+    if (h == GS_NONE) return 0;
+    double a = 0;
+    uint32_t n = 0;
+    for (;;) {
+        if (n >= cap) return 0;
+        buf[n++] = h / 3;
+        a += t->angle[h];
+        if (out.type == ES_FACE ? h / 3 == out.x : t->tri[dir == 0 ? gs__next(h) : gs__prev(h)] == out.x) break;
+        uint32_t o = t->opp[dir == 0 ? h : gs__prev(h)];
+        if (o == GS_NONE) return 0;
+        h = dir == 0 ? gs__next(o) : o;
+    }
+    *ang = a;
+    return n;
+}
+
+/* The side of vertex vp[i] the shortest path passes, judged from the
+ * chord between the vertex path's vertices CHORD_SPAN before and after it:
+ * +1 if the chord passes among the faces run[0..n) (one side of v), -1 if
+ * on the other side, 0 if it passes (nearly) through v. */
+#define CHORD_SPAN 4
+static int chord_side(const ctx *c, size_t i, const uint32_t *run, uint32_t n)
+{
+    const gs__topo *t = c->t;
+    const double *v = vpos(c, c->vp[i]);
+    const double *P = vpos(c, c->vp[i >= CHORD_SPAN ? i - CHORD_SPAN : 0]);
+    const double *N = vpos(c, c->vp[i + CHORD_SPAN < c->nvp ? i + CHORD_SPAN : c->nvp - 1]);
+    double d[3], w[3], dd = 0, wd = 0;
+    for (int k = 0; k < 3; ++k) d[k] = N[k] - P[k], w[k] = v[k] - P[k], dd += d[k] * d[k], wd += w[k] * d[k];
+    if (!(dd > 0)) return 0;
+    double tt = wd / dd, sv[3], s2 = 0, o[3] = {0, 0, 0}, e2 = 0;
+    tt = tt < 0 ? 0 : tt > 1 ? 1 : tt;
+    for (int k = 0; k < 3; ++k) sv[k] = P[k] + tt * d[k] - v[k], s2 += sv[k] * sv[k];
+    for (uint32_t j = 0; j < n; ++j) {
+        const uint32_t *T = t->tri + 3 * (size_t)run[j];
+        for (int k = 0; k < 3; ++k)
+            o[k] += (t->xyz[3 * (size_t)T[0] + k] + t->xyz[3 * (size_t)T[1] + k] + t->xyz[3 * (size_t)T[2] + k]) / 3 - v[k];
+    }
+    for (int k = 0; k < 3; ++k) e2 += o[k] * o[k];
+    double dot = o[0] * sv[0] + o[1] * sv[1] + o[2] * sv[2];
+    if (!(fabs(dot) > 0.1 * sqrt(s2 * e2))) return 0; /* through v, or across: undecided */
+    return dot > 0 ? 1 : -1;
+}
+
+/* Append face f to the sleeve, dropping a repeat and undoing a step back
+ * (f, g, f -> f). */
+static int sleeve_push(ctx *c, uint32_t f)
+{
+    if (c->nsl && c->sl[c->nsl - 1] == f) return GS_OK;
+    if (c->nsl >= 2 && c->sl[c->nsl - 2] == f) {
+        c->nsl--;
+        return GS_OK;
+    }
+    if (grow((void **)&c->sl, &c->slcap, c->nsl + 1, sizeof *c->sl)) return oom(c);
+    c->sl[c->nsl++] = f;
+    return GS_OK;
+}
+
+/* The sleeve of the vertex path vp[0..nvp) from X (in: X's face, or none
+ * when X is vp[0]) to Y (out: likewise). */
+static int build_sleeve(ctx *c, endspec xin, endspec yout)
+{
+    const gs__topo *t = c->t;
+    c->nsl = 0;
+    uint32_t buf[2][512];
+    for (size_t i = 0; i < c->nvp; ++i) {
+        uint32_t v = c->vp[i];
+        endspec in = i ? (endspec){ES_EDGE, c->vp[i - 1]} : xin;
+        endspec out = i + 1 < c->nvp ? (endspec){ES_EDGE, c->vp[i + 1]} : yout;
+        if (in.type == ES_NONE && out.type == ES_FACE) {
+            int rc = sleeve_push(c, out.x);
+            if (rc) return rc;
+            continue;
+        }
+        if (in.type == ES_FACE && out.type == ES_NONE) {
+            int rc = sleeve_push(c, in.x);
+            if (rc) return rc;
+            continue;
+        }
+        if (in.type == ES_NONE || out.type == ES_NONE) continue; /* the next or previous run holds v */
+        uint32_t val = t->vc_start[v + 1] - t->vc_start[v], cap = val + 1 < 512 ? val + 1 : 512;
+        double a0 = INFINITY, a1 = INFINITY;
+        uint32_t n0 = rotate_run(t, v, in, out, 0, buf[0], cap, &a0);
+        uint32_t n1 = rotate_run(t, v, in, out, 1, buf[1], cap, &a1);
+        if (!n0) a0 = INFINITY;
+        if (!n1) a1 = INFINITY;
+        if (!n0 && !n1)
+            return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: no faces around vertex %u join the path's edges", v);
+        int k = a0 <= a1 ? 0 : 1;
+        if (n0 && n1) { /* the side of v that the chord over a few vertices passes */
+            int side = chord_side(c, i, buf[0], n0);
+            if (side) k = side > 0 ? 0 : 1;
+        }
+        uint32_t n = k ? n1 : n0;
+        for (uint32_t j = 0; j < n; ++j) {
+            int rc = sleeve_push(c, buf[k][j]);
+            if (rc) return rc;
+        }
+    }
+    if (!c->nsl && c->nvp == 2) { /* two vertices: a face of their edge */
+        uint32_t v = c->vp[0], u = c->vp[1];
+        for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1] && !c->nsl; ++i) {
+            uint32_t h = t->vc[i];
+            if (t->tri[gs__next(h)] == u || t->tri[gs__prev(h)] == u) {
+                int rc = sleeve_push(c, h / 3);
+                if (rc) return rc;
+            }
+        }
+    }
+    if (!c->nsl) return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: empty strip of faces");
+    return GS_OK;
+}
+
+/* ---- 3. unfolding, funnel, shortening ------------------------------------ */
+
+static p2 point2(const ctx *c, const qpt *q, size_t i)
+{
+    const gs__topo *t = c->t;
+    uint32_t f = c->sl[i];
+    const p2 *u = c->uv + 3 * i;
+    if (q->type == Q_VERTEX) return u[corner_at(t, f, q->a) % 3];
+    if (q->type == Q_EDGE) {
+        p2 a = u[corner_at(t, f, q->a) % 3], b = u[corner_at(t, f, q->b) % 3];
+        return (p2){(1 - q->t) * a.x + q->t * b.x, (1 - q->t) * a.y + q->t * b.y};
+    }
+    return (p2){q->bary[0] * u[0].x + q->bary[1] * u[1].x + q->bary[2] * u[2].x,
+                q->bary[0] * u[0].y + q->bary[1] * u[1].y + q->bary[2] * u[2].y};
+}
+
+/* The area of a triangle with sides a, b, c (Kahan's stable Heron
+ * formula: no trigonometry, accurate for slivers). */
+static double tri_area(double a, double b, double c)
+{
+    double t;
+    if (a < b) t = a, a = b, b = t;
+    if (a < c) t = a, a = c, c = t;
+    if (b < c) t = b, b = c, c = t;
+    double p = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
+    return 0.25 * sqrt(p > 0 ? p : 0);
+}
+
+/* Unfold the sleeve into the plane (one chain: every face shares its edge's
+ * two points with the previous one) and fill the funnel's portals
+ * fp[1..m-1]; fp[0] and fp[m] are the ends. */
+static int unfold(ctx *c, const qpt *x, const qpt *y)
+{
+    const gs__topo *t = c->t;
+    size_t m = c->nsl;
+    if (grow((void **)&c->uv, &c->uvcap, 3 * m, sizeof *c->uv) ||
+        grow((void **)&c->fp, &c->fpcap, m + 1, sizeof *c->fp))
+        return oom(c);
+    uint32_t f = c->sl[0];
+    p2 *u = c->uv;
+    double a = t->angle[3 * f], l = t->len[3 * f + 2];
+    u[0] = (p2){0, 0};
+    u[1] = (p2){t->len[3 * f], 0};
+    u[2] = (p2){l * cos(a), l * sin(a)};
+    for (size_t i = 0; i + 1 < m; ++i) {
+        uint32_t g = c->sl[i + 1], h = GS_NONE;
+        f = c->sl[i];
+        for (uint32_t k = 3 * f; k < 3 * f + 3; ++k)
+            if (t->opp[k] != GS_NONE && t->opp[k] / 3 == g) h = k;
+        if (h == GS_NONE)
+            return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: faces %u and %u of the strip share no edge", f, g);
+        uint32_t o = t->opp[h];
+        p2 A = c->uv[3 * i + h % 3], B = c->uv[3 * i + gs__next(h) % 3];
+        p2 *w = c->uv + 3 * (i + 1);
+        w[o % 3] = B;
+        w[gs__next(o) % 3] = A;
+        /* C to the right of A -> B: its foot x along AB, its height y */
+        double dx = B.x - A.x, dy = B.y - A.y, n = sqrt(dx * dx + dy * dy);
+        double L = t->len[o], r = t->len[gs__next(o)], q = t->len[gs__prev(o)];
+        double y = 2 * tri_area(L, r, q) / L, x = (r * r - q * q + L * L) / (2 * L);
+        dx /= n, dy /= n;
+        w[gs__prev(o) % 3] = (p2){A.x + x * dx + y * dy, A.y + x * dy - y * dx};
+        c->fp[i + 1] = (portal){B, A, t->tri[gs__next(h)], t->tri[h]};
+    }
+    p2 s = point2(c, x, 0), e = point2(c, y, m - 1);
+    c->fp[0] = (portal){s, s, GS_NONE, GS_NONE};
+    c->fp[m] = (portal){e, e, GS_NONE, GS_NONE};
+    return GS_OK;
+}
+
+static int push_apex(ctx *c, p2 p, uint32_t v, uint32_t idx)
+{
+    if (v != GS_NONE && c->nap && c->ap[c->nap - 1].v == v && eq2(c->ap[c->nap - 1].p, p)) {
+        c->ap[c->nap - 1].idx = idx;
+        return GS_OK;
+    }
+    if (grow((void **)&c->ap, &c->apcap, c->nap + 1, sizeof *c->ap)) return oom(c);
+    c->ap[c->nap++] = (apex){p, v, idx};
+    return GS_OK;
+}
+
+/* The shortest path inside the unfolded sleeve (the "simple stupid funnel"
+ * form of Lee & Preparata's funnel algorithm): its bends into c->ap. */
+static int funnel(ctx *c)
+{
+    uint32_t m = (uint32_t)c->nsl;
+    const portal *fp = c->fp;
+    c->nap = 0;
+    int rc = push_apex(c, fp[0].l, GS_NONE, 0);
+    if (rc) return rc;
+    p2 ap = fp[0].l, left = ap, right = ap;
+    uint32_t ai = 0, li = 0, ri = 0;
+    for (uint32_t i = 1; i <= m; ++i) {
+        p2 l = fp[i].l, r = fp[i].r;
+        if (cross3(ap, right, r) >= 0) {
+            if (eq2(ap, right) || eq2(ap, left) || eq2(r, left) || cross3(ap, left, r) < 0) {
+                right = r, ri = i;
+            } else { /* r crosses the left side: its point is a bend */
+                if ((rc = push_apex(c, left, fp[li].lv, li))) return rc;
+                ap = left, ai = li;
+                right = left = ap, ri = li = ai;
+                i = ai;
+                continue;
+            }
+        }
+        if (cross3(ap, left, l) <= 0) {
+            if (eq2(ap, left) || eq2(ap, right) || eq2(l, right) || cross3(ap, right, l) > 0) {
+                left = l, li = i;
+            } else {
+                if ((rc = push_apex(c, right, fp[ri].rv, ri))) return rc;
+                ap = right, ai = ri;
+                right = left = ap, ri = li = ai;
+                i = ai;
+                continue;
+            }
+        }
+    }
+    return push_apex(c, fp[m].l, GS_NONE, m);
+}
+
+static double angle2(p2 o, p2 a, p2 b)
+{
+    double ax = a.x - o.x, ay = a.y - o.y, bx = b.x - o.x, by = b.y - o.y;
+    return atan2(fabs(ax * by - ay * bx), ax * bx + ay * by);
+}
+
+/* Sleeve face i's edge at v that it does not share with sleeve face j:
+ * its other end (vertex id) and the half-edge to cross to leave by it. */
+static uint32_t outer_edge(const ctx *c, size_t i, size_t j, uint32_t v, uint32_t *cross_h)
+{
+    const gs__topo *t = c->t;
+    uint32_t h = corner_at(t, c->sl[i], v), g = c->sl[j];
+    if (t->opp[h] != GS_NONE && t->opp[h] / 3 == g) { /* shared: h's edge; outer: prev(h) */
+        *cross_h = gs__prev(h);
+        return t->tri[gs__prev(h)];
+    }
+    *cross_h = h;
+    return t->tri[gs__next(h)];
+}
+
+/* Bend ap[j] (a vertex v): if the angle on the far side of v is below pi
+ * (or `force`), replace the sleeve's faces at v (positions a..b, b below
+ * *limit) by v's other faces, and set *limit = a. *done: 1 if changed. */
+static int flip_at(ctx *c, size_t j, int force, uint32_t xv, uint32_t yv, size_t *limit, int *done)
+{
+    const gs__topo *t = c->t;
+    const apex *A = &c->ap[j];
+    uint32_t v = A->v;
+    *done = 0;
+    if (v == GS_NONE || v == xv || v == yv || (t->vflag[v] & (GS_V_BOUNDARY | GS_V_NONMANIFOLD))) return GS_OK;
+    if (A->idx == 0 || A->idx >= c->nsl) return GS_OK;
+    size_t a = A->idx - 1, b = A->idx;
+    if (!face_has(t, c->sl[a], v) || !face_has(t, c->sl[b], v)) return GS_OK;
+    while (a > 0 && face_has(t, c->sl[a - 1], v)) --a;
+    while (b + 1 < c->nsl && face_has(t, c->sl[b + 1], v)) ++b;
+    if (b >= *limit) return GS_OK;
+    uint32_t ha, hb;
+    uint32_t wa = outer_edge(c, a, a + 1, v, &ha), wb = outer_edge(c, b, b - 1, v, &hb);
+    (void)hb;
+    if (!force) {
+        double alpha = 0;
+        for (size_t i = a; i <= b; ++i) alpha += t->angle[corner_at(t, c->sl[i], v)];
+        const p2 *ua = c->uv + 3 * a, *ub = c->uv + 3 * b;
+        p2 va = ua[corner_at(t, c->sl[a], v) % 3], vb = ub[corner_at(t, c->sl[b], v) % 3];
+        double gp = angle2(va, ua[corner_at(t, c->sl[a], wa) % 3], c->ap[j - 1].p);
+        double gn = angle2(vb, ub[corner_at(t, c->sl[b], wb) % 3], c->ap[j + 1].p);
+        double beta = alpha - gp - gn, far = t->vangle[v] - beta;
+        if (!(far < M_PI * (1 - 1e-12))) return GS_OK;
+    }
+    /* the other way round v, from sleeve face a to sleeve face b */
+    uint32_t val = t->vc_start[v + 1] - t->vc_start[v], buf[512], n = 0;
+    if (val >= 511) return GS_OK;
+    uint32_t h = corner_at(t, c->sl[a], v);
+    int dir = ha == h ? 0 : 1, ok = 0;
+    buf[n++] = c->sl[a];
+    for (uint32_t s = 0; s <= val; ++s) {
+        uint32_t o = t->opp[dir == 0 ? h : gs__prev(h)];
+        if (o == GS_NONE) break;
+        h = dir == 0 ? gs__next(o) : o;
+        buf[n++] = h / 3;
+        if (h / 3 == c->sl[b]) {
+            ok = 1;
+            break;
+        }
+    }
+    if (!ok || (b - a + 1) + n - 2 != val) return GS_OK; /* the two ways must split v's faces */
+    size_t old = b - a + 1, nn = c->nsl - old + n;
+    if (grow((void **)&c->sl, &c->slcap, nn, sizeof *c->sl)) return oom(c);
+    memmove(c->sl + a + n, c->sl + b + 1, (c->nsl - b - 1) * sizeof *c->sl);
+    memcpy(c->sl + a, buf, n * sizeof *c->sl);
+    c->nsl = nn;
+    *limit = a;
+    *done = 1;
+    return GS_OK;
+}
+
+/* Undo the steps back (f, g, f) that changes may have made. */
+static void sleeve_tidy(ctx *c)
+{
+    size_t n = c->nsl, k = 0;
+    for (size_t i = 0; i < n; ++i) {
+        uint32_t f = c->sl[i];
+        if (k && c->sl[k - 1] == f) continue;
+        if (k >= 2 && c->sl[k - 2] == f) {
+            --k;
+            continue;
+        }
+        c->sl[k++] = f;
+    }
+    c->nsl = k;
+}
+
+/* One round of shortening: every bend vertex with less than pi on the far
+ * side gets the sleeve round that side (back to front, runs that do not
+ * overlap). *nflips: the number of changes. */
+static int shorten(ctx *c, uint32_t xv, uint32_t yv, uint32_t *nflips)
+{
+    size_t limit = c->nsl;
+    *nflips = 0;
+    for (size_t j = c->nap - 1; j-- > 1;) {
+        int done, rc = flip_at(c, j, 0, xv, yv, &limit, &done);
+        if (rc) return rc;
+        *nflips += (uint32_t)done;
+    }
+    if (*nflips) sleeve_tidy(c);
+    return GS_OK;
+}
+
+/* Unfold, funnel and shorten until locally shortest; *len: the length. */
+static int converge(ctx *c, const qpt *x, const qpt *y, uint32_t xv, uint32_t yv, double *len)
+{
+    size_t max_rounds = 64 + 4 * c->nsl;
+    int rc;
+    for (size_t round = 0;; ++round) {
+        uint32_t nf;
+        if ((rc = unfold(c, x, y)) || (rc = funnel(c))) return rc;
+        if (round >= max_rounds) break;
+        if ((rc = shorten(c, xv, yv, &nf))) return rc;
+        if (!nf) break;
+    }
+    double l = 0;
+    for (size_t j = 0; j + 1 < c->nap; ++j) {
+        double dx = c->ap[j + 1].p.x - c->ap[j].p.x, dy = c->ap[j + 1].p.y - c->ap[j].p.y;
+        l += sqrt(dx * dx + dy * dy);
+    }
+    *len = l;
+    return GS_OK;
+}
+
+/* ---- output --------------------------------------------------------------- */
+
+static int same_q(const qpt *a, const qpt *b)
+{
+    if (a->type != b->type) return 0;
+    if (a->type == Q_VERTEX) return a->a == b->a;
+    if (a->type == Q_EDGE)
+        return (a->a == b->a && a->b == b->b && a->t == b->t) || (a->a == b->b && a->b == b->a && a->t == 1 - b->t);
+    return a->f == b->f && !memcmp(a->bary, b->bary, sizeof a->bary);
+}
+
+/* Append q reached from the last point by a segment in face g. */
+static int add_q(ctx *c, qpt q, uint32_t g)
+{
+    if (q.type == Q_EDGE && q.t <= 0) q = (qpt){Q_VERTEX, q.a, GS_NONE, GS_NONE, 0, {0, 0, 0}, GS_NONE};
+    if (q.type == Q_EDGE && q.t >= 1) q = (qpt){Q_VERTEX, q.b, GS_NONE, GS_NONE, 0, {0, 0, 0}, GS_NONE};
+    if (c->nq && same_q(&c->q[c->nq - 1], &q)) {
+        c->q[c->nq - 1].seg = g;
+        return GS_OK;
+    }
+    if (grow((void **)&c->q, &c->qcap, c->nq + 1, sizeof *c->q)) return oom(c);
+    if (c->nq) c->q[c->nq - 1].seg = g;
+    q.seg = g;
+    c->q[c->nq++] = q;
+    return GS_OK;
+}
+
+/* The points of the funnel's path: X, its crossing with every portal, Y. */
+static int trace_points(ctx *c, const qpt *x, const qpt *y)
+{
+    size_t m = c->nsl;
+    c->nq = 0;
+    int rc = add_q(c, *x, c->sl[0]);
+    if (rc) return rc;
+    size_t j = 0; /* the segment ap[j] -> ap[j+1] holds portal i */
+    for (uint32_t i = 1; i < m; ++i) {
+        while (j + 2 < c->nap && c->ap[j + 1].idx < i) ++j;
+        const portal *P = &c->fp[i];
+        const apex *A = &c->ap[j], *B = &c->ap[j + 1];
+        qpt q;
+        if (A->v != GS_NONE && ((P->lv == A->v && eq2(P->l, A->p)) || (P->rv == A->v && eq2(P->r, A->p)))) {
+            q = (qpt){Q_VERTEX, A->v, GS_NONE, GS_NONE, 0, {0, 0, 0}, GS_NONE};
+        } else if (B->v != GS_NONE && ((P->lv == B->v && eq2(P->l, B->p)) || (P->rv == B->v && eq2(P->r, B->p)))) {
+            q = (qpt){Q_VERTEX, B->v, GS_NONE, GS_NONE, 0, {0, 0, 0}, GS_NONE};
+        } else { /* the line A -> B meets the portal r -> l at r + s (l - r) */
+            double dx = B->p.x - A->p.x, dy = B->p.y - A->p.y;
+            double ex = P->l.x - P->r.x, ey = P->l.y - P->r.y;
+            double den = ex * dy - ey * dx, s = 0.5;
+            if (den != 0) s = ((A->p.x - P->r.x) * dy - (A->p.y - P->r.y) * dx) / den;
+            if (!(s >= 0)) s = 0;
+            if (s > 1) s = 1;
+            q = (qpt){Q_EDGE, P->rv, P->lv, GS_NONE, s, {0, 0, 0}, GS_NONE};
+        }
+        if ((rc = add_q(c, q, c->sl[i - 1]))) return rc;
+    }
+    return add_q(c, *y, c->sl[m - 1]);
+}
+
+static int bary_of(const gs__topo *t, const qpt *q, uint32_t g, double b[3])
+{
+    b[0] = b[1] = b[2] = 0;
+    if (q->type == Q_FACE) {
+        if (q->f != g) return -1;
+        memcpy(b, q->bary, sizeof q->bary);
+        return 0;
+    }
+    uint32_t ca = corner_at(t, g, q->a);
+    if (ca == GS_NONE) return -1;
+    if (q->type == Q_VERTEX) {
+        b[ca % 3] = 1;
+        return 0;
+    }
+    uint32_t cb = corner_at(t, g, q->b);
+    if (cb == GS_NONE) return -1;
+    b[ca % 3] = 1 - q->t;
+    b[cb % 3] = q->t;
+    return 0;
+}
+
+static int make_path(ctx *c, gs_path **out)
+{
+    const gs__topo *t = c->t;
+    size_t n = c->nq;
+    double *xyz = gs__malloc(3 * n, sizeof *xyz), *bary = gs__malloc(3 * n, sizeof *bary);
+    uint32_t *face = gs__malloc(n, sizeof *face);
+    if (!xyz || !bary || !face) {
+        free(xyz), free(bary), free(face);
+        return oom(c);
+    }
+    double len = 0;
+    for (size_t i = 0; i < n; ++i) {
+        uint32_t g = i + 1 < n || n == 1 ? c->q[i].seg : c->q[i - 1].seg;
+        face[i] = g;
+        double *b = bary + 3 * i;
+        if (bary_of(t, &c->q[i], g, b)) {
+            free(xyz), free(bary), free(face);
+            return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: point %zu is not in face %u", i, g);
+        }
+        const uint32_t *T = t->tri + 3 * (size_t)g;
+        for (int k = 0; k < 3; ++k)
+            xyz[3 * i + k] = b[0] * t->xyz[3 * (size_t)T[0] + k] + b[1] * t->xyz[3 * (size_t)T[1] + k] +
+                             b[2] * t->xyz[3 * (size_t)T[2] + k];
+        if (i) len += dist3(xyz + 3 * i - 3, xyz + 3 * i);
+    }
+    return gs__path_adopt((uint32_t)n, xyz, face, bary, len, out, c->err);
+}
+
+/* A path this much longer than the database's d(X, Y) is checked: beyond
+ * the database's usual errors (exact fields; approximate ones err more). */
+#define CHECK_TOL_EXACT 0.008
+/* ... and first, a little longer, also traced from the other end */
+#define REVERSE_TOL_EXACT 0.004
+#define REVERSE_TOL_APPROX 0.01
+#define CHECK_TOL_APPROX 0.015
+#define CORRIDOR_TOL 0.01   /* the database's error allowed for in the corridor */
+
+/* ---- the check: a path much longer than the database's distance -------- */
+
+/* The path is longer than the database's distance by more than the
+ * database's errors usually are (the descent then followed another
+ * route's valley: a coarse mesh next to the path, a fitted function's
+ * error): the exact shortest path inside the corridor that holds every
+ * path shorter than this one, the vertices v with d(X, v) + d(v, Y) at
+ * most its length (plus the database's tolerance and the ends' offsets),
+ * grown from the vertex path; the faces at them form a patch, solved
+ * exactly (gs_solver_path). *out: that path if shorter, else untouched. */
+static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_source *y, double len, double slack,
+                    gs_path **out)
+{
+    const gs__topo *t = c->t;
+    double thr = len * (1 + CORRIDOR_TOL) + slack + 2 * mesh->report.max_edge;
+    /* flood: c->vp grows into the corridor's vertices (amap: seen) */
+    c->na = 0;
+    if (c->amap.cap) memset(c->amap.key, 0xff, c->amap.cap * sizeof *c->amap.key), c->amap.n = 0;
+    uint32_t slot;
+    for (size_t i = 0; i < c->nvp; ++i)
+        if (anode(c, c->vp[i], &slot)) return oom(c);
+    size_t nseed = c->nvp;
+    c->nvp = 0;
+    for (size_t i = 0; i < nseed; ++i)
+        if (c->aclosed[i] == 0) c->aclosed[i] = 1, c->vp[c->nvp++] = c->anode[i];
+    for (size_t q = 0; q < c->nvp; ++q) {
+        uint32_t v = c->vp[q];
+        for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1]; ++i) {
+            uint32_t h = t->vc[i];
+            uint32_t nb[2] = {t->tri[gs__next(h)], t->tri[gs__prev(h)]};
+            for (int k = 0; k < 2; ++k) {
+                if (vmap_get(&c->amap, nb[k]) != GS_NONE) continue;
+                if (anode(c, nb[k], &slot)) return oom(c);
+                double dx, dy;
+                int rc = dist_to_target(c, nb[k], &dx);
+                if (!rc) rc = dist_to_origin(c, nb[k], &dy);
+                if (rc) return rc;
+                if (dx + dy <= thr && (rc = push_vertex(c, nb[k]))) return rc;
+            }
+        }
+    }
+    /* the faces at the corridor's vertices, and the ends' faces */
+    vmap fmap = {0};
+    uint32_t *faces = NULL;
+    size_t nf = 0, fcap = 0;
+    int rc = GS_OK;
+    for (size_t q = 0; q < c->nvp + 2 && !rc; ++q) {
+        const gs_source *e = q == c->nvp ? x : y;
+        uint32_t v = q < c->nvp ? c->vp[q] : e->face == GS_NONE ? e->vertex : GS_NONE;
+        uint32_t i0 = 0, i1 = 1, one = q < c->nvp ? GS_NONE : e->face;
+        if (v != GS_NONE) i0 = t->vc_start[v], i1 = t->vc_start[v + 1];
+        for (uint32_t i = i0; i < i1 && !rc; ++i) {
+            uint32_t f = v != GS_NONE ? t->vc[i] / 3 : one;
+            if (f == GS_NONE || vmap_get(&fmap, f) != GS_NONE) continue;
+            if (grow((void **)&faces, &fcap, nf + 1, sizeof *faces) || vmap_put(&fmap, f, (uint32_t)nf))
+                rc = oom(c);
+            else
+                faces[nf++] = f;
+        }
+    }
+    gs_patch *patch = NULL;
+    gs_solver *solver = NULL;
+    gs_path *p = NULL;
+    if (!rc) rc = gs_patch_create(mesh, faces, (uint32_t)nf, &patch, c->err);
+    if (!rc) rc = gs_solver_create(patch, GS_METHOD_EXACT, &solver, c->err);
+    gs_source lx = *x, ly = *y;
+    for (int k = 0; k < 2 && !rc; ++k) {
+        gs_source *e = k ? &ly : &lx;
+        if (e->face == GS_NONE) e->vertex = gs_patch_vertex_from_mesh(patch, e->vertex);
+        else e->face = vmap_get(&fmap, e->face);
+    }
+    if (!rc) rc = gs_solver_path(solver, &lx, &ly, &p, c->err);
+    uint32_t n = gs_path_num_points(p);
+    if (!rc && n && gs_path_length(p) < len) { /* in mesh faces */
+        double *xyz = gs__malloc(3 * (size_t)n, sizeof *xyz), *bary = gs__malloc(3 * (size_t)n, sizeof *bary);
+        uint32_t *face = gs__malloc(n, sizeof *face);
+        if (!xyz || !bary || !face) {
+            free(xyz), free(bary), free(face);
+            rc = oom(c);
+        } else {
+            memcpy(xyz, gs_path_xyz(p), 3 * (size_t)n * sizeof *xyz);
+            memcpy(bary, gs_path_bary(p), 3 * (size_t)n * sizeof *bary);
+            for (uint32_t i = 0; i < n; ++i) face[i] = gs_patch_face_to_mesh(patch, gs_path_faces(p)[i]);
+            gs_path *r = NULL;
+            rc = gs__path_adopt(n, xyz, face, bary, gs_path_length(p), &r, c->err);
+            if (!rc) gs_path_free(*out), *out = r;
+        }
+    }
+    gs_path_free(p);
+    gs_solver_free(solver);
+    gs_patch_free(patch);
+    vmap_free(&fmap);
+    free(faces);
+    return rc;
+}
+
+/* A path end as the database's surface point. */
+static void source_point(const gs__topo *t, const gs_source *s, gs_surface_point *p)
+{
+    if (s->face == GS_NONE) {
+        *p = gs_surface_point_vertex(s->vertex);
+        return;
+    }
+    const uint32_t *T = t->tri + 3 * (size_t)s->face;
+    double b[3], sum = 0;
+    for (int k = 0; k < 3; ++k) b[k] = s->bary[k] > 0 ? s->bary[k] : 0, sum += b[k];
+    *p = gs_surface_point_make(T[0], T[1], T[2], b[0] / sum, b[1] / sum, b[2] / sum);
+}
+
+/* ---- entry points ------------------------------------------------------------ */
+
+int gs_db_check_mesh(const gs_db *db, const gs_mesh *mesh, gs_error *err)
+{
+    if (!db || !mesh) return gs__fail(err, GS_EARG, "gs_db_check_mesh: NULL argument");
+    if (mesh->nv != db->nv)
+        return gs__fail(err, GS_EARG, "the mesh is not the database's: it has %u vertices, the database %u", mesh->nv,
+                        db->nv);
+    for (uint32_t v = 0; v < db->nv; ++v) {
+        const double *a = mesh->xyz + 3 * (size_t)v, *b = db->xyz + 3 * (size_t)v;
+        if (memcmp(a, b, 3 * sizeof *a))
+            return gs__fail(err, GS_EARG,
+                            "the mesh is not the database's: vertex %u is at (%.17g, %.17g, %.17g) in the mesh, "
+                            "(%.17g, %.17g, %.17g) in the database",
+                            v, a[0], a[1], a[2], b[0], b[1], b[2]);
+        if ((db->leaf[v] == GS_NONE) != ((mesh->topo.vflag[v] & GS_V_UNUSED) != 0))
+            return gs__fail(err, GS_EARG,
+                            "the mesh is not the database's: vertex %u is used by %s face in the mesh, by %s in the "
+                            "database",
+                            v, db->leaf[v] == GS_NONE ? "a" : "no", db->leaf[v] == GS_NONE ? "none" : "some");
+    }
+    return GS_OK;
+}
+
+/* An end of the path as a point (a face point with one nonzero weight is
+ * that vertex; with two, a point of that edge). */
+static int end_point(const gs__topo *t, const gs_source *s, const char *name, qpt *q, gs_error *err)
+{
+    memset(q, 0, sizeof *q);
+    q->seg = q->f = q->b = GS_NONE;
+    if (s->face == GS_NONE) {
+        if (s->vertex >= t->nv)
+            return gs__fail(err, GS_EARG, "gs_db_path: %s: vertex %u out of range (%u vertices)", name, s->vertex,
+                            t->nv);
+        q->type = Q_VERTEX, q->a = s->vertex;
+        return GS_OK;
+    }
+    if (s->face >= t->nf)
+        return gs__fail(err, GS_EARG, "gs_db_path: %s: face %u out of range (%u faces)", name, s->face, t->nf);
+    double b[3], sum = 0;
+    for (int k = 0; k < 3; ++k) {
+        b[k] = s->bary[k];
+        if (!isfinite(b[k]) || b[k] < -1e-9)
+            return gs__fail(err, GS_EARG, "gs_db_path: %s: barycentric coordinate %d is %g (must be >= 0)", name, k,
+                            b[k]);
+        b[k] = b[k] > 0 ? b[k] : 0;
+        sum += b[k];
+    }
+    if (!(fabs(sum - 1.0) <= 1e-9))
+        return gs__fail(err, GS_EARG, "gs_db_path: %s: barycentric coordinates sum to %.17g (must be 1)", name, sum);
+    const uint32_t *T = t->tri + 3 * (size_t)s->face;
+    int nz = 0, k1 = -1, k2 = -1;
+    for (int k = 0; k < 3; ++k) {
+        b[k] /= sum;
+        if (b[k] > 0) {
+            ++nz;
+            if (k1 < 0) k1 = k;
+            else k2 = k;
+        }
+    }
+    if (nz == 1) {
+        q->type = Q_VERTEX, q->a = T[k1];
+    } else if (nz == 2) {
+        q->type = Q_EDGE, q->a = T[k1], q->b = T[k2], q->t = b[k2] / (b[k1] + b[k2]), q->f = s->face;
+    } else {
+        q->type = Q_FACE, q->f = s->face;
+        memcpy(q->bary, b, sizeof b);
+    }
+    return GS_OK;
+}
+
+static void q_position(const gs__topo *t, const qpt *q, double p[3])
+{
+    for (int k = 0; k < 3; ++k) {
+        if (q->type == Q_VERTEX) p[k] = t->xyz[3 * (size_t)q->a + k];
+        else if (q->type == Q_EDGE) p[k] = (1 - q->t) * t->xyz[3 * (size_t)q->a + k] + q->t * t->xyz[3 * (size_t)q->b + k];
+        else {
+            const uint32_t *T = t->tri + 3 * (size_t)q->f;
+            p[k] = q->bary[0] * t->xyz[3 * (size_t)T[0] + k] + q->bary[1] * t->xyz[3 * (size_t)T[1] + k] +
+                   q->bary[2] * t->xyz[3 * (size_t)T[2] + k];
+        }
+    }
+}
+
+/* The corners of a point's face that carry it (nonzero weight): vertex
+ * ids into v, returns their count. */
+static int carriers(const gs__topo *t, const qpt *q, uint32_t v[3])
+{
+    if (q->type == Q_VERTEX) return v[0] = q->a, 1;
+    if (q->type == Q_EDGE) return v[0] = q->a, v[1] = q->b, 2;
+    int n = 0;
+    for (int k = 0; k < 3; ++k)
+        if (q->bary[k] > 0) v[n++] = t->tri[3 * (size_t)q->f + k];
+    return n;
+}
+
+/* One path from X to Y (descent from Y's end, sleeve, shortening): its
+ * points in c->q, *len its length. */
+static int run(ctx *c, const qpt *qx, const qpt *qy, double *len)
+{
+    const gs_db *db = c->db;
+    const gs__topo *t = c->t;
+    uint32_t cx[3], cy[3];
+    int ncx = carriers(t, qx, cx), ncy = carriers(t, qy, cy), rc = GS_OK;
+    /* the descent's target: X's corner best placed towards Y's heaviest */
+    uint32_t yh = cy[0];
+    if (qy->type == Q_FACE) {
+        int kb = 0;
+        for (int k = 1; k < 3; ++k)
+            if (qy->bary[k] > qy->bary[kb]) kb = k;
+        yh = t->tri[3 * (size_t)qy->f + kb];
+    } else if (qy->type == Q_EDGE) {
+        yh = qy->t > 0.5 ? qy->b : qy->a;
+    }
+    double px[3], py[3];
+    q_position(t, qx, px);
+    q_position(t, qy, py);
+    c->target = cx[0];
+    if (ncx > 1) {
+        double best = INFINITY;
+        for (int k = 0; k < ncx; ++k) {
+            double d = dist3(px, vpos(c, cx[k])) + gs_db_distance(db, cx[k], yh);
+            if (d < best) best = d, c->target = cx[k];
+        }
+    }
+    /* the targets: X itself, or the corners of its face */
+    uint32_t targets[3];
+    int nt = 0;
+    if (qx->type == Q_VERTEX) targets[nt++] = qx->a;
+    else
+        for (int k = 0; k < 3; ++k) targets[nt++] = t->tri[3 * (size_t)qx->f + k];
+    /* the start: Y itself, or its face's corner best placed towards X */
+    uint32_t start = cy[0];
+    if (ncy > 1) {
+        double best = INFINITY;
+        for (int k = 0; k < ncy && !rc; ++k) {
+            double d;
+            rc = dist_to_target(c, cy[k], &d);
+            d += dist3(py, vpos(c, cy[k]));
+            if (d < best) best = d, start = cy[k];
+        }
+    }
+    c->origin = start;
+    if (!rc) rc = push_vertex(c, start);
+    if (!rc) rc = descend(c, targets, nt);
+    if (rc) return rc;
+    /* X first */
+    for (size_t i = 0, j = c->nvp - 1; i < j; ++i, --j) {
+        uint32_t s = c->vp[i];
+        c->vp[i] = c->vp[j], c->vp[j] = s;
+    }
+    endspec xin = {ES_NONE, 0}, yout = {ES_NONE, 0};
+    if (qx->type != Q_VERTEX) xin = (endspec){ES_FACE, qx->f};
+    if (qy->type != Q_VERTEX) yout = (endspec){ES_FACE, qy->f};
+    if ((rc = build_sleeve(c, xin, yout))) return rc;
+    uint32_t xv = qx->type == Q_VERTEX ? qx->a : GS_NONE, yv = qy->type == Q_VERTEX ? qy->a : GS_NONE;
+    if ((rc = converge(c, qx, qy, xv, yv, len))) return rc;
+    return trace_points(c, qx, qy);
+}
+
+/* The points of a path from Y to X as the path from X to Y (each point with
+ * the face of the segment that leaves it). */
+static void reverse_points(ctx *c)
+{
+    size_t n = c->nq;
+    for (size_t i = 0, j = n - 1; n && i < j; ++i, --j) {
+        qpt s = c->q[i];
+        c->q[i] = c->q[j], c->q[j] = s;
+    }
+    /* point i leaves by the segment that arrived at it: the next point's */
+    for (size_t i = 0; i + 1 < n; ++i) c->q[i].seg = c->q[i + 1].seg;
+    if (n > 1) c->q[n - 1].seg = c->q[n - 2].seg;
+}
+
+int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const gs_source *y, gs_path **out,
+               gs_error *err)
+{
+    if (out) *out = NULL;
+    if (!db || !mesh || !x || !y || !out) return gs__fail(err, GS_EARG, "gs_db_path: NULL argument");
+    if (mesh->nv != db->nv)
+        return gs__fail(err, GS_EARG, "gs_db_path: the mesh is not the database's: it has %u vertices, the database %u",
+                        mesh->nv, db->nv);
+    const gs__topo *t = &mesh->topo;
+    qpt qx, qy;
+    int rc = end_point(t, x, "X", &qx, err);
+    if (!rc) rc = end_point(t, y, "Y", &qy, err);
+    if (rc) return rc;
+    ctx c;
+    memset(&c, 0, sizeof c);
+    c.db = db, c.t = t, c.err = err;
+    uint32_t cx[3], cy[3];
+    int ncx = carriers(t, &qx, cx), ncy = carriers(t, &qy, cy);
+    for (int k = 0; k < ncx && !rc; ++k) rc = check_vertex(&c, cx[k]);
+    for (int k = 0; k < ncy && !rc; ++k) rc = check_vertex(&c, cy[k]);
+    if (rc) return rc;
+    if (same_q(&qx, &qy) || (qx.type == Q_VERTEX && qy.type == Q_VERTEX && qx.a == qy.a)) {
+        c.nq = 0;
+        rc = add_q(&c, qx, qx.type == Q_VERTEX ? (t->vc_start[qx.a] < t->vc_start[qx.a + 1]
+                                                      ? t->vc[t->vc_start[qx.a]] / 3
+                                                      : GS_NONE)
+                                               : qx.f != GS_NONE ? qx.f : GS_NONE);
+        if (!rc && c.q[0].seg == GS_NONE) { /* an isolated vertex: no face to name */
+            rc = gs__fail(err, GS_EARG, "gs_db_path: vertex %u is used by no face", qx.a);
+        }
+        if (!rc) rc = make_path(&c, out);
+        ctx_free(&c);
+        return rc;
+    }
+    /* unreachable (another component, or a vertex of no face): empty path */
+    int reach = 1;
+    for (int k = 0; k < ncx; ++k) reach &= db->leaf[cx[k]] != GS_NONE;
+    for (int k = 0; k < ncy; ++k) reach &= db->leaf[cy[k]] != GS_NONE;
+    if (reach && !isfinite(gs_db_distance(db, cx[0], cy[0]))) reach = 0;
+    if (!reach) {
+        rc = gs__path_adopt(0, NULL, NULL, NULL, INFINITY, out, err);
+        return rc;
+    }
+    gs_surface_point sx, sy;
+    source_point(t, x, &sx);
+    source_point(t, y, &sy);
+    double d = gs_db_point_distance(db, &sx, &sy), len, len2 = INFINITY;
+    int exact_db = db->method == GS_METHOD_EXACT;
+    ctx c2;
+    memset(&c2, 0, sizeof c2);
+    c2.db = db, c2.t = t, c2.err = err;
+    ctx *best = &c;
+    rc = run(&c, &qx, &qy, &len);
+    /* longer than the database's distance: also from the other end */
+    if (!rc && len > d * (1 + (exact_db ? REVERSE_TOL_EXACT : REVERSE_TOL_APPROX))) {
+        rc = run(&c2, &qy, &qx, &len2);
+        if (!rc && len2 < len) best = &c2, len = len2, reverse_points(&c2);
+    }
+    if (!rc) rc = make_path(best, out);
+    /* still much longer: the exact path inside the corridor of shorter ones */
+    if (!rc && len > d * (1 + (exact_db ? CHECK_TOL_EXACT : CHECK_TOL_APPROX))) {
+        double px[3], py[3];
+        q_position(t, &qx, px);
+        q_position(t, &qy, py);
+        double slack = best == &c ? dist3(px, vpos(best, best->target)) + dist3(py, vpos(best, best->origin))
+                                  : dist3(py, vpos(best, best->target)) + dist3(px, vpos(best, best->origin));
+        rc = corridor(best, mesh, x, y, len, slack, out);
+    }
+    if (rc) gs_path_free(*out), *out = NULL;
+    ctx_free(&c2);
+    ctx_free(&c);
+    return rc;
+}

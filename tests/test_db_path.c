@@ -1,0 +1,433 @@
+/* test_db_path.c - geodesic paths from a database (gs_db_path): on
+ * generated meshes (a plane, where the path is the straight segment; a
+ * cylinder, a cone, a cube and a plate with holes, against the exact
+ * solver's distance) and on the shared meshes up to 12,000 vertices
+ * (against their ground truth; skipped with a reason without ../shared):
+ * every path at least the exact distance (it is a real path on the
+ * surface) and at most 1% longer; every point on the surface (face and
+ * barycentric weights valid, xyz their combination), consecutive points in
+ * one face, the ends where asked. Surface-point ends; one point; another
+ * component; the errors (a mesh that is not the database's, bad ids and
+ * weights, NULL arguments). GEOSEP_QUICK=1: fewer pairs, no shared meshes. */
+#include "check.h"
+#include "geosep.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_RATIO 1.01
+#define BELOW 1e-9 /* rounding of a path's length below the exact distance */
+
+static int quick;
+
+static double dist3(const double *a, const double *b)
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+/* Is x in face f (least-squares barycentric weights >= -tol, on its plane)? */
+static int in_face(const gs_mesh *m, uint32_t f, const double *x, double tol)
+{
+    const double *P = gs_mesh_positions(m);
+    const uint32_t *T = gs_mesh_faces(m) + 3 * (size_t)f;
+    const double *a = P + 3 * T[0], *b = P + 3 * T[1], *c = P + 3 * T[2];
+    double e1[3], e2[3], r[3];
+    for (int k = 0; k < 3; ++k) e1[k] = b[k] - a[k], e2[k] = c[k] - a[k], r[k] = x[k] - a[k];
+    double d11 = 0, d12 = 0, d22 = 0, r1 = 0, r2 = 0;
+    for (int k = 0; k < 3; ++k) {
+        d11 += e1[k] * e1[k], d12 += e1[k] * e2[k], d22 += e2[k] * e2[k];
+        r1 += r[k] * e1[k], r2 += r[k] * e2[k];
+    }
+    double det = d11 * d22 - d12 * d12;
+    double u = (d22 * r1 - d12 * r2) / det, v = (d11 * r2 - d12 * r1) / det;
+    double off = 0, scale = sqrt(fmax(d11, d22));
+    for (int k = 0; k < 3; ++k) {
+        double q = a[k] + u * e1[k] + v * e2[k];
+        off += (q - x[k]) * (q - x[k]);
+    }
+    return u >= -tol && v >= -tol && u + v <= 1 + tol && sqrt(off) <= tol * scale;
+}
+
+static void position(const gs_mesh *m, const gs_source *s, double *o)
+{
+    const double *P = gs_mesh_positions(m);
+    if (s->face == GS_NONE) {
+        memcpy(o, P + 3 * (size_t)s->vertex, 3 * sizeof *o);
+        return;
+    }
+    const uint32_t *T = gs_mesh_faces(m) + 3 * (size_t)s->face;
+    for (int j = 0; j < 3; ++j)
+        o[j] = s->bary[0] * P[3 * T[0] + j] + s->bary[1] * P[3 * T[1] + j] + s->bary[2] * P[3 * T[2] + j];
+}
+
+/* Every invariant of a path from a to b; exact: the exact distance (the
+ * length must be in [exact, 1.01 exact]). Returns length / exact. */
+static double check_path(const gs_mesh *m, const gs_path *p, const gs_source *a, const gs_source *b, double exact,
+                         const char *what)
+{
+    uint32_t n = gs_path_num_points(p);
+    CHECK_MSG(n >= 1, "%s: empty path", what);
+    if (n == 0) return NAN;
+    const double *x = gs_path_xyz(p), *bc = gs_path_bary(p), *P = gs_mesh_positions(m);
+    const uint32_t *f = gs_path_faces(p), *T = gs_mesh_faces(m);
+    double len = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+        CHECK_MSG(f[i] < gs_mesh_num_faces(m), "%s: point %u face %u", what, i, f[i]);
+        if (f[i] >= gs_mesh_num_faces(m)) return NAN;
+        const double *w = bc + 3 * i;
+        double s = w[0] + w[1] + w[2];
+        CHECK_MSG(w[0] >= 0 && w[1] >= 0 && w[2] >= 0 && fabs(s - 1) < 1e-12, "%s: point %u bary %g %g %g", what, i,
+                  w[0], w[1], w[2]);
+        double q[3] = {0, 0, 0};
+        for (int k = 0; k < 3; ++k)
+            for (int j = 0; j < 3; ++j) q[k] += w[j] * P[3 * T[3 * f[i] + j] + k];
+        CHECK_MSG(dist3(q, x + 3 * i) <= 1e-15 * (1 + fabs(q[0]) + fabs(q[1]) + fabs(q[2])),
+                  "%s: point %u xyz is not its face point", what, i);
+        if (i) {
+            len += dist3(x + 3 * i - 3, x + 3 * i);
+            CHECK_MSG(in_face(m, f[i - 1], x + 3 * i, 1e-9), "%s: point %u is not in face %u of point %u", what, i,
+                      f[i - 1], i - 1);
+        }
+    }
+    CHECK_NEAR(len, gs_path_length(p), 1e-12 * (1 + len));
+    double pa[3], pb[3];
+    position(m, a, pa);
+    position(m, b, pb);
+    CHECK_MSG(dist3(x, pa) <= 1e-12 * (1 + fabs(pa[0]) + fabs(pa[1]) + fabs(pa[2])), "%s: starts elsewhere", what);
+    CHECK_MSG(dist3(x + 3 * (n - 1), pb) <= 1e-12 * (1 + fabs(pb[0]) + fabs(pb[1]) + fabs(pb[2])),
+              "%s: ends elsewhere", what);
+    double r = exact > 0 ? gs_path_length(p) / exact : 1.0;
+    if (exact > 0) {
+        CHECK_MSG(r >= 1 - BELOW, "%s: length %.17g below the exact distance %.17g", what, gs_path_length(p), exact);
+        CHECK_MSG(r <= MAX_RATIO, "%s: length %.17g is %.3f%% over the exact distance %.17g", what,
+                  gs_path_length(p), 100 * (r - 1), exact);
+    }
+    return r;
+}
+
+typedef struct env {
+    gs_mesh *m;
+    gs_db *db;
+    gs_patch *patch;
+    gs_solver *s;
+    double *field;
+} env;
+
+static int env_open(env *e, const char *spec, gs_mesh *given)
+{
+    gs_error err = {0};
+    memset(e, 0, sizeof *e);
+    int rc = given ? (e->m = given, GS_OK) : gs_mesh_generate(spec, &e->m, &err);
+    if (!rc) rc = gs_db_build(e->m, NULL, &e->db, NULL, &err);
+    if (!rc) rc = gs_patch_create(e->m, NULL, 0, &e->patch, &err);
+    if (!rc) rc = gs_solver_create(e->patch, GS_METHOD_EXACT, &e->s, &err);
+    CHECK_MSG(rc == GS_OK, "%s: %s", spec, err.message);
+    if (!rc) e->field = malloc(gs_mesh_num_vertices(e->m) * sizeof *e->field);
+    return rc || !e->field;
+}
+
+static void env_close(env *e)
+{
+    gs_solver_free(e->s);
+    gs_patch_free(e->patch);
+    gs_db_free(e->db);
+    gs_mesh_free(e->m);
+    free(e->field);
+}
+
+/* Database path a -> b against the exact distance (from the exact solver's
+ * own path when an end is a surface point); returns the ratio. */
+static double db_path_checked(env *e, gs_source a, gs_source b, const char *what)
+{
+    gs_error err = {0};
+    gs_path *p = NULL, *q = NULL;
+    int rc = gs_db_path(e->db, e->m, &a, &b, &p, &err);
+    CHECK_MSG(rc == GS_OK, "%s: %s", what, err.message);
+    if (rc) return NAN;
+    double exact;
+    if (a.face == GS_NONE) {
+        CHECK(gs_solver_solve(e->s, &a, 1, INFINITY, e->field, &err) == GS_OK);
+        if (b.face == GS_NONE) {
+            exact = e->field[b.vertex];
+        } else {
+            CHECK(gs_solver_path(e->s, &a, &b, &q, &err) == GS_OK);
+            exact = gs_path_length(q);
+        }
+    } else {
+        CHECK(gs_solver_path(e->s, &a, &b, &q, &err) == GS_OK);
+        exact = gs_path_length(q);
+    }
+    gs_path_free(q);
+    double r = check_path(e->m, p, &a, &b, exact, what);
+    gs_path_free(p);
+    return r;
+}
+
+static uint64_t rng = 7;
+static double uniform(void)
+{
+    rng = rng * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (double)(rng >> 11) * (1.0 / 9007199254740992.0);
+}
+
+static gs_source random_point(const gs_mesh *m)
+{
+    uint32_t nf = gs_mesh_num_faces(m), f = (uint32_t)(uniform() * nf);
+    double a = uniform(), b = uniform();
+    if (a + b > 1) a = 1 - a, b = 1 - b;
+    return gs_source_point(f < nf ? f : nf - 1, a, b, 1 - a - b);
+}
+
+/* Random vertex pairs and point pairs on a generated mesh. */
+static void generated(const char *spec, uint32_t pairs)
+{
+    env e;
+    if (env_open(&e, spec, NULL)) {
+        env_close(&e);
+        return;
+    }
+    uint32_t nv = gs_mesh_num_vertices(e.m), *v = malloc(2 * pairs * sizeof *v);
+    gs_error err;
+    CHECK(v && gs_mesh_random_vertices(e.m, 2 * pairs < nv ? 2 * pairs : nv, 99, v, &err) == GS_OK);
+    double worst = 1;
+    char what[128];
+    for (uint32_t i = 0; v && i + 1 < 2 * pairs && i + 1 < nv; i += 2) {
+        snprintf(what, sizeof what, "%s: %u -> %u", spec, v[i], v[i + 1]);
+        worst = fmax(worst, db_path_checked(&e, gs_source_vertex(v[i]), gs_source_vertex(v[i + 1]), what));
+    }
+    for (uint32_t i = 0; i < pairs / 4 + 1; ++i) {
+        gs_source a = random_point(e.m), b = random_point(e.m);
+        snprintf(what, sizeof what, "%s: point pair %u", spec, i);
+        worst = fmax(worst, db_path_checked(&e, a, b, what));
+        snprintf(what, sizeof what, "%s: vertex to point %u", spec, i);
+        worst = fmax(worst, db_path_checked(&e, gs_source_vertex(v ? v[i] : 0), b, what));
+    }
+    printf("%-22s longest path %.4f%% over the exact distance\n", spec, 100 * (worst - 1));
+    free(v);
+    env_close(&e);
+}
+
+/* The plane: every path is the straight segment (length |x - y| to
+ * rounding, straight everywhere). */
+static void test_plane(void)
+{
+    env e;
+    if (env_open(&e, "grid:17,13,2,1.5", NULL)) {
+        env_close(&e);
+        return;
+    }
+    const double *P = gs_mesh_positions(e.m);
+    uint32_t nv = gs_mesh_num_vertices(e.m);
+    char what[96];
+    for (uint32_t x = 0; x < nv; x += quick ? 37 : 11)
+        for (uint32_t y = 3; y < nv; y += quick ? 41 : 13) {
+            gs_source a = gs_source_vertex(x), b = gs_source_vertex(y);
+            gs_path *p = NULL;
+            gs_error err;
+            snprintf(what, sizeof what, "plane %u -> %u", x, y);
+            CHECK(gs_db_path(e.db, e.m, &a, &b, &p, &err) == GS_OK);
+            double want = dist3(P + 3 * x, P + 3 * y);
+            if (x == y) want = 0;
+            check_path(e.m, p, &a, &b, want, what);
+            CHECK_MSG(fabs(gs_path_length(p) - want) <= 1e-12 * (1 + want), "%s: length %.17g, straight %.17g", what,
+                      gs_path_length(p), want);
+            gs_path_free(p);
+        }
+    /* two surface points */
+    for (int i = 0; i < 20; ++i) {
+        gs_source a = random_point(e.m), b = random_point(e.m);
+        double pa[3], pb[3];
+        position(e.m, &a, pa);
+        position(e.m, &b, pb);
+        gs_path *p = NULL;
+        gs_error err;
+        CHECK(gs_db_path(e.db, e.m, &a, &b, &p, &err) == GS_OK);
+        snprintf(what, sizeof what, "plane point pair %d", i);
+        check_path(e.m, p, &a, &b, dist3(pa, pb), what);
+        CHECK_NEAR(gs_path_length(p), dist3(pa, pb), 1e-12);
+        gs_path_free(p);
+    }
+    env_close(&e);
+}
+
+/* One point, another component, points on edges and at vertices. */
+static void test_special(void)
+{
+    env e;
+    if (env_open(&e, "two:6", NULL)) {
+        env_close(&e);
+        return;
+    }
+    gs_error err;
+    gs_path *p = NULL;
+    gs_source a = gs_source_vertex(3), b = gs_source_vertex(3);
+    CHECK(gs_db_path(e.db, e.m, &a, &b, &p, &err) == GS_OK);
+    CHECK(gs_path_num_points(p) == 1 && gs_path_length(p) == 0);
+    if (p) check_path(e.m, p, &a, &b, 0, "one point");
+    gs_path_free(p);
+    p = NULL;
+    b = gs_source_vertex(40); /* the other grid */
+    CHECK(gs_db_path(e.db, e.m, &a, &b, &p, &err) == GS_OK);
+    CHECK(gs_path_num_points(p) == 0 && isinf(gs_path_length(p)));
+    gs_path_free(p);
+    /* a point on an edge, a face point with weight 1 (a vertex), a point in
+     * the same face */
+    const uint32_t *T = gs_mesh_faces(e.m);
+    gs_source pts[4] = {gs_source_point(0, 0.5, 0.5, 0), gs_source_point(2, 0, 1, 0), gs_source_point(0, 0.2, 0.3, 0.5),
+                        gs_source_vertex(T[1])};
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            char what[64];
+            snprintf(what, sizeof what, "special ends %d -> %d", i, j);
+            db_path_checked(&e, pts[i], pts[j], what);
+        }
+    env_close(&e);
+}
+
+static void expect_error(int rc, const gs_error *err, const char *needle, const char *what)
+{
+    CHECK_MSG(rc == GS_EARG, "%s: status %d, expected GS_EARG", what, rc);
+    CHECK_MSG(strstr(err->message, needle) != NULL, "%s: message '%s' lacks '%s'", what, err->message, needle);
+}
+
+static void test_errors(void)
+{
+    env e;
+    if (env_open(&e, "grid:9,9", NULL)) {
+        env_close(&e);
+        return;
+    }
+    gs_error err = {0};
+    gs_path *p = (gs_path *)&err; /* set to NULL on failure */
+    gs_source a = gs_source_vertex(0), b = gs_source_vertex(80);
+    /* a mesh with another vertex count */
+    gs_mesh *other = NULL;
+    CHECK(gs_mesh_generate("grid:9,8", &other, &err) == GS_OK);
+    expect_error(gs_db_path(e.db, other, &a, &b, &p, &err), &err, "72 vertices, the database 81", "vertex count");
+    CHECK(p == NULL);
+    expect_error(gs_db_check_mesh(e.db, other, &err), &err, "72 vertices, the database 81", "check: count");
+    gs_mesh_free(other);
+    /* same count, one vertex moved */
+    uint32_t nv = gs_mesh_num_vertices(e.m), nf = gs_mesh_num_faces(e.m);
+    double *xyz = malloc(3 * nv * sizeof *xyz);
+    if (xyz) {
+        memcpy(xyz, gs_mesh_positions(e.m), 3 * nv * sizeof *xyz);
+        xyz[3 * 40 + 2] = 0.01;
+        CHECK(gs_mesh_create(xyz, nv, gs_mesh_faces(e.m), nf, &other, &err) == GS_OK);
+        a = gs_source_vertex(36), b = gs_source_vertex(44); /* the path passes vertex 40 */
+        expect_error(gs_db_path(e.db, other, &a, &b, &p, &err), &err, "vertex 40 is at", "moved vertex");
+        expect_error(gs_db_check_mesh(e.db, other, &err), &err, "vertex 40 is at", "check: moved vertex");
+        gs_mesh_free(other);
+        free(xyz);
+    }
+    CHECK(gs_db_check_mesh(e.db, e.m, &err) == GS_OK);
+    /* bad ends */
+    a = gs_source_vertex(0);
+    b = gs_source_vertex(81);
+    expect_error(gs_db_path(e.db, e.m, &a, &b, &p, &err), &err, "Y: vertex 81 out of range", "vertex id");
+    b = gs_source_point(nf, 1, 0, 0);
+    expect_error(gs_db_path(e.db, e.m, &b, &a, &p, &err), &err, "X: face 128 out of range", "face id");
+    b = gs_source_point(3, 0.5, 0.6, 0);
+    expect_error(gs_db_path(e.db, e.m, &a, &b, &p, &err), &err, "sum to", "weights' sum");
+    b = gs_source_point(3, -0.5, 1.5, 0);
+    expect_error(gs_db_path(e.db, e.m, &a, &b, &p, &err), &err, "must be >= 0", "negative weight");
+    b = gs_source_point(3, NAN, 0.5, 0.5);
+    expect_error(gs_db_path(e.db, e.m, &a, &b, &p, &err), &err, "must be >= 0", "NaN weight");
+    b = gs_source_vertex(1);
+    CHECK(gs_db_path(NULL, e.m, &a, &b, &p, &err) == GS_EARG);
+    CHECK(gs_db_path(e.db, NULL, &a, &b, &p, &err) == GS_EARG);
+    CHECK(gs_db_path(e.db, e.m, NULL, &b, &p, &err) == GS_EARG);
+    CHECK(gs_db_path(e.db, e.m, &a, &b, NULL, &err) == GS_EARG);
+    CHECK(gs_db_check_mesh(NULL, e.m, &err) == GS_EARG);
+    env_close(&e);
+}
+
+/* The shared meshes up to 12,000 vertices: pairs from their ground-truth
+ * sources to random vertices, and surface-point pairs. */
+static void shared_meshes(void)
+{
+    char names[32][GS_TEST_NAME_MAX];
+    int n = gs__test_shared_names(names, 32);
+    if (n < 0) {
+        printf("shared meshes: skipped (no %s/groundtruth)\n", GEOSEP_SHARED_DIR);
+        return;
+    }
+    for (int i = 0; i < n; ++i) {
+        char obj[4096], gtp[4096];
+        if (!gs__test_shared_pair(names[i], obj, gtp, sizeof obj)) continue;
+        gs_error err = {0};
+        gs_mesh *m = NULL;
+        gs_gt *gt = NULL;
+        if (gs_mesh_load(obj, GS_FORMAT_AUTO, &m, &err) || gs_gt_read(gtp, &gt, &err)) {
+            CHECK_MSG(0, "%s: %s", names[i], err.message);
+            gs_mesh_free(m);
+            continue;
+        }
+        uint32_t nv = gs_mesh_num_vertices(m);
+        if (nv > 12000) {
+            printf("%-16s skipped here (%u vertices; bench_db_paths measures it)\n", names[i], nv);
+            gs_mesh_free(m);
+            gs_gt_free(gt);
+            continue;
+        }
+        env e;
+        if (env_open(&e, names[i], m)) {
+            env_close(&e);
+            gs_gt_free(gt);
+            continue;
+        }
+        uint32_t ns = gt->n_sources < 5 ? gt->n_sources : 5, nt = 60, *tg = malloc(nt * sizeof *tg);
+        double worst = 1, sum = 0;
+        uint32_t count = 0;
+        char what[4400];
+        for (uint32_t s = 0; s < ns && tg; ++s) {
+            CHECK(gs_mesh_random_vertices(e.m, nt, 500 + s, tg, &err) == GS_OK);
+            gs_source a = gs_source_vertex(gt->sources[s]);
+            for (uint32_t j = 0; j < nt; ++j) {
+                double want = gt->dist[(size_t)s * nv + tg[j]];
+                if (!isfinite(want) || tg[j] == gt->sources[s]) continue;
+                gs_source b = gs_source_vertex(tg[j]);
+                gs_path *p = NULL;
+                snprintf(what, sizeof what, "%s: %u -> %u", names[i], gt->sources[s], tg[j]);
+                int rc = gs_db_path(e.db, e.m, &a, &b, &p, &err);
+                CHECK_MSG(rc == GS_OK, "%s: %s", what, err.message);
+                if (rc) continue;
+                double r = check_path(e.m, p, &a, &b, want, what);
+                worst = fmax(worst, r), sum += r, ++count;
+                gs_path_free(p);
+            }
+        }
+        for (uint32_t k = 0; k < 10; ++k) {
+            gs_source a = random_point(e.m), b = random_point(e.m);
+            snprintf(what, sizeof what, "%s: point pair %u", names[i], k);
+            double r = db_path_checked(&e, a, b, what);
+            worst = fmax(worst, r), sum += r, ++count;
+        }
+        printf("%-16s %u paths: mean %.4f%%, longest %.4f%% over the exact distance\n", names[i], count,
+               100 * (sum / count - 1), 100 * (worst - 1));
+        free(tg);
+        gs_gt_free(gt);
+        env_close(&e);
+    }
+}
+
+int main(void)
+{
+    quick = getenv("GEOSEP_QUICK") != NULL;
+    test_plane();
+    test_special();
+    test_errors();
+    uint32_t pairs = quick ? 20 : 100;
+    generated("cylinder:24,10,1,2", pairs);
+    generated("cone:24,10,1,1", pairs);
+    generated("cube:8", pairs);
+    generated("plate:400", pairs);
+    generated("torus:32,16", pairs);
+    generated("peaks:30", pairs);
+    if (!quick) shared_meshes();
+    else printf("shared meshes: skipped (GEOSEP_QUICK)\n");
+    return gs__test_finish("test_db_path");
+}
