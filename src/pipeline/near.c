@@ -153,7 +153,7 @@ int gs__pipe_near_pairs(gs__builder *b, const gs_db *db0, const double *radius, 
         free(all);
         return rc;
     }
-    qsort(all, n_all, sizeof *all, pair_cmp);
+    if (n_all) qsort(all, n_all, sizeof *all, pair_cmp); /* all is NULL when no pair was found */
     size_t m = 0; /* a pair found from both ends once, its smaller distance */
     for (size_t i = 0; i < n_all; ++i) {
         if (m && all[m - 1].x == all[i].x && all[m - 1].y == all[i].y) all[m - 1].d = fmin(all[m - 1].d, all[i].d);
