@@ -1,4 +1,4 @@
-/* test_db.c - the database file (doc/database-format.md, version 4): a
+/* test_db.c - the database file (doc/database-format.md, version 5): a
  * hand-made tree and functions packed, saved, re-opened bit-exact; every
  * corruption (flips, truncation, absurd fields with valid checksums)
  * rejected cleanly, by the structural validation at open or by
@@ -95,7 +95,7 @@ static void test_round_trip(int leaf_exact)
         CHECK(memcmp(&i1, &i2, sizeof i1) == 0);
         CHECK(i1.n_vertices == FX_NV && i1.n_nodes == 5 && i1.n_leaves == 3 && i1.n_curves == 3);
         CHECK(i1.max_depth == 2 && i1.vmax == 2 && i1.mmax == 12 && i1.tol == 0.005 && i1.vertex_sources == 1);
-        CHECK(i1.leaf_exact == leaf_exact && i1.sampled == 0 && i1.file_bytes == n && i1.format_version == 4);
+        CHECK(i1.leaf_exact == leaf_exact && i1.sampled == 0 && i1.file_bytes == n && i1.format_version == 5);
         CHECK(i1.n_functions == 14 && i1.records_bytes > 0 && i1.records_bytes < n);
         CHECK(i1.sample_spacing == 0.25 && i1.seed == 7 && i1.max_samples == 64 && i1.solver.heat_time == 0.5 &&
               i1.solver.fmm_exact_start == 3 && i1.solver.heat_refine == 2 && i1.solver.dgg_eps == 0);
@@ -246,11 +246,11 @@ static unsigned char *record(unsigned char *b, uint32_t x)
 {
     uint32_t ix;
     memcpy(&ix, section(b, GS__SEC_INDEX) + 4 * x, 4);
-    return section(b, GS__SEC_RECORDS) + 8 * (uint64_t)ix;
+    return section(b, GS__SEC_RECORDS) + GS__DB_RECORD_UNIT * (uint64_t)ix;
 }
 static unsigned char *first_block(unsigned char *b, uint32_t x, uint32_t nf)
 {
-    return record(b, x) + 4 * nf;
+    return record(b, x) + GS__DB_MIN_BYTES * nf;
 }
 
 typedef void (*mutation)(unsigned char *b);
@@ -273,11 +273,34 @@ static void m_leaf_moved(unsigned char *b) { uint32_t v = 4; memcpy(section(b, G
 static void m_degree(unsigned char *b) { first_block(b, 2, 3)[0] = (first_block(b, 2, 3)[0] & ~0x1Fu) | 27u; }
 static void m_exponent(unsigned char *b) { first_block(b, 2, 3)[1] = 125; }
 static void m_closed_bit(unsigned char *b) { first_block(b, 2, 3)[0] |= GS__FB_CLOSED; }
-static void m_minval_nan(unsigned char *b) { float v = NAN; memcpy(record(b, 2) + 4, &v, 4); }
-static void m_minval_above(unsigned char *b) { float v = 50.0f; memcpy(record(b, 0), &v, 4); }
+static void m_minval_nan(unsigned char *b) { uint16_t v = 0xFFFF; memcpy(record(b, 2) + 2, &v, 2); }
+static void m_minval_above(unsigned char *b) { uint16_t v = gs__db_min_encode(50.0); memcpy(record(b, 0), &v, 2); }
 static void m_index_past(unsigned char *b) { uint32_t v = 1u << 30; memcpy(section(b, GS__SEC_INDEX) + 4 * 3, &v, 4); }
 static void m_index_first(unsigned char *b) { uint32_t v = 1; memcpy(section(b, GS__SEC_INDEX), &v, 4); }
-static void m_record_pad(unsigned char *b) { record(b, 1)[-1] = 7; } /* vertex 0's last byte */
+/* the first padding byte after a record's blocks (a record of odd length) */
+static void m_record_pad(unsigned char *b)
+{
+    for (uint32_t x = 0; x < FX_NV; ++x) {
+        uint32_t l, nf, i0, i1;
+        memcpy(&l, section(b, GS__SEC_LEAVES) + 4 * x, 4);
+        if (l == GS_NONE) continue;
+        memcpy(&nf, section(b, GS__SEC_NODES) + 20 * (uint64_t)l + 16, 4);
+        memcpy(&i0, section(b, GS__SEC_INDEX) + 4 * x, 4);
+        memcpy(&i1, section(b, GS__SEC_INDEX) + 4 * (x + 1), 4);
+        unsigned char *q = first_block(b, x, nf), *end = section(b, GS__SEC_RECORDS) + GS__DB_RECORD_UNIT * (uint64_t)i1;
+        for (uint32_t k = 0; k < nf; ++k) {
+            gs__db_fblock bl;
+            if (gs__db_min_get(record(b, x), k) == INFINITY) continue;
+            if (!gs__db_fblock_parse(q, (uint64_t)(end - q), &bl)) return;
+            q += bl.bytes;
+        }
+        if (q < end) {
+            *q = 7;
+            return;
+        }
+        (void)i0;
+    }
+}
 static void m_nv(unsigned char *b) { uint32_t v = 0x7FFFFFFF; memcpy(b + 32, &v, 4); }
 static void m_nfun(unsigned char *b) { uint64_t v = 5; memcpy(b + 48, &v, 8); }
 static void m_records_bytes(unsigned char *b) { uint64_t v = (uint64_t)1 << 61; memcpy(b + 56, &v, 8); }
@@ -340,12 +363,12 @@ static void test_structure(void)
         {m_leaf_moved, 0, "section 'leaf_nodes': node 3 has a table of 2 vertices, 1 vertices are in it"},
         {m_degree, 0, "vertex 2, function 0: malformed block"},
         {m_exponent, 0, "vertex 2, function 0: closed 0 (curve 0), sampled 0 (build 0), exponent 125"},
-        {m_closed_bit, 0, "vertex 2, function 0: closed 1 (curve 0)"},
+        {m_closed_bit, 0, "vertex 2, function 0: malformed block"},
         {m_minval_nan, 0, "vertex 2, function 1: minimum nan"},
         {m_minval_above, 0, "vertex 0, function 0: minimum 50 is above the function's value"},
         {m_index_past, 1, "section 'vertex_index': vertex 3's record"},
         {m_index_first, 1, "section 'vertex_index': entry 0 is 1"},
-        {m_record_pad, 0, "vertex 0's padding is not zero"},
+        {m_record_pad, 0, "padding is not zero"},
         {m_nv, 1, "section 'positions': size"},
         {m_nfun, 0, "n_functions 5 but the vertices have 14"},
         {m_records_bytes, 1, "records_bytes 2305843009213693952"},
@@ -419,15 +442,20 @@ static void test_structure(void)
     memcpy(b, db->bytes, n);
     b[8] = 3; /* version 3 (f64 leaf tables, no aliases) is not read */
     reseal(b, n);
-    CHECK(open_bad(b, n, &err) == GS_EFORMAT && strstr(err.message, "format_version 3; this geosep reads version 4") &&
+    CHECK(open_bad(b, n, &err) == GS_EFORMAT && strstr(err.message, "format_version 3; this geosep reads version 5") &&
+          strstr(err.message, "rebuild it with geosep build"));
+    memcpy(b, db->bytes, n);
+    b[8] = 4; /* version 4 (float minima, 16-bit coefficients, records in 8-byte units) is not read */
+    reseal(b, n);
+    CHECK(open_bad(b, n, &err) == GS_EFORMAT && strstr(err.message, "format_version 4; this geosep reads version 5") &&
           strstr(err.message, "rebuild it with geosep build"));
     memcpy(b, db->bytes, n);
     b[8] = 2;
     CHECK(open_bad(b, n, &err) == GS_EFORMAT && strstr(err.message, "format_version 2") && strstr(err.message, "rebuild"));
     memcpy(b, db->bytes, n);
-    b[8] = 5;
+    b[8] = 6;
     reseal(b, n);
-    CHECK(open_bad(b, n, &err) == GS_EFORMAT && strstr(err.message, "format_version 5") && strstr(err.message, "newer"));
+    CHECK(open_bad(b, n, &err) == GS_EFORMAT && strstr(err.message, "format_version 6") && strstr(err.message, "newer"));
     /* files written before heat_refine have bits 2-3 of build_flags 0: read
      * as heat_refine 0 */
     memcpy(b, db->bytes, n);
@@ -578,9 +606,9 @@ static void test_minval_above(void)
     if (!db) return;
     CHECK(gs_db_verify(db, &err) == GS_OK);
     const unsigned char *end, *r = gs__db_record(db, x, &end);
-    float stored;
-    memcpy(&stored, r, 4);
-    CHECK_MSG(stored <= truth && stored > truth * (1 - 1e-4), "stored minimum %.9g, the function's %.9g", stored, truth);
+    float stored = gs__db_min_get(r, 0); /* 8 mantissa bits, rounded down */
+    CHECK_MSG(stored <= truth && stored > truth * (1 - 1.0 / 128), "stored minimum %.9g, the function's %.9g", stored,
+              truth);
     gs_db_free(db);
 }
 
@@ -770,6 +798,27 @@ static void test_dgg_eps(void)
     gs_db_free(db);
 }
 
+/* The 16-bit minima: every code's value is at most what was encoded (a
+ * lower bound for the quick reject) and within 2^-8 of it for normal
+ * floats; 0 and below give 0, +inf its own code, beyond FLT_MAX the
+ * largest finite code. */
+static void test_min16(void)
+{
+    long bad = 0;
+    double v = 1e-45;
+    for (int i = 0; i < 200000; ++i, v *= 1.00107) {
+        uint16_t q = gs__db_min_encode(v);
+        double w = gs__db_min_value(q);
+        bad += !(w <= v) || (v >= 1.2e-38 && v <= 3.4e38 && !(w >= v * (1 - 1.0 / 128))) || q >= GS__DB_MIN_INF;
+    }
+    CHECK_MSG(bad == 0, "%ld minima not stored as a close lower bound", bad);
+    CHECK(gs__db_min_encode(0.0) == 0 && gs__db_min_encode(-1.0) == 0 && gs__db_min_encode(NAN) == 0);
+    CHECK(gs__db_min_encode(INFINITY) == GS__DB_MIN_INF && gs__db_min_value(GS__DB_MIN_INF) == INFINITY);
+    CHECK(gs__db_min_value(gs__db_min_encode(3.4028234663852886e38)) <= 3.4028234663852886e38);
+    CHECK(gs__db_min_value(gs__db_min_encode(1e300)) <= 3.4028234663852886e38);
+    CHECK(gs__db_min_value(0xFFFF) != gs__db_min_value(0xFFFF)); /* codes above +inf: NaN (refused by verify) */
+}
+
 int main(void)
 {
     snprintf(tmpdir, sizeof tmpdir, "%s/test_db_tmp", GEOSEP_BINARY_DIR);
@@ -783,6 +832,7 @@ int main(void)
     test_huge_coefficients();
     test_leaf_floor();
     test_minval_above();
+    test_min16();
     test_aliases();
     test_dgg_eps();
     test_files();

@@ -181,10 +181,9 @@ static double ref_stored(const gs_db *db, uint32_t x, uint32_t y)
         uint32_t z = v ? y : x;
         const unsigned char *end, *r = gs__db_record(db, z, &end);
         uint32_t nf = db->nodes[v ? ly : lx].curve_prefix;
-        const unsigned char *blk = r + 4 * (size_t)nf;
+        const unsigned char *blk = r + GS__DB_MIN_BYTES * (size_t)nf;
         for (uint32_t k = 0; k < K && k < 64; ++k) {
-            float mv;
-            memcpy(&mv, r + 4 * k, 4);
+            float mv = gs__db_min_get(r, k);
             gs__fun *f = v ? &fy[k] : &fx[k];
             memset(f, 0, sizeof *f);
             f->minval = mv;

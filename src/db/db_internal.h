@@ -1,5 +1,5 @@
 /* db_internal.h - an opened database (struct gs_db): the file's bytes,
- * validated at attach (doc/database-format.md, format version 4) and used
+ * validated at attach (doc/database-format.md, format version 5) and used
  * in place; nothing is built at open. The packer the builder calls.
  * Internal. */
 #ifndef GS_DB_INTERNAL_H
@@ -33,7 +33,7 @@ struct gs_db {
     const uint32_t *leaf;
     const gs__db_node *nodes;
     const gs__db_disk_curve *curves;
-    const uint32_t *index;         /* nv+1: records in 8-byte units          */
+    const uint32_t *index;         /* nv+1: records in 2-byte units          */
     const unsigned char *records;
     /* leaf tables (NULL without): per node, its table; per vertex, its
      * number in its leaf (u8, or u16 with GS__DB_FLAG_LEAF_LOCAL16) */
@@ -62,13 +62,13 @@ typedef struct gs__db_derived {
     void (*free)(struct gs__db_derived *self);
 } gs__db_derived;
 
-/* Vertex x's record: its nf minima (float) then its function blocks;
+/* Vertex x's record: its nf minima (u16) then its function blocks;
  * *end receives the byte after it. Guaranteed in bounds by the structural
  * validation (index increasing, last entry = records_bytes). */
 static inline const unsigned char *gs__db_record(const gs_db *db, uint32_t x, const unsigned char **end)
 {
-    *end = db->records + 8 * (uint64_t)db->index[x + 1];
-    return db->records + 8 * (uint64_t)db->index[x];
+    *end = db->records + GS__DB_RECORD_UNIT * (uint64_t)db->index[x + 1];
+    return db->records + GS__DB_RECORD_UNIT * (uint64_t)db->index[x];
 }
 
 /* Serialise c into the on-disk layout and attach the result. *out: new

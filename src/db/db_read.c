@@ -1,4 +1,4 @@
-/* db_read.c - the database reader (doc/database-format.md, version 4): map
+/* db_read.c - the database reader (doc/database-format.md, version 5): map
  * the file and validate its structure (header, section table, counts,
  * offsets, the tree and the record index: what makes every read of a
  * query land inside the file); the full check (checksums, every record and
@@ -294,15 +294,17 @@ static int check_index(reader *r)
     for (uint32_t x = 0; x < db->nv; ++x) {
         uint32_t l = db->leaf[x];
         uint64_t nf = l == GS_NONE ? 0 : db->nodes[l].curve_prefix;
-        if (ix[x + 1] < ix[x] || 8 * ((uint64_t)ix[x + 1] - ix[x]) < 4 * nf)
-            return BAD(r, "%s: section 'vertex_index': vertex %u's record [%u, %u) (8-byte units) cannot hold its %llu "
+        if (ix[x + 1] < ix[x] || GS__DB_RECORD_UNIT * ((uint64_t)ix[x + 1] - ix[x]) < GS__DB_MIN_BYTES * nf)
+            return BAD(r, "%s: section 'vertex_index': vertex %u's record [%u, %u) (2-byte units) cannot hold its %llu "
                           "minima",
                        r->name, x, ix[x], ix[x + 1], (unsigned long long)nf);
     }
-    if (8 * (uint64_t)ix[db->nv] != db->records_bytes)
-        return BAD(r, "%s: section 'vertex_index': last entry %u (x 8) disagrees with records_bytes %llu", r->name,
-                   ix[db->nv], (unsigned long long)db->records_bytes);
-    return check_padding(r, GS__SEC_INDEX, 4 * ((uint64_t)db->nv + 1));
+    uint64_t used = GS__DB_RECORD_UNIT * (uint64_t)ix[db->nv];
+    if (gs__pad8(used) != db->records_bytes)
+        return BAD(r, "%s: section 'vertex_index': last entry %u (x 2, rounded up to 8) disagrees with records_bytes %llu",
+                   r->name, ix[db->nv], (unsigned long long)db->records_bytes);
+    int rc = check_padding(r, GS__SEC_RECORDS, used); /* at most 6 bytes */
+    return rc ? rc : check_padding(r, GS__SEC_INDEX, 4 * ((uint64_t)db->nv + 1));
 }
 
 /* ---- leaf tables: the structure at open, the values by verify ---------- */
@@ -466,14 +468,14 @@ static int check_record(reader *r, uint32_t x, uint32_t *path)
         return GS_OK;
     }
     uint64_t nf = db->nodes[l].curve_prefix, k = 0;
-    const unsigned char *q = p + 4 * nf;
+    const unsigned char *q = p + GS__DB_MIN_BYTES * nf;
     for (uint32_t a = db->nodes[l].parent; a != GS_NONE; a = db->nodes[a].parent) path[n++] = a;
     while (n--) {
         const gs__db_node *a = &db->nodes[path[n]];
         for (uint32_t j = 0; j < a->n_curves; ++j, ++k) {
             const gs__db_disk_curve *cv = &db->curves[a->curve_start + j];
-            float mv = gs__ldf(p + 4 * k);
-            if (mv != mv || mv == -INFINITY)
+            float mv = gs__db_min_get(p, k);
+            if (mv != mv)
                 return BAD(r, "%s: section 'records': vertex %u, function %llu: minimum %g", r->name, x,
                            (unsigned long long)k, mv);
             if (mv == INFINITY) continue;
@@ -517,7 +519,7 @@ static int check_record(reader *r, uint32_t x, uint32_t *path)
             q += b.bytes;
         }
     }
-    if (end - q >= 8)
+    if (end - q >= GS__DB_RECORD_UNIT)
         return BAD(r, "%s: section 'records': vertex %u's record has %lld bytes after its blocks", r->name, x,
                    (long long)(end - q));
     for (; q < end; ++q)

@@ -1,10 +1,11 @@
 /* db_write.c - the database writer: packs a gs__db_content (paper sec. 3.1)
- * into format version 4 (doc/database-format.md) and attaches the bytes;
- * the atomic save. Each function is stored compactly: 16-bit coefficients
- * against a power-of-two step when that keeps the stored function within
- * GS__DB_QREL of its minimum (else float32), its minimum as a float rounded
- * down below the stored function, and for a sharp dip (a vertex near the
- * curve) the dip the query's minimiser starts from. */
+ * into format version 5 (doc/database-format.md) and attaches the bytes;
+ * the atomic save. Each function is stored compactly: integer coefficients
+ * against the coarsest power-of-two step that keeps the stored function
+ * within GS__DB_QREL of its minimum (int16 leading ones, int8 tail; else
+ * float32), its minimum as a u16 code rounded down below the stored
+ * function, and for a sharp dip (a vertex near the curve) the dip the
+ * query's minimiser starts from. */
 #include "db_internal.h"
 #include "../io/atomic_file.h"
 
@@ -13,11 +14,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* 16-bit coefficients when the stored function then differs from the
- * fitted one by at most this much relative to its minimum (half the
- * tightest fit tolerance, GS_BUILD default tol 0.002; measured on bunny-5k:
- * ME, RMSE, p99.9, max and near-pair ME unchanged to the digits printed,
- * also at 2e-3), else float32 coefficients. */
+/* Integer coefficients when the stored function then differs from the
+ * fitted one by at most this much relative to its minimum (a third of the
+ * tightest fit tolerance, the default tol 0.003 at the root; measured over
+ * all vertex pairs of bunny-5k and spot with the coarsest such step: ME,
+ * RMSE, p99.9 and max unchanged to the digits of doc/accuracy.md), else
+ * float32 coefficients. */
 #define GS__DB_QREL 1e-3
 
 /* ---- one function ---------------------------------------------------- */
@@ -31,48 +33,53 @@ static float float_below(double v)
     return f;
 }
 
-/* Quantise c[0..m] to int16 q with step 2^*e; returns the largest sum of
- * the absolute errors (0 when exact). */
-static double quantise16(const double *c, uint32_t m, int16_t *q, int *e)
+/* The coarsest power-of-two step 2^*e at which c[0..m], rounded to
+ * integers q_k (|q_k| <= 32767), have a sum of absolute errors <= tol, the
+ * stored function then within tol of the fitted one everywhere; *w: 1 +
+ * the last k with |q_k| > 127 (the int16 ones; the rest take a byte).
+ * Returns 0 when no step in the exponent range meets tol. */
+static int quantise(const double *c, uint32_t m, double tol, int16_t *q, int *e, uint32_t *w)
 {
     double a = 0.0;
     for (uint32_t k = 0; k <= m; ++k) a = fabs(c[k]) > a ? fabs(c[k]) : a;
-    int ex = GS__FB_EXP_MIN;
+    int ex = GS__FB_EXP_MIN, found = 0;
     if (a > 0.0) {
         int t;
         frexp(a / 32767.0, &t); /* a / 32767 < 2^t */
         ex = t < GS__FB_EXP_MIN ? GS__FB_EXP_MIN : t;
     }
-    for (;; ++ex) {
+    int16_t r16[GS_FUN_MAX_DEGREE + 1];
+    for (; ex <= GS__FB_EXP_MAX; ++ex) {
         double s = ldexp(1.0, ex), err = 0.0;
-        int ok = ex <= GS__FB_EXP_MAX;
+        int ok = 1;
         for (uint32_t k = 0; k <= m && ok; ++k) {
             double r = nearbyint(c[k] / s);
             if (fabs(r) > 32767.0) ok = 0;
-            else q[k] = (int16_t)r, err += fabs(r * s - c[k]);
+            else r16[k] = (int16_t)r, err += fabs(r * s - c[k]);
         }
-        if (ok) {
-            *e = ex;
-            return err;
-        }
-        if (ex >= GS__FB_EXP_MAX) {
-            *e = GS__FB_F32;
-            return INFINITY;
-        }
+        if (!ok) continue;
+        if (!(err <= tol)) break;
+        found = 1, *e = ex;
+        memcpy(q, r16, sizeof *q * (m + 1));
     }
+    if (!found) return 0;
+    *w = 0;
+    for (uint32_t k = 0; k <= m; ++k)
+        if (q[k] > 127 || q[k] < -127) *w = k + 1;
+    return 1;
 }
 
 /* Encode f into out (NULL: only the size); *entry receives its minimum as
  * stored; *numbers adds the numbers it costs (coefficients and a loop's
  * shift, as Table 1 counts). g: its curve's grid (0: none). Returns the
  * block's size in bytes (0: unreachable, no block). */
-static uint32_t encode(const gs__fun *f, uint32_t g, unsigned char *out, float *entry, uint64_t *numbers, int *bad)
+static uint32_t encode(const gs__fun *f, uint32_t g, unsigned char *out, uint16_t *entry, uint64_t *numbers, int *bad)
 {
     if (!f->coef || !(f->minval < INFINITY)) {
-        *entry = INFINITY;
+        *entry = GS__DB_MIN_INF;
         return 0;
     }
-    uint32_t m = f->degree, sampled = f->kind == GS_FUN_SAMPLED;
+    uint32_t m = f->degree, sampled = f->kind == GS_FUN_SAMPLED, w = 0;
     unsigned char head[24];
     uint32_t n = 2;
     double dec[GS_FUN_MAX_DEGREE + 1];
@@ -90,24 +97,24 @@ static uint32_t encode(const gs__fun *f, uint32_t g, unsigned char *out, float *
             float v = (float)f->coef[k];
             lo = v < lo ? v : lo;
         }
-        *entry = float_below(lo < f->minval ? lo : f->minval);
+        *entry = gs__db_min_encode(float_below(lo < f->minval ? lo : f->minval));
     } else {
-        double err = quantise16(f->coef, m, q, &e);
         double mv = f->minval;
-        int ok16 = e != GS__FB_F32 && mv > 0.0 &&
-                   (f->squared ? err <= GS__DB_QREL * 2.0 * mv * mv : err <= GS__DB_QREL * mv);
-        if (!ok16) e = GS__FB_F32;
+        int ok16 = mv > 0.0 && quantise(f->coef, m, f->squared ? GS__DB_QREL * 2.0 * mv * mv : GS__DB_QREL * mv, q,
+                                        &e, &w);
+        if (!ok16) e = GS__FB_F32, w = 0;
         for (uint32_t k = 0; k <= m && !ok16; ++k)
             if (!(fabs(f->coef[k]) <= 1e30)) *bad = 1; /* beyond what float32 blocks may hold */
         for (uint32_t k = 0; k <= m; ++k) dec[k] = ok16 ? q[k] * ldexp(1.0, e) : (double)(float)f->coef[k];
         fd.coef = dec;
-        /* the stored function's own minimum, a little lower, as a float
-         * rounded down: the quick reject's bound stays a bound */
+        /* the stored function's own minimum, a little lower, rounded down
+         * to the stored 16-bit minimum: the quick reject's bound stays a
+         * bound */
         double lo = gs__fun_min(&fd, NULL);
         lo = lo < f->minval ? lo : f->minval;
         lo = lo > 0.0 ? lo * (1.0 - 1e-7) : lo;
-        *entry = float_below(lo);
-        fd.minval = *entry;
+        *entry = gs__db_min_encode(lo);
+        fd.minval = gs__db_min_value(*entry);
         if (g && gs__fun_is_sharp(&fd)) {
             gs__fun_dip d;
             gs__fun_dip_find(&fd, &d);
@@ -130,10 +137,13 @@ static uint32_t encode(const gs__fun *f, uint32_t g, unsigned char *out, float *
         uint16_t mm = (uint16_t)m;
         memcpy(head + 2, &mm, 2);
         n = 4;
+    } else if (e != GS__FB_F32) {
+        head[2] = (unsigned char)w;
+        n = 3;
     }
     if (f->closed) memcpy(head + n, &shift, 4), n += 4;
     if (has_dip) memcpy(head + n, dip, 16), n += 16;
-    uint32_t cb = (m + 1) * (e == GS__FB_F32 ? 4u : 2u);
+    uint32_t cb = e == GS__FB_F32 ? 4 * (m + 1) : m + 1 + w;
     *numbers += m + 1 + (f->closed ? 1u : 0u);
     if (out) {
         memcpy(out, head, n);
@@ -141,8 +151,10 @@ static uint32_t encode(const gs__fun *f, uint32_t g, unsigned char *out, float *
             if (e == GS__FB_F32) {
                 float v = (float)f->coef[k];
                 memcpy(out + n + 4 * k, &v, 4);
-            } else {
+            } else if (k < w) {
                 memcpy(out + n + 2 * k, &q[k], 2);
+            } else {
+                out[n + w + k] = (unsigned char)(signed char)q[k];
             }
         }
     }
@@ -152,19 +164,19 @@ static uint32_t encode(const gs__fun *f, uint32_t g, unsigned char *out, float *
 /* ---- records ------------------------------------------------------------ */
 
 /* Vertex x's record into out (NULL: only its size, in bytes, a multiple of
- * 8). */
+ * GS__DB_RECORD_UNIT). */
 static uint64_t encode_vertex(const gs__db_content *c, const uint32_t *grid, const uint32_t *fcurve, uint32_t x,
                               unsigned char *out, uint64_t *numbers, int *bad)
 {
-    uint64_t k0 = c->fun_start[x], nf = c->fun_start[x + 1] - k0, at = 4 * nf;
+    uint64_t k0 = c->fun_start[x], nf = c->fun_start[x + 1] - k0, at = GS__DB_MIN_BYTES * nf;
     for (uint64_t k = 0; k < nf; ++k) {
-        float entry;
+        uint16_t entry;
         uint32_t g = grid[fcurve[k0 + k]] ? gs__fun_grid_points(grid[fcurve[k0 + k]] - 1) : 0;
         uint32_t b = encode(&c->funs[k0 + k], g, out ? out + at : NULL, &entry, numbers, bad);
-        if (out) memcpy(out + 4 * k, &entry, 4);
+        if (out) memcpy(out + GS__DB_MIN_BYTES * k, &entry, 2);
         at += b;
     }
-    return gs__pad8(at);
+    return (at + GS__DB_RECORD_UNIT - 1) / GS__DB_RECORD_UNIT * GS__DB_RECORD_UNIT;
 }
 
 /* The curve of every function (fcurve) and each curve's degree1: 1 + the
@@ -434,13 +446,14 @@ int gs__db_pack(const gs__db_content *c, gs_db **out, gs_error *err)
         for (uint32_t x = 0; x < c->nv; ++x) rsize[x] = encode_vertex(c, grid, fcurve, x, NULL, &numbers, &bad);
         if (bad) rc = gs__fail(err, GS_ELIMIT, "database: a function's coefficients exceed 1e30 or are not finite");
         for (uint32_t x = 0; x < c->nv && !rc; ++x) {
-            index[x] = (uint32_t)(records / 8);
+            index[x] = (uint32_t)(records / GS__DB_RECORD_UNIT);
             records += rsize[x];
-            if (records > GS__DB_MAX_RECORDS_BYTES)
+            if (records > GS__DB_MAX_RECORDS_BYTES - 8)
                 rc = gs__fail(err, GS_ELIMIT, "database: the records exceed %llu bytes (format limit)",
                               (unsigned long long)GS__DB_MAX_RECORDS_BYTES);
         }
-        index[c->nv] = (uint32_t)(records / 8);
+        index[c->nv] = (uint32_t)(records / GS__DB_RECORD_UNIT);
+        records = gs__pad8(records); /* the section: zero bytes to a multiple of 8 */
     }
     gs__db_counts cn = {0, c->nv, c->n_nodes, c->n_curves, records, 0, 0, 0};
     int local16 = 0;
@@ -471,7 +484,7 @@ int gs__db_pack(const gs__db_content *c, gs_db **out, gs_error *err)
         int unused_bad = 0;
 #pragma omp parallel for schedule(dynamic, 512) reduction(+ : unused) reduction(| : unused_bad)
         for (uint32_t x = 0; x < c->nv; ++x)
-            encode_vertex(c, grid, fcurve, x, sec[GS__SEC_RECORDS] + 8 * (uint64_t)index[x], &unused, &unused_bad);
+            encode_vertex(c, grid, fcurve, x, sec[GS__SEC_RECORDS] + GS__DB_RECORD_UNIT * (uint64_t)index[x], &unused, &unused_bad);
         if (tables) write_leaf_tables(sec, c, local16);
         if (cn.flags & GS__DB_FLAG_ALIASES) write_aliases(sec, c);
         if (cn.flags & GS__DB_FLAG_NEAR)

@@ -1,4 +1,4 @@
-/* format.h - the on-disk layout of a geosep database, format version 4
+/* format.h - the on-disk layout of a geosep database, format version 5
  * (doc/database-format.md): constants, header offsets, section ids and
  * sizes, the checksum, and the encoding of a separator distance function's
  * block (paper sec. 3.1 items 2-3, stored compactly). Shared by the writer
@@ -15,7 +15,7 @@
 #include <string.h>
 
 #define GS__DB_MAGIC "GSEPDB\0\0"
-#define GS__DB_VERSION 4u
+#define GS__DB_VERSION 5u
 #define GS__DB_ENDIAN_TAG 0x0A0B0C0Du
 #define GS__DB_HEADER_BYTES 184u
 #define GS__DB_CHECKSUM_AT 176u /* header_checksum: the header's last field */
@@ -33,8 +33,10 @@
 _Static_assert(GS_HEAT_REFINE_MAX <= 3, "heat_refine must fit build_flags bits 2-3");
 #define GS__DB_MAX_SAMPLED 65535u
 #define GS__DB_MAX_SHIFT 2.0
-/* Records are addressed in 8-byte units by a u32: at most 32 GiB of them. */
-#define GS__DB_MAX_RECORDS_BYTES ((uint64_t)UINT32_MAX * 8u)
+/* Records are addressed in 2-byte units by a u32 (a record starts 2-byte
+ * aligned: its u16 minima first): at most 8 GiB of them. */
+#define GS__DB_RECORD_UNIT 2u
+#define GS__DB_MAX_RECORDS_BYTES ((uint64_t)UINT32_MAX * GS__DB_RECORD_UNIT)
 
 /* Header field offsets (doc: "Header"). */
 enum {
@@ -151,15 +153,55 @@ typedef struct gs__db_disk_curve {
     double length;
 } gs__db_disk_curve;
 
+/* ---- a vertex's minima (doc: "Records") ---------------------------------
+ * One u16 per function: the minimum's float32 bits 30..15 (exponent and
+ * the top 8 mantissa bits; minima are >= 0), rounded down, so that it
+ * stays a lower bound; 0xFF00 is +inf (unreachable); a code above it is a
+ * NaN (rejected by verify). */
+#define GS__DB_MIN_BYTES 2u
+#define GS__DB_MIN_INF 0xFF00u
+
+static inline float gs__db_min_value(uint16_t q)
+{
+    uint32_t u = (uint32_t)q << 15;
+    float v;
+    memcpy(&v, &u, 4);
+    return v;
+}
+
+/* The minimum of function k from a record's minima at p. */
+static inline float gs__db_min_get(const unsigned char *p, uint64_t k)
+{
+    uint16_t q;
+    memcpy(&q, p + GS__DB_MIN_BYTES * k, 2);
+    return gs__db_min_value(q);
+}
+
+/* The code of the largest representable value <= v (v >= 0 or +inf; a
+ * value <= 0 or NaN gives 0, +inf GS__DB_MIN_INF). */
+static inline uint16_t gs__db_min_encode(double v)
+{
+    if (!(v > 0.0)) return 0;
+    if (v > 3.4028234663852886e38) /* beyond FLT_MAX: FLT_MAX's code (its value is below it) */
+        return v == INFINITY ? (uint16_t)GS__DB_MIN_INF : (uint16_t)(GS__DB_MIN_INF - 1);
+    float f = (float)v;
+    if (f > v) f = nextafterf(f, 0.0f);
+    uint32_t u;
+    memcpy(&u, &f, 4);
+    return (uint16_t)(u >> 15); /* truncation: toward zero, i.e. down */
+}
+
 /* ---- a function's block (doc: "Records") --------------------------------
  * byte 0   meta: bits 0-4 degree code (0..24 Chebyshev degree; 31 sampled),
  *          bit 5 squared, bit 6 closed, bit 7 dip
- * byte 1   e: int16 coefficients c_k = q_k * 2^e (-126 <= e <= 120), or
+ * byte 1   e: integer coefficients c_k = q_k * 2^e (-126 <= e <= 120), or
  *          GS__FB_F32 (-128): float32 coefficients
+ * byte 2   w (integer coefficients only): the first w coefficients are
+ *          int16, the other m+1-w int8 (0 <= w <= m+1)
  * then     u16 m (sampled only: m+1 values, 1 <= m <= 65535)
  *          f32 shift (closed only; |shift| <= 2)
  *          4 x f32 dip: u, lo - u, hi - u, slope (bit 7 only)
- *          the m+1 coefficients (or values): int16 or float32
+ *          the m+1 coefficients (or values): int16 then int8, or float32
  * Blocks are packed byte after byte (no alignment). */
 #define GS__FB_DEG_MASK 0x1Fu
 #define GS__FB_SAMPLED 31u
@@ -173,6 +215,7 @@ typedef struct gs__db_disk_curve {
 /* A decoded block: what the query needs of one function. */
 typedef struct gs__db_fblock {
     uint32_t degree, sampled, squared, closed, f32;
+    uint32_t wide;     /* integer coefficients: how many are int16        */
     int e;
     double shift;
     float dip[4];      /* valid when has_dip                              */
@@ -204,6 +247,7 @@ static inline int gs__db_fblock_parse(const unsigned char *p, uint64_t avail, gs
     b->has_dip = (meta & GS__FB_DIP) != 0;
     b->f32 = e == GS__FB_F32;
     b->e = e;
+    b->wide = 0;
     if (b->sampled) {
         uint16_t m;
         if (avail < 4) return 0;
@@ -214,6 +258,11 @@ static inline int gs__db_fblock_parse(const unsigned char *p, uint64_t avail, gs
     } else {
         if (code > 24) return 0;
         b->degree = code;
+        if (!b->f32) {
+            if (avail < 3 || p[2] > code + 1) return 0;
+            b->wide = p[2];
+            n = 3;
+        }
     }
     b->shift = 0.0;
     if (b->closed) {
@@ -228,15 +277,68 @@ static inline int gs__db_fblock_parse(const unsigned char *p, uint64_t avail, gs
         memcpy(b->dip, p + n, 16);
         n += 16;
     }
-    uint64_t cb = (uint64_t)(b->degree + 1) * (b->f32 ? 4u : 2u);
+    uint64_t cb = b->f32 ? (uint64_t)(b->degree + 1) * 4u : (uint64_t)b->degree + 1 + b->wide;
     if (avail < n + cb) return 0;
     b->coef = p + n;
     b->bytes = (uint32_t)(n + cb);
     return 1;
 }
 
+/* The size of the block at p (what gs__db_fblock_parse gives as bytes), 0
+ * when gs__db_fblock_parse would refuse it: the query's walk over the
+ * blocks before the one it needs, without decoding them. */
+static inline uint32_t gs__db_fblock_size(const unsigned char *p, uint64_t avail)
+{
+    if (avail < 3) return 0; /* no block is shorter than 4 bytes */
+    uint32_t meta = p[0], code = meta & GS__FB_DEG_MASK, n, cb;
+    int e = (int)(signed char)p[1];
+    if (code == GS__FB_SAMPLED) {
+        uint16_t m;
+        if (avail < 4) return 0;
+        memcpy(&m, p + 2, 2);
+        if (m < 1 || e != GS__FB_F32) return 0;
+        n = 4, cb = 4 * ((uint32_t)m + 1);
+    } else if (code > 24) {
+        return 0;
+    } else if (e == GS__FB_F32) {
+        n = 2, cb = 4 * (code + 1);
+    } else {
+        if (p[2] > code + 1) return 0;
+        n = 3, cb = code + 1 + p[2];
+    }
+    if (meta & GS__FB_CLOSED) {
+        if (avail < n + 4) return 0;
+        float s = gs__ldf(p + n);
+        if (!(fabsf(s) <= (float)GS__DB_MAX_SHIFT)) return 0;
+        n += 4;
+    }
+    if (meta & GS__FB_DIP) n += 16;
+    return avail >= (uint64_t)n + cb ? n + cb : 0;
+}
+
+/* The integer coefficient q_k of a parsed integer block (k <= degree). */
+static inline int gs__db_fblock_q(const gs__db_fblock *b, uint32_t k)
+{
+    if (k < b->wide) {
+        int16_t q;
+        memcpy(&q, b->coef + 2 * (size_t)k, 2);
+        return q;
+    }
+    return (signed char)b->coef[b->wide + k];
+}
+
+/* 2^e for -126 <= e <= 120, without a call to ldexp. */
+static inline double gs__db_pow2(int e)
+{
+    uint64_t bits = (uint64_t)(1023 + e) << 52;
+    double s;
+    memcpy(&s, &bits, sizeof s);
+    return s;
+}
+
 /* The m+1 coefficients of a parsed block as doubles; 0 if a float32 one
- * is not finite or beyond 1e30 (a corrupt file: the caller answers NaN). */
+ * is not finite or beyond 1e30, or the exponent is out of range (a corrupt
+ * file: the caller answers NaN). */
 static inline int gs__db_fblock_coef(const gs__db_fblock *b, double *c)
 {
     uint32_t n = b->degree + 1;
@@ -249,12 +351,8 @@ static inline int gs__db_fblock_coef(const gs__db_fblock *b, double *c)
         return 1;
     }
     if (b->e < GS__FB_EXP_MIN || b->e > GS__FB_EXP_MAX) return 0;
-    double s = ldexp(1.0, b->e);
-    for (uint32_t k = 0; k < n; ++k) {
-        int16_t q;
-        memcpy(&q, b->coef + 2 * (size_t)k, 2);
-        c[k] = q * s;
-    }
+    double s = gs__db_pow2(b->e);
+    for (uint32_t k = 0; k < n; ++k) c[k] = gs__db_fblock_q(b, k) * s;
     return 1;
 }
 

@@ -66,41 +66,49 @@ static double g_x[(GS_FUN_MAX_DEGREE + 1) * (GS_CHEB_GRID_MAX + 1)];
 static gs__cheb_grid g_grids[GS_FUN_MAX_DEGREE + 1];
 static double g_fine[GS_CHEB_FINE + 1];
 static pthread_once_t g_once = PTHREAD_ONCE_INIT;
+/* Each degree's table is built on its first use (a query process touches
+ * only the few it needs: all of them take about 450 KB). */
+static pthread_mutex_t g_lock = PTHREAD_MUTEX_INITIALIZER;
+static unsigned char g_built[GS_FUN_MAX_DEGREE + 1];
 
-static void build_tables(void)
+static void build_table(uint32_t mm)
 {
     size_t tpos = 0, ppos = 0;
-    for (uint32_t m = 0; m <= GS_FUN_MAX_DEGREE; m++) {
-        uint32_t g = gs__cheb_grid_size(m);
-        double *x = g_x + (size_t)m * (GS_CHEB_GRID_MAX + 1), *tk = g_tab + tpos;
-        for (uint32_t j = 0; j <= g; j++)
-            x[j] = -cos(M_PI * j / g);
-        x[0] = -1.0, x[g] = 1.0;
-        if (g % 2 == 0)
-            x[g / 2] = 0.0;
-        for (uint32_t k = 0; k <= m; k++)
-            for (uint32_t j = 0; j <= g; j++)
-                tk[(size_t)k * (g + 1) + j] = cos(k * (M_PI - M_PI * j / g));
-        uint32_t np = PAD_PTS(g);
-        double *tp = g_tp + ppos, *dp = g_dp + ppos;
-        for (uint32_t k = 0; k <= m; k++)
-            for (uint32_t j = 0; j < np; j++) {
-                /* T_k(cos th) = cos(k th), T_k' = k sin(k th) / sin th; ends: +-k^2 */
-                uint32_t jj = j > g ? g : j;
-                double th = M_PI - M_PI * jj / g, d;
-                if (jj == 0)
-                    d = (k % 2 ? 1.0 : -1.0) * k * k;
-                else if (jj == g)
-                    d = (double)k * k;
-                else
-                    d = k * sin(k * th) / sin(th);
-                tp[(size_t)k * np + j] = tk[(size_t)k * (g + 1) + jj];
-                dp[(size_t)k * np + j] = d;
-            }
-        g_grids[m] = (gs__cheb_grid){g, m + 1, x, tk, np, tp, dp};
-        tpos += (size_t)(m + 1) * (g + 1);
-        ppos += (size_t)(m + 1) * np;
+    for (uint32_t m = 0; m < mm; m++) { /* where degree mm's tables start */
+        tpos += (size_t)(m + 1) * (gs__cheb_grid_size(m) + 1);
+        ppos += (size_t)(m + 1) * PAD_PTS(gs__cheb_grid_size(m));
     }
+    uint32_t m = mm, g = gs__cheb_grid_size(m);
+    double *x = g_x + (size_t)m * (GS_CHEB_GRID_MAX + 1), *tk = g_tab + tpos;
+    for (uint32_t j = 0; j <= g; j++)
+        x[j] = -cos(M_PI * j / g);
+    x[0] = -1.0, x[g] = 1.0;
+    if (g % 2 == 0)
+        x[g / 2] = 0.0;
+    for (uint32_t k = 0; k <= m; k++)
+        for (uint32_t j = 0; j <= g; j++)
+            tk[(size_t)k * (g + 1) + j] = cos(k * (M_PI - M_PI * j / g));
+    uint32_t np = PAD_PTS(g);
+    double *tp = g_tp + ppos, *dp = g_dp + ppos;
+    for (uint32_t k = 0; k <= m; k++)
+        for (uint32_t j = 0; j < np; j++) {
+            /* T_k(cos th) = cos(k th), T_k' = k sin(k th) / sin th; ends: +-k^2 */
+            uint32_t jj = j > g ? g : j;
+            double th = M_PI - M_PI * jj / g, d;
+            if (jj == 0)
+                d = (k % 2 ? 1.0 : -1.0) * k * k;
+            else if (jj == g)
+                d = (double)k * k;
+            else
+                d = k * sin(k * th) / sin(th);
+            tp[(size_t)k * np + j] = tk[(size_t)k * (g + 1) + jj];
+            dp[(size_t)k * np + j] = d;
+        }
+    g_grids[m] = (gs__cheb_grid){g, m + 1, x, tk, np, tp, dp};
+}
+
+static void build_fine(void)
+{
     for (uint32_t j = 0; j <= GS_CHEB_FINE; j++)
         g_fine[j] = -cos(M_PI * j / GS_CHEB_FINE);
     g_fine[0] = -1.0, g_fine[GS_CHEB_FINE] = 1.0, g_fine[GS_CHEB_FINE / 2] = 0.0;
@@ -108,12 +116,20 @@ static void build_tables(void)
 
 const double *gs__cheb_fine_grid(void)
 {
-    pthread_once(&g_once, build_tables);
+    pthread_once(&g_once, build_fine);
     return g_fine;
 }
 
 const gs__cheb_grid *gs__cheb_grid_for(uint32_t m)
 {
-    pthread_once(&g_once, build_tables);
-    return &g_grids[m > GS_FUN_MAX_DEGREE ? GS_FUN_MAX_DEGREE : m];
+    m = m > GS_FUN_MAX_DEGREE ? GS_FUN_MAX_DEGREE : m;
+    if (!__atomic_load_n(&g_built[m], __ATOMIC_ACQUIRE)) {
+        pthread_mutex_lock(&g_lock);
+        if (!g_built[m]) {
+            build_table(m);
+            __atomic_store_n(&g_built[m], 1, __ATOMIC_RELEASE);
+        }
+        pthread_mutex_unlock(&g_lock);
+    }
+    return &g_grids[m];
 }

@@ -19,24 +19,44 @@ static uint32_t rows_for(uint32_t g)
     uint32_t r = g >= 9 ? (g - 9) / 4 + 1 : 1;
     return r > ROWS ? ROWS : (r < 7 ? 7 : r);
 }
-#define STRIDE(g) ((((g) + 3u) + 3u) & ~3u) /* g + 3 points, padded to 4 */
+#define STRIDE(g) ((((g) + 3u) + 7u) & ~7u) /* g + 3 points, padded to 8 */
 
-/* tab[kind][g]: ROWS rows of STRIDE(g) floats: T_k(t_j), paths t_j = -1 +
- * 2j/(g-1) (j < g), loops t_j = -1 + 2(j-1)/g (j <= g + 2: one point beyond
- * each end, for the cubic interpolation of the points next to them);
- * padding repeats the last point. */
-static float g_tab[2][GS_FUN_GRID_MAX + 1][ROWS * STRIDE(GS_FUN_GRID_MAX)] __attribute__((aligned(16)));
-static pthread_mutex_t g_lock = PTHREAD_MUTEX_INITIALIZER;
-static unsigned char g_done[2][GS_FUN_GRID_MAX + 1];
+/* The grids the query uses are those of gs__fun_grid_points (19 sizes,
+ * one per row count 7..25); their tables are packed one after the other
+ * (about 100 KB for each kind), so that those a process touches stay small
+ * in memory beside the mapped file. Any other g is tabulated without a
+ * table (slow; only callers outside the query). */
+#define SLOT0 7u                       /* rows of the smallest grid (33)   */
+#define SLOTS (ROWS - SLOT0 + 1)
+#define POOL (4 * ROWS * ROWS * ROWS / 3 + 32 * ROWS * ROWS) /* > sum of r STRIDE(4 r + 5) */
 
-static void fill(int loop, uint32_t g)
+/* Whether g is a grid of gs__fun_grid_points (and so has a table). */
+static int tabled(uint32_t g)
 {
-    uint32_t n = loop ? g + 3 : g, s = STRIDE(g);
-    float *tab = g_tab[loop][g];
+    return g >= 3 && g <= GS_FUN_GRID_MAX && gs__fun_grid_points(rows_for(g) - 1) == g;
+}
+
+/* pool[kind]: for each tabled g, rows_for(g) rows of STRIDE(g) floats:
+ * T_k(t_j), paths t_j = -1 + 2j/(g-1) (j < g), loops t_j = -1 + 2(j-1)/g
+ * (j <= g + 2: one point beyond each end, for the cubic interpolation of
+ * the points next to them); padding repeats the last point. */
+static float g_pool[2][POOL] __attribute__((aligned(32)));
+static const float *g_ptr[2][SLOTS];
+static pthread_mutex_t g_lock = PTHREAD_MUTEX_INITIALIZER;
+static unsigned char g_done[2][SLOTS];
+
+/* T_k(t_j) of row k and point j of (loop, g)'s table. */
+static double table_t(int loop, uint32_t g, uint32_t j)
+{
+    uint32_t n = loop ? g + 3 : g, jj = j < n ? j : n - 1;
+    return loop ? -1.0 + 2.0 * ((double)jj - 1.0) / g : (jj + 1 == n ? 1.0 : -1.0 + 2.0 * jj / (g - 1));
+}
+
+static void fill(float *tab, int loop, uint32_t g)
+{
+    uint32_t s = STRIDE(g);
     for (uint32_t j = 0; j < s; ++j) {
-        uint32_t jj = j < n ? j : n - 1;
-        double t = loop ? -1.0 + 2.0 * ((double)jj - 1.0) / g : (jj + 1 == n ? 1.0 : -1.0 + 2.0 * jj / (g - 1));
-        double t0 = 1.0, t1 = t;
+        double t = table_t(loop, g, j), t0 = 1.0, t1 = t;
         tab[j] = 1.0f;
         for (uint32_t k = 1; k < rows_for(g); ++k) {
             tab[(size_t)k * s + j] = (float)t1;
@@ -46,18 +66,36 @@ static void fill(int loop, uint32_t g)
     }
 }
 
-/* The table of (loop, g), built on first use. */
+/* The table of (loop, g) for a tabled g, built on first use. */
 static const float *table(int loop, uint32_t g)
 {
-    if (!__atomic_load_n(&g_done[loop][g], __ATOMIC_ACQUIRE)) {
+    uint32_t slot = rows_for(g) - SLOT0;
+    if (!__atomic_load_n(&g_done[loop][slot], __ATOMIC_ACQUIRE)) {
         pthread_mutex_lock(&g_lock);
-        if (!g_done[loop][g]) {
-            fill(loop, g);
-            __atomic_store_n(&g_done[loop][g], 1, __ATOMIC_RELEASE);
+        if (!g_done[loop][slot]) {
+            size_t off = 0;
+            for (uint32_t r = SLOT0; r < rows_for(g); ++r) off += (size_t)r * STRIDE(gs__fun_grid_points(r - 1));
+            fill(g_pool[loop] + off, loop, g);
+            g_ptr[loop][slot] = g_pool[loop] + off;
+            __atomic_store_n(&g_done[loop][slot], 1, __ATOMIC_RELEASE);
         }
         pthread_mutex_unlock(&g_lock);
     }
-    return g_tab[loop][g];
+    return g_ptr[loop][slot];
+}
+
+/* p_j (j < n) of a g without a table: the series at each point. */
+static void dot_slow(int loop, uint32_t g, const double *c, uint32_t m, uint32_t n, float *p)
+{
+    for (uint32_t j = 0; j < n; ++j) {
+        double t = table_t(loop, g, j), t0 = 1.0, t1 = t, a = c[0];
+        for (uint32_t k = 1; k <= m; ++k) {
+            a += c[k] * t1;
+            double t2 = 2.0 * t * t1 - t0;
+            t0 = t1, t1 = t2;
+        }
+        p[j] = (float)a;
+    }
 }
 
 /* p_j = sum_k c_k tab[k][j] for j < n (n <= stride, a multiple of 4 read):
@@ -177,6 +215,53 @@ __attribute__((target("avx2,fma"))) static void to_values_avx2(float *p, uint32_
 }
 #endif
 
+#ifdef HAVE_AVX2_PATH
+/* NB vectors of 8 grid points (NB a constant at each call) from j on, in
+ * one pass over the rows: independent sums in registers (their
+ * multiply-adds overlap), then max(p, 0) and the square root of a squared
+ * series, stored to v. The same operations per point as dot_avx2 and
+ * to_values_avx2. */
+__attribute__((target("avx2,fma"), always_inline)) static inline void path_blocks(const float *tab, uint32_t s,
+                                                                                 const float *cf, uint32_t m,
+                                                                                 int squared, uint32_t j, float *v,
+                                                                                 const int NB)
+{
+    __m256 a[6];
+#pragma GCC unroll 6
+    for (int b = 0; b < NB; ++b) a[b] = _mm256_setzero_ps();
+    for (uint32_t k = 0; k <= m; ++k) {
+        __m256 ck = _mm256_set1_ps(cf[k]);
+        const float *r = tab + (size_t)k * s + j;
+#pragma GCC unroll 6
+        for (int b = 0; b < NB; ++b) a[b] = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 8 * b), a[b]);
+    }
+    const __m256 z = _mm256_setzero_ps();
+#pragma GCC unroll 6
+    for (int b = 0; b < NB; ++b) {
+        __m256 x = _mm256_max_ps(a[b], z);
+        _mm256_storeu_ps(v + j + 8 * b, squared ? _mm256_sqrt_ps(x) : x);
+    }
+}
+
+__attribute__((target("avx2,fma"))) static void path_avx2(const float *tab, uint32_t s, const float *cf, uint32_t m,
+                                                           int squared, uint32_t g, float *v)
+{
+    uint32_t nb = (g + 7) / 8, j = 0;
+    while (nb) {
+        uint32_t b = nb <= 6 ? nb : (nb + 1) / 2;
+        switch (b) {
+        case 1: path_blocks(tab, s, cf, m, squared, j, v, 1); break;
+        case 2: path_blocks(tab, s, cf, m, squared, j, v, 2); break;
+        case 3: path_blocks(tab, s, cf, m, squared, j, v, 3); break;
+        case 4: path_blocks(tab, s, cf, m, squared, j, v, 4); break;
+        case 5: path_blocks(tab, s, cf, m, squared, j, v, 5); break;
+        default: b = 6; path_blocks(tab, s, cf, m, squared, j, v, 6); break;
+        }
+        nb -= b, j += 8 * b;
+    }
+}
+#endif
+
 static void to_values(float *p, uint32_t n, int squared)
 {
 #ifdef HAVE_AVX2_PATH
@@ -208,7 +293,8 @@ void gs__grid_values(const gs__fun *f, uint32_t g, float *v)
     /* a degree beyond the grid's rows (a curve's degree1 below one of its
      * functions: a corrupt file not verified) reads no further than them */
     uint32_t m = f->degree < rows_for(g) ? f->degree : rows_for(g) - 1;
-    dot(table(loop, g), s, f->coef, m, (n + 3u) & ~3u, p);
+    if (tabled(g)) dot(table(loop, g), s, f->coef, m, (n + 3u) & ~3u, p);
+    else dot_slow(loop, g, f->coef, m, (n + 3u) & ~3u, p);
     if (!loop) {
         to_values(p, (g + 3u) & ~3u, f->squared);
         memcpy(v, p, sizeof *v * g);
@@ -231,4 +317,35 @@ void gs__grid_values(const gs__fun *f, uint32_t g, float *v)
     for (uint32_t j = g; j < ((g + 3u) & ~3u); ++j) q[j] = 0.0f;
     to_values(q, (g + 3u) & ~3u, f->squared);
     memcpy(v, q, sizeof *v * g);
+}
+
+void gs__grid_values_path(const float *cf, uint32_t m, int squared, uint32_t g, float *v)
+{
+    g = g < 3 ? 3 : (g > GS_FUN_GRID_MAX ? GS_FUN_GRID_MAX : g);
+    uint32_t s = STRIDE(g);
+    m = m < rows_for(g) ? m : rows_for(g) - 1;
+    if (!tabled(g)) {
+        double c[ROWS];
+        float p[STRIDE(GS_FUN_GRID_MAX)];
+        for (uint32_t k = 0; k <= m; ++k) c[k] = cf[k];
+        dot_slow(0, g, c, m, g, p);
+        for (uint32_t j = 0; j < g; ++j) {
+            float a = p[j] > 0.0f ? p[j] : 0.0f;
+            v[j] = squared ? sqrtf(a) : a;
+        }
+        return;
+    }
+    const float *tab = table(0, g);
+#ifdef HAVE_AVX2_PATH
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
+        path_avx2(tab, s, cf, m, squared, g, v);
+        return;
+    }
+#endif
+    for (uint32_t j = 0; j < g; ++j) {
+        float a = 0.0f;
+        for (uint32_t k = 0; k <= m; ++k) a += cf[k] * tab[(size_t)k * s + j];
+        a = a > 0.0f ? a : 0.0f;
+        v[j] = squared ? sqrtf(a) : a;
+    }
 }

@@ -16,4 +16,10 @@
  * the value). Thread-safe (tables built once per g). */
 void gs__grid_values(const gs__fun *f, uint32_t g, float *v);
 
+/* gs__grid_values of a path (not closed) of degree m with float
+ * coefficients cf[0..m] (the double ones rounded to float), squared or not,
+ * into v[0 .. g rounded up to 8) (v must hold that many; the points beyond
+ * g are padding): the query's fast path. Thread-safe. */
+void gs__grid_values_path(const float *cf, uint32_t m, int squared, uint32_t g, float *v);
+
 #endif

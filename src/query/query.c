@@ -1,10 +1,10 @@
 /* query.c - online point-to-point queries (paper sec. 3.2, eq. 4-5, Theorem
  * 2.1): same leaf -> Euclidean (or the stored exact table); otherwise the
  * minimum over the curves of the common ancestors, with the quick reject on
- * the stored minima. Reads the file's records in place (format version 4):
+ * the stored minima. Reads the file's records in place (format version 5):
  * each vertex's minima, then its functions' blocks, decoded as needed; the
  * two functions of a curve are tabulated on the curve's grid and their sum
- * minimised (src/fit/fun.c gs__fun_pair_min_grid). Every read stays inside
+ * minimised (pair_min.c gs__fun_pair_min_grid). Every read stays inside
  * the vertex's record (a malformed block gives NaN). The hot path: no
  * allocation, no locks. */
 #include "../db/db_internal.h"
@@ -14,6 +14,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 static double euclidean2(const gs_db *db, uint32_t x, uint32_t y)
 {
@@ -75,14 +76,15 @@ typedef struct candidate {
  * minimisations than the paper's plain bottom-up order and gives the same
  * minimum. ex, ey: the two vertices' minima. Returns the number gathered;
  * *rest is the node where gathering stopped (GS_NONE: all). */
-static uint32_t gather(const gs_db *db, const float *ex, const float *ey, uint32_t top, candidate *c, uint32_t *rest)
+static uint32_t gather(const gs_db *db, const uint16_t *ex, const uint16_t *ey, uint32_t top, candidate *c,
+                       uint32_t *rest)
 {
     uint32_t n = 0, a = top;
     for (; a != GS_NONE; a = db->nodes[a].parent) {
         uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
         if (n + (k1 - k0) > MAX_CANDIDATES) break;
         for (uint32_t k = k0; k < k1; ++k) {
-            double b = (double)ex[k] + (double)ey[k];
+            double b = (double)gs__db_min_value(ex[k]) + (double)gs__db_min_value(ey[k]);
             uint32_t i = n++;
             for (; i > 0 && c[i - 1].bound > b; --i) c[i] = c[i - 1];
             c[i].bound = b, c[i].k = k, c[i].curve = db->nodes[a].curve_start + (k - k0);
@@ -99,7 +101,7 @@ static uint32_t gather(const gs_db *db, const float *ex, const float *ey, uint32
 /* Finds function k's block by walking the blocks before it (their heads
  * only), remembering the positions it passes. */
 typedef struct cursor {
-    const float *ent;                 /* the minima                        */
+    const uint16_t *ent;              /* the minima (gs__db_min_value)     */
     const unsigned char *first, *end; /* the first block, the record's end */
     const unsigned char *next;        /* the block of function n (walked)  */
     uint32_t n;
@@ -109,16 +111,15 @@ typedef struct cursor {
 static inline void cursor_init(const gs_db *db, uint32_t x, uint32_t nf, cursor *c)
 {
     const unsigned char *p = gs__db_record(db, x, &c->end);
-    c->ent = (const float *)(const void *)p; /* records start 8-aligned */
-    c->first = c->next = p + 4 * (size_t)nf;
+    c->ent = (const uint16_t *)(const void *)p; /* records start 2-aligned */
+    c->first = c->next = p + GS__DB_MIN_BYTES * (size_t)nf;
     c->n = 0;
 }
 
 /* The size of the block at p (0: malformed, or past the record's end). */
 static inline uint32_t block_bytes(const unsigned char *p, const unsigned char *end)
 {
-    gs__db_fblock b;
-    return gs__db_fblock_parse(p, (uint64_t)(end - p), &b) ? b.bytes : 0;
+    return gs__db_fblock_size(p, (uint64_t)(end - p));
 }
 
 /* Function k's block (k reachable: its minimum finite), NULL if the walk
@@ -130,7 +131,7 @@ static const unsigned char *cursor_block(cursor *c, uint32_t k)
     uint32_t i = c->n;
     if (k >= CURSOR_MAX && c->n >= CURSOR_MAX) { /* deep: from the last remembered */
         p = c->at[CURSOR_MAX - 1], i = CURSOR_MAX - 1;
-        if (c->ent[i] != INFINITY) {
+        if (c->ent[i] != GS__DB_MIN_INF) {
             uint32_t b = block_bytes(p, c->end);
             if (!b) return NULL;
             p += b;
@@ -139,7 +140,7 @@ static const unsigned char *cursor_block(cursor *c, uint32_t k)
     }
     for (; i < k; ++i) {
         if (i < CURSOR_MAX) c->at[i] = p;
-        if (c->ent[i] == INFINITY) continue; /* unreachable: no block */
+        if (c->ent[i] == GS__DB_MIN_INF) continue; /* unreachable: no block */
         uint32_t b = block_bytes(p, c->end);
         if (!b) return NULL;
         p += b;
@@ -147,8 +148,8 @@ static const unsigned char *cursor_block(cursor *c, uint32_t k)
     if (k < CURSOR_MAX) {
         c->at[k] = p;
         if (k + 1 > c->n) {
-            uint32_t b = c->ent[k] == INFINITY ? 0 : block_bytes(p, c->end);
-            if (!b && c->ent[k] != INFINITY) return NULL;
+            uint32_t b = c->ent[k] == GS__DB_MIN_INF ? 0 : block_bytes(p, c->end);
+            if (!b && c->ent[k] != GS__DB_MIN_INF) return NULL;
             c->n = k + 1;
             c->next = p + b;
         }
@@ -163,7 +164,45 @@ typedef struct dfun {
     gs__fun_dip dip;
     gs__db_fblock b;
     double coef[GS_FUN_MAX_DEGREE + 1];
+    float cf[GS_FUN_MAX_DEGREE + 1]; /* coef rounded to float (the grid's) */
 } dfun;
+
+/* The coefficients of a parsed Chebyshev block as doubles and floats
+ * (gs__db_fblock_coef, without a call to ldexp); 0 if malformed. */
+static int decode_coef(const gs__db_fblock *b, double *c, float *cf)
+{
+    uint32_t n = b->degree + 1;
+    if (b->f32) {
+        for (uint32_t k = 0; k < n; ++k) {
+            float v = gs__ldf(b->coef + 4 * (size_t)k);
+            if (!(fabsf(v) <= 1e30f)) return 0;
+            c[k] = v, cf[k] = v;
+        }
+        return 1;
+    }
+    if (b->e < GS__FB_EXP_MIN || b->e > GS__FB_EXP_MAX) return 0;
+    double s = gs__db_pow2(b->e);
+    uint32_t w = b->wide;
+    for (uint32_t k = 0; k < w; ++k) {
+        int16_t q;
+        memcpy(&q, b->coef + 2 * (size_t)k, 2);
+        c[k] = q * s;
+        cf[k] = (float)c[k];
+    }
+    for (uint32_t k = w; k < n; ++k) {
+        c[k] = (signed char)b->coef[w + k] * s;
+        cf[k] = (float)c[k];
+    }
+    return 1;
+}
+
+/* f's values on the curve's grid of g points: the fused path kernel for
+ * paths (pair_grid.h), bit for bit gs__grid_values. */
+static void grid_of(const dfun *d, uint32_t g, float *v)
+{
+    if (d->f.closed) gs__grid_values(&d->f, g, v);
+    else gs__grid_values_path(d->cf, d->f.degree, d->f.squared, g, v);
+}
 
 static int decode(const unsigned char *p, const unsigned char *end, float minval, dfun *d)
 {
@@ -186,7 +225,7 @@ static int decode(const unsigned char *p, const unsigned char *end, float minval
         d->dip.hi = d->dip.u + b->dip[2];
         d->dip.slope = b->dip[3];
     }
-    return b->sampled || gs__db_fblock_coef(b, d->coef);
+    return b->sampled || decode_coef(b, d->coef, d->cf);
 }
 
 /* A sampled block's value at u (piecewise linear, as gs__fun_value). */
@@ -259,8 +298,8 @@ static double pair_min_dec(const gs_db *db, uint32_t c, const dfun *a, const flo
     if (!d1) return gs__fun_pair_min(&a->f, &b->f, NULL);
     uint32_t g = gs__fun_grid_points(d1 - 1);
     float va[GS_FUN_GRID_MAX + 8], vb[GS_FUN_GRID_MAX + 8];
-    if (!ga) gs__grid_values(&a->f, g, va), ga = va;
-    if (!gb) gs__grid_values(&b->f, g, vb), gb = vb;
+    if (!ga) grid_of(a, g, va), ga = va;
+    if (!gb) grid_of(b, g, vb), gb = vb;
     return gs__fun_pair_min_grid(&a->f, &b->f, ga, gb, g, &a->dip, &b->dip, NULL);
 }
 
@@ -271,11 +310,11 @@ static const xfun *xfun_get(const gs_db *db, cursor *cx, xfun *cache, uint32_t k
     xfun *f = cache + k;
     if (f->state == 0) {
         f->state = -1;
-        if (decode(cursor_block(cx, k), cx->end, cx->ent[k], &f->d)) {
+        if (decode(cursor_block(cx, k), cx->end, gs__db_min_value(cx->ent[k]), &f->d)) {
             uint32_t d1 = db->curves[c].degree1;
             if (!f->d.b.sampled && d1) {
                 uint32_t g = gs__fun_grid_points(d1 - 1);
-                gs__grid_values(&f->d.f, g, f->grid);
+                grid_of(&f->d, g, f->grid);
                 if (f->d.f.closed) { /* what the minimiser would find each time */
                     f->d.dip.seam = gs__fun_seam_value(&f->d.f);
                     f->d.dip.seam_cell = gs__fun_seam_cell(&f->d.f, g);
@@ -295,11 +334,12 @@ static double pair_min(const gs_db *db, cursor *cx, cursor *cy, uint32_t k, uint
     dfun a, b;
     if (cache) {
         const xfun *s = xfun_get(db, cx, cache, k, c);
-        if (!s || !decode(cursor_block(cy, k), cy->end, cy->ent[k], &b)) return NAN;
+        if (!s || !decode(cursor_block(cy, k), cy->end, gs__db_min_value(cy->ent[k]), &b)) return NAN;
         const float *gs = s->d.b.sampled || !db->curves[c].degree1 ? NULL : s->grid;
         return x_first ? pair_min_dec(db, c, &s->d, gs, &b, NULL) : pair_min_dec(db, c, &b, NULL, &s->d, gs);
     }
-    if (!decode(cursor_block(cx, k), cx->end, cx->ent[k], &a) || !decode(cursor_block(cy, k), cy->end, cy->ent[k], &b))
+    if (!decode(cursor_block(cx, k), cx->end, gs__db_min_value(cx->ent[k]), &a) ||
+        !decode(cursor_block(cy, k), cy->end, gs__db_min_value(cy->ent[k]), &b))
         return NAN;
     return pair_min_dec(db, c, &a, NULL, &b, NULL);
 }
@@ -348,7 +388,7 @@ static double cross_cursors(const gs_db *db, cursor *cx, cursor *cy, uint32_t to
     for (uint32_t a = rest; a != GS_NONE; a = db->nodes[a].parent) { /* > 64 curves: rare */
         uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
         for (uint32_t k = k0; k < k1; ++k) {
-            if ((double)cx->ent[k] + (double)cy->ent[k] >= best) continue;
+            if ((double)gs__db_min_value(cx->ent[k]) + (double)gs__db_min_value(cy->ent[k]) >= best) continue;
             double d = pair_min(db, cx, cy, k, db->nodes[a].curve_start + (k - k0), cache, x_first);
             if (d != d) return NAN;
             if (d < best) best = d;
@@ -371,7 +411,7 @@ static double cross_source(const gs_db *db, cursor *cx, cursor *cy, uint32_t top
         uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
         if (n + (k1 - k0) > MAX_CANDIDATES) break;
         for (uint32_t k = k0; k < k1; ++k, ++n)
-            c[n].bound = (double)cx->ent[k] + (double)cy->ent[k], c[n].k = k,
+            c[n].bound = (double)gs__db_min_value(cx->ent[k]) + (double)gs__db_min_value(cy->ent[k]), c[n].k = k,
             c[n].curve = db->nodes[a].curve_start + (k - k0);
     }
     if (a != GS_NONE) return cross_cursors(db, cx, cy, top, cache, x_first); /* > 64 curves: rare */
@@ -483,6 +523,7 @@ struct gs__qsrc {
     uint32_t x, lx, depth_x, nfx;
     cursor cx;             /* x's record                                  */
     xfun *cache;           /* nfx: x's functions, filled as used          */
+    float *mins;           /* nfx: x's minima, decoded                    */
     uint32_t *anc;         /* depth_x + 1: x's ancestor at each depth     */
 };
 
@@ -496,13 +537,15 @@ gs__qsrc *gs__qsrc_create(const gs_db *db, uint32_t x)
     s->nfx = db->nodes[s->lx].curve_prefix;
     s->anc = gs__malloc((size_t)s->depth_x + 1, sizeof *s->anc);
     s->cache = gs__malloc(s->nfx ? s->nfx : 1, sizeof *s->cache);
-    if (!s->anc || !s->cache) {
+    s->mins = gs__malloc(s->nfx ? s->nfx : 1, sizeof *s->mins);
+    if (!s->anc || !s->cache || !s->mins) {
         gs__qsrc_free(s);
         return NULL;
     }
     for (uint32_t k = 0; k < s->nfx; ++k) s->cache[k].state = 0;
     for (uint32_t a = s->lx; a != GS_NONE; a = db->nodes[a].parent) s->anc[db->nodes[a].depth] = a;
     cursor_init(db, x, s->nfx, &s->cx);
+    for (uint32_t k = 0; k < s->nfx; ++k) s->mins[k] = gs__db_min_value(s->cx.ent[k]);
     return s;
 }
 
@@ -511,6 +554,7 @@ void gs__qsrc_free(gs__qsrc *s)
     if (!s) return;
     free(s->anc);
     free(s->cache);
+    free(s->mins);
     free(s);
 }
 
@@ -521,7 +565,7 @@ uint32_t gs__qsrc_leaf(const gs__qsrc *s)
 
 const float *gs__qsrc_minima(const gs__qsrc *s)
 {
-    return s->lx == GS_NONE ? NULL : s->cx.ent;
+    return s->lx == GS_NONE ? NULL : s->mins;
 }
 
 uint32_t gs__qsrc_ancestor(const gs__qsrc *s, uint32_t node)

@@ -90,10 +90,11 @@ static nbr_index *nbr_build(const gs_db *db)
         uint32_t l = db->leaf[y];
         if (l == GS_NONE) continue;
         const unsigned char *end, *rec = gs__db_record(db, y, &end);
-        const float *m = (const float *)(const void *)rec;
         float *t = ix->mins + ix->moff[l];
-        for (uint32_t k = 0; k < nodes[l].curve_prefix; ++k)
-            if (!(m[k] >= t[k])) t[k] = m[k] == m[k] ? m[k] : -INFINITY; /* NaN (a corrupt file): no bound */
+        for (uint32_t k = 0; k < nodes[l].curve_prefix; ++k) {
+            float m = gs__db_min_get(rec, k);
+            if (!(m >= t[k])) t[k] = m == m ? m : -INFINITY; /* NaN (a corrupt file): no bound */
+        }
     }
     for (uint32_t n = nn; n-- > 1;) {
         uint32_t p = nodes[n].parent;
@@ -189,6 +190,18 @@ static double minima_bound(const float *mx, const float *t, uint32_t nk)
     return b;
 }
 
+/* minima_bound against a record's 16-bit minima (format 5). */
+static double minima_bound16(const float *mx, const unsigned char *rec, uint32_t nk)
+{
+    double b = INFINITY;
+    for (uint32_t k = 0; k < nk; ++k) {
+        double v = (double)mx[k] + (double)gs__db_min_get(rec, k);
+        if (v != v) return -INFINITY; /* a NaN minimum (a corrupt file): no bound */
+        if (v < b) b = v;
+    }
+    return b;
+}
+
 /* Whether a vertex at least e from x in space may be one of x's near pairs
  * (section 'near_pairs': exact distances below the separators' answers, so
  * the minima bound does not hold for them; they lie within its radius). */
@@ -231,7 +244,7 @@ static double vertex_bound(const source *s, uint32_t y, uint32_t a)
     double e = sqrt(dx * dx + dy * dy + dz * dz);
     const unsigned char *end, *rec = gs__db_record(s->db, y, &end);
     uint32_t nk = s->db->nodes[a].curve_prefix + s->db->nodes[a].n_curves;
-    double m = near_possible(s, e) ? -INFINITY : minima_bound(s->mx, (const float *)(const void *)rec, nk);
+    double m = near_possible(s, e) ? -INFINITY : minima_bound16(s->mx, rec, nk);
     return lowered(s, e > m ? e : m);
 }
 
