@@ -968,28 +968,30 @@ static int make_path(ctx *c, gs_path **out)
 
 /* A path this much longer than the database's d(X, Y) is checked: beyond
  * the database's usual errors (exact fields; approximate ones err more). */
-#define CHECK_TOL_EXACT 0.008
+#define CHECK_TOL_EXACT 0.01
 /* ... and first, a little longer, also traced from the other end */
-#define REVERSE_TOL_EXACT 0.004
+#define REVERSE_TOL_EXACT 0.005
 #define REVERSE_TOL_APPROX 0.01
-#define CHECK_TOL_APPROX 0.015
+#define CHECK_TOL_APPROX 0.02
 #define CORRIDOR_TOL 0.01   /* the database's error allowed for in the corridor */
 
 /* ---- the check: a path much longer than the database's distance -------- */
 
-/* The path is longer than the database's distance by more than the
+/* The path is longer than the database's distance d by more than the
  * database's errors usually are (the descent then followed another
  * route's valley: a coarse mesh next to the path, a fitted function's
- * error): the exact shortest path inside the corridor that holds every
- * path shorter than this one, the vertices v with d(X, v) + d(v, Y) at
- * most its length (plus the database's tolerance and the ends' offsets),
- * grown from the vertex path; the faces at them form a patch, solved
- * exactly (gs_solver_path). *out: that path if shorter, else untouched. */
-static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_source *y, double len, double slack,
-                    gs_path **out)
+ * error): the exact shortest path inside the corridor that holds the
+ * shortest path as far as the database can tell, the vertices v with
+ * d(X, v) + d(v, Y) at most d plus CORRIDOR_TOL (at most the path's
+ * length; plus the ends' offsets and an edge), grown from the vertex path;
+ * the faces at them form a patch, solved exactly (gs_solver_path). *out:
+ * that path if shorter, else untouched. */
+static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_source *y, double len, double d,
+                    double slack, gs_path **out)
 {
     const gs__topo *t = c->t;
-    double thr = len * (1 + CORRIDOR_TOL) + slack + 2 * mesh->report.max_edge;
+    double bound = d * (1 + CORRIDOR_TOL); /* the shortest path, for the database (if its error is below the tolerance) */
+    double thr = (bound < len ? bound : len) + slack + 2 * mesh->report.max_edge;
     /* flood: c->vp grows into the corridor's vertices (amap: seen) */
     c->na = 0;
     if (c->amap.cap) memset(c->amap.key, 0xff, c->amap.cap * sizeof *c->amap.key), c->amap.n = 0;
@@ -1324,7 +1326,7 @@ int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const g
         q_position(t, &qy, py);
         double slack = best == &c ? dist3(px, vpos(best, best->target)) + dist3(py, vpos(best, best->origin))
                                   : dist3(py, vpos(best, best->target)) + dist3(px, vpos(best, best->origin));
-        rc = corridor(best, mesh, x, y, len, slack, out);
+        rc = corridor(best, mesh, x, y, len, d, slack, out);
     }
     if (rc) gs_path_free(*out), *out = NULL;
     ctx_free(&c2);
