@@ -76,7 +76,7 @@ static int run(const char *name, gs_method method, const gs_solver_options *opt)
         rmse += fe.rmse / gt->n_sources;
         mx = fmax(mx, fe.max);
     }
-    printf("%-16s %7u %4u  %6.3f%% %6.3f%% %7.2f%%  %8.1f %9.2f\n", name, n, gt->n_sources, 100 * me,
+    printf("%-16s %7u %4u  %7.4f%% %7.4f%% %7.3f%%  %8.1f %9.2f\n", name, n, gt->n_sources, 100 * me,
            100 * rmse, 100 * mx, 1e3 * t_create, 1e3 * t_solve / gt->n_sources);
     rc = 0;
 done:
@@ -120,7 +120,7 @@ int main(int argc, char **argv)
     }
     printf("%s fields against the exact ground truth (every source of each file)\n",
            gs_method_name(method));
-    printf("%-16s %7s %4s  %7s %7s %8s  %8s %9s\n", "mesh", "n", "src", "ME", "RMSE", "max",
+    printf("%-16s %7s %4s  %8s %8s %8s  %8s %9s\n", "mesh", "n", "src", "ME", "RMSE", "max",
            "create ms", "field ms");
     int bad = 0;
     if (first < argc)

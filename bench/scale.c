@@ -8,9 +8,10 @@
  * measured paired: both databases, kept in temporary files, timed in
  * alternating rounds, each in a fresh process, so that the ratio does not
  * ride on how busy a shared machine was in each mesh's minutes; then the
- * fitted exponent of build time against n (the paper expects 1.5). Usage:
- *   bench_scale [--method exact|graph|fmm|heat] [--threads N] [--max-samples N]
- *               [--heat-refine N|auto] [--max-n N] [MESH|SPEC ...]
+ * fitted exponent of build time (wall, and CPU over all threads) against n
+ * (the paper expects 1.5). Usage:
+ *   bench_scale [--method exact|graph|fmm|heat|dgg] [--threads N] [--max-samples N]
+ *               [--heat-refine N|auto] [--dgg-eps E] [--max-n N] [MESH|SPEC ...]
  * Heat fields are solved on each mesh as it is (--heat-refine 0) unless
  * asked otherwise. */
 #define _DEFAULT_SOURCE /* wait4: the peak memory of each child build */
@@ -161,10 +162,15 @@ static int run_one(const char *what, const gs_build_options *opt, int fd, const 
     }
     gs_db *db = NULL;
     gs_build_stats st;
+    struct rusage r0, r1;
+    getrusage(RUSAGE_SELF, &r0);
     if (gs_db_build(m, opt, &db, &st, &err)) {
         fprintf(stderr, "bench_scale: %s: %s\n", what, err.message);
         return 1;
     }
+    getrusage(RUSAGE_SELF, &r1);
+    double cpu = (double)(r1.ru_utime.tv_sec - r0.ru_utime.tv_sec) + 1e-6 * (double)(r1.ru_utime.tv_usec - r0.ru_utime.tv_usec) +
+                 (double)(r1.ru_stime.tv_sec - r0.ru_stime.tv_sec) + 1e-6 * (double)(r1.ru_stime.tv_usec - r0.ru_stime.tv_usec);
     gs_mesh_free(m);
     gs_db_info info;
     gs_db_get_info(db, &info, &err);
@@ -174,8 +180,9 @@ static int run_one(const char *what, const gs_build_options *opt, int fd, const 
     if (huge >= 0) fprintf(stderr, "%s: while querying, %.0f of %.0f MiB resident on 2 MiB pages\n", what, huge, rss);
     int kept = keep && gs_db_save(db, keep, &err) == GS_OK;
     if (keep && !kept) fprintf(stderr, "bench_scale: %s: not kept for the paired rounds: %s\n", what, err.message);
-    dprintf(fd, "%u %.3f %.3f %.3f %.3f %.1f %.1f %.1f %.1f %.2f %d\n", info.n_vertices, st.seconds_tree,
-            st.seconds_fields, st.seconds_fits, st.seconds_total, info.bytes_per_vertex, qs, qq, qb, info.cost, kept);
+    dprintf(fd, "%u %.3f %.3f %.3f %.3f %.1f %.1f %.1f %.1f %.2f %d %.3f\n", info.n_vertices, st.seconds_tree,
+            st.seconds_fields, st.seconds_fits, st.seconds_total, info.bytes_per_vertex, qs, qq, qb, info.cost, kept,
+            cpu);
     gs_db_free(db);
     return 0;
 }
@@ -313,7 +320,9 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--heat-refine") && i + 1 < argc) {
             const char *v = argv[++i];
             opt.solver.heat_refine = !strcmp(v, "auto") ? GS_HEAT_REFINE_AUTO : (uint32_t)atoi(v);
-        } else if (!strcmp(argv[i], "--max-n") && i + 1 < argc)
+        } else if (!strcmp(argv[i], "--dgg-eps") && i + 1 < argc)
+            opt.solver.dgg_eps = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--max-n") && i + 1 < argc)
             max_n = atof(argv[++i]);
         else if (nl < 32)
             list[nl++] = argv[i];
@@ -325,12 +334,13 @@ int main(int argc, char **argv)
     char refine[16];
     if (opt.solver.heat_refine == GS_HEAT_REFINE_AUTO) snprintf(refine, sizeof refine, "auto");
     else snprintf(refine, sizeof refine, "%u", opt.solver.heat_refine);
-    printf("method %s, threads %u, max_samples %u, field_memory_mib %u, heat_refine %s, OPENBLAS_NUM_THREADS=%s\n",
-           gs_method_name(opt.method), opt.threads, opt.max_samples, opt.field_memory_mib, refine,
+    printf("method %s, threads %u, max_samples %u, field_memory_mib %u, heat_refine %s, dgg_eps %g, "
+           "OPENBLAS_NUM_THREADS=%s\n",
+           gs_method_name(opt.method), opt.threads, opt.max_samples, opt.field_memory_mib, refine, opt.solver.dgg_eps,
            getenv("OPENBLAS_NUM_THREADS") ? getenv("OPENBLAS_NUM_THREADS") : "(unset)");
-    printf("%-16s %9s %8s %9s %8s %9s %9s %8s %9s %9s %9s %6s\n", "mesh", "n", "tree s", "fields s", "fits s",
-           "total s", "peak MiB", "B/vert", "query ns", "seq ns", "batch ns", "cost");
-    double lx[32], ly[32], q0[3] = {0, 0, 0};
+    printf("%-16s %9s %8s %9s %8s %9s %9s %9s %8s %9s %9s %9s %6s\n", "mesh", "n", "tree s", "fields s", "fits s",
+           "total s", "CPU s", "peak MiB", "B/vert", "query ns", "seq ns", "batch ns", "cost");
+    double lx[32], ly[32], lc[32], q0[3] = {0, 0, 0};
     const char *first = NULL;
     int nfit = 0;
     /* the databases, kept in temporary files for the paired rounds: the
@@ -347,14 +357,14 @@ int main(int argc, char **argv)
         ssize_t k = in_child(build_child, &ba, line, sizeof line, &ru);
         unsigned n = 0;
         int kept = 0;
-        double tt, tf, tfi, tot, bpv, qs, qq, qb, cost;
-        if (k <= 0 || sscanf(line, "%u %lf %lf %lf %lf %lf %lf %lf %lf %lf %d", &n, &tt, &tf, &tfi, &tot, &bpv, &qs,
-                             &qq, &qb, &cost, &kept) != 11) {
+        double tt, tf, tfi, tot, bpv, qs, qq, qb, cost, cpu;
+        if (k <= 0 || sscanf(line, "%u %lf %lf %lf %lf %lf %lf %lf %lf %lf %d %lf", &n, &tt, &tf, &tfi, &tot, &bpv, &qs,
+                             &qq, &qb, &cost, &kept, &cpu) != 12) {
             printf("%-16s skipped (see the message above)\n", list[i]);
             continue;
         }
-        printf("%-16s %9u %8.2f %9.2f %8.2f %9.2f %9.1f %8.1f %9.0f %9.0f %9.0f %6.1f\n", list[i], n, tt, tf, tfi,
-               tot, ru.ru_maxrss / 1024.0, bpv, qs, qq, qb, cost);
+        printf("%-16s %9u %8.2f %9.2f %8.2f %9.2f %9.2f %9.1f %8.1f %9.0f %9.0f %9.0f %6.1f\n", list[i], n, tt, tf,
+               tfi, tot, cpu, ru.ru_maxrss / 1024.0, bpv, qs, qq, qb, cost);
         if (!first) first = list[i], q0[0] = qs, q0[1] = qq, q0[2] = qb, have_ref = kept;
         else {
             printf("%-16s query time / %s's: %.2fx single (median), %.2fx sequential (mean), %.2fx batch\n", "",
@@ -368,15 +378,17 @@ int main(int argc, char **argv)
                        r[10], r[11], r[12], r[13], r[14]);
         }
         fflush(stdout);
-        if (n <= max_n && nfit < 32) lx[nfit] = log((double)n), ly[nfit++] = log(tot);
+        if (n <= max_n && nfit < 32) lx[nfit] = log((double)n), lc[nfit] = log(cpu), ly[nfit++] = log(tot);
     }
     if (rfd >= 0) remove(ref);
     if (cfd >= 0) remove(cur);
     if (nfit >= 2) { /* least-squares slope of log(time) against log(n) */
-        double mx = 0, my = 0, sxx = 0, sxy = 0;
-        for (int i = 0; i < nfit; ++i) mx += lx[i] / nfit, my += ly[i] / nfit;
-        for (int i = 0; i < nfit; ++i) sxx += (lx[i] - mx) * (lx[i] - mx), sxy += (lx[i] - mx) * (ly[i] - my);
-        printf("fitted exponent of build time against n: %.2f (paper, Figure 9: 1.5)\n", sxx > 0 ? sxy / sxx : 0);
+        double mx = 0, my = 0, mc = 0, sxx = 0, sxy = 0, sxc = 0;
+        for (int i = 0; i < nfit; ++i) mx += lx[i] / nfit, my += ly[i] / nfit, mc += lc[i] / nfit;
+        for (int i = 0; i < nfit; ++i)
+            sxx += (lx[i] - mx) * (lx[i] - mx), sxy += (lx[i] - mx) * (ly[i] - my), sxc += (lx[i] - mx) * (lc[i] - mc);
+        printf("fitted exponent of build time against n: %.2f wall, %.2f CPU (paper, Figure 9: 1.5)\n",
+               sxx > 0 ? sxy / sxx : 0, sxx > 0 ? sxc / sxx : 0);
     }
     return 0;
 }

@@ -114,6 +114,10 @@ extern const char usage_path[];
 int cmd_sample(int argc, char **argv);
 extern const char usage_sample[];
 
+/* Neighbourhoods (within_cmd.c). */
+int cmd_within(int argc, char **argv);
+extern const char usage_within[];
+
 /* Pictures (render_cmd.c). */
 int cmd_render(int argc, char **argv);
 extern const char usage_render[];

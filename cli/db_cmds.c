@@ -11,7 +11,7 @@ const char usage_build[] =
     "usage: geosep build MESH -o DB [--method exact|graph|fmm|heat|dgg] [--vmax N] [--mmax N] [--tol F]\n"
     "                    [--threads N] [--vertex-sources|--sample-sources] [--sampled] [--seed N]\n"
     "                    [--spacing F] [--max-samples N] [--field-memory MIB] [--heat-time M] [--heat-refine N|auto]\n"
-    "                    [--fmm-start R] [--dgg-eps E] [--no-leaf-exact] [--quiet] [--repair]\n"
+    "                    [--fmm-start R] [--dgg-eps E] [--no-leaf-exact] [--near-radius F] [--quiet] [--repair]\n"
     "  Build a query database (-o or --output DB): nested bisection tree\n"
     "  (leaves of at most --vmax vertices, default 30), distance fields from\n"
     "  every separator sample inside its patch (--method, default exact), and\n"
@@ -30,7 +30,11 @@ const char usage_build[] =
     "  Exact distances between the vertices of each leaf are stored (paper sec.\n"
     "  3.1, matrix D; at most vmax numbers per vertex); --no-leaf-exact answers\n"
     "  same-leaf queries with the Euclidean distance instead (smaller, but off\n"
-    "  by up to 56% on curved leaves; --leaf-exact: the default). --threads:\n"
+    "  by up to 56% on curved leaves; --leaf-exact: the default). Pairs of\n"
+    "  vertices in different leaves nearer than --near-radius mean edge lengths\n"
+    "  (5; twice that from a vertex with an uncertified fit; 0 = none) whose\n"
+    "  answer through the separators is off by more than 2% get their exact\n"
+    "  distance stored (doc/accuracy.md). --threads:\n"
     "  build threads (0 = all cores, the default). --seed: the partitioning\n"
     "  seed (1). --heat-time,\n"
     "  --heat-refine, --fmm-start and --dgg-eps: the field method's parameters (see geosep\n"
@@ -136,6 +140,8 @@ static int build_option(gs_build_options *o, const char **out, int *quiet, int a
     if (!strcmp(a, "--sampled")) return o->sampled = 1, 0;
     if (!strcmp(a, "--leaf-exact")) return o->leaf_exact = 1, 0;
     if (!strcmp(a, "--no-leaf-exact")) return o->leaf_exact = 0, 0;
+    if ((v = opt_value(argc, argv, i, "--near-radius")))
+        return parse_double(v, &o->near_radius) ? fail(EXIT_USAGE, "build: --near-radius '%s' is not a number", v) : 0;
     if (!strcmp(a, "--quiet")) return *quiet = 1, 0;
     if ((v = opt_value(argc, argv, i, "-o")) || (v = opt_value(argc, argv, i, "--output"))) return *out = v, 0;
     if ((v = opt_value(argc, argv, i, "--method"))) {
@@ -198,7 +204,9 @@ static void print_params(const gs_db_info *i)
     printf(", %s sources, vmax %u, mmax %u, tol %g, spacing %g", i->vertex_sources ? "vertex" : "sample", i->vmax,
            i->mmax, i->tol, i->sample_spacing);
     if (i->max_samples) printf(", at most %u samples per curve", i->max_samples);
-    printf(", seed %u%s%s\n", i->seed, i->sampled ? ", sampled (SEPsam)" : "", i->leaf_exact ? ", leaf tables" : "");
+    printf(", seed %u%s%s", i->seed, i->sampled ? ", sampled (SEPsam)" : "", i->leaf_exact ? ", leaf tables" : "");
+    if (i->near_radius > 0) printf(", %llu near pairs within %g", (unsigned long long)i->n_near_pairs, i->near_radius);
+    printf("\n");
 }
 
 int cmd_build(int argc, char **argv)
@@ -253,6 +261,11 @@ int cmd_build(int argc, char **argv)
         printf("certified fits (error <= 2%% at the samples and within their Lipschitz band between them): "
                "all but %llu; the worst %.2f%%\n",
                (unsigned long long)st.n_uncertified, 100 * st.max_fit_error);
+        if (info.near_radius > 0)
+            printf("near pairs (exact, within %g of each other, off by > 2%% through the separators): %llu, "
+                   "%.2f bytes/vertex, %.2f s\n",
+                   info.near_radius, (unsigned long long)info.n_near_pairs,
+                   (double)info.near_bytes / info.n_vertices, st.seconds_near);
         printf("time: tree %.2f s, fields %.2f s, fits %.2f s, write %.2f s, total %.2f s\n", st.seconds_tree,
                st.seconds_fields, st.seconds_fits, tw, st.seconds_total + tw);
         printf("size: %llu bytes, %.1f bytes/vertex, cost %.1f numbers/vertex\n",

@@ -66,9 +66,10 @@ static const char usage_solve[] =
     "  fields its databases reproduce. --fmm-start R: fast\n"
     "  marching starts from exact distances within R mean edge lengths of the\n"
     "  sources (default 4; 0: the plain march from the source vertices).\n"
-    "  --dgg-eps E: dgg (discrete geodesic graph) target relative error, which\n"
-    "  sets the radius of the exact local runs that build the graph (default\n"
-    "  0.001; 1e-5 to 0.5; smaller: slower to build, more accurate).\n"
+    "  --dgg-eps E: dgg (discrete geodesic graph) target relative error: the\n"
+    "  graph is pruned to within 1 + E, and E sets the radius of the exact\n"
+    "  local runs that build it (default 0.001; 1e-5 to 0.5; smaller: slower\n"
+    "  to build, more accurate).\n"
     "  --repair (text output): repair the mesh in memory first (geosep repair\n"
     "  --help; what was done goes to stderr). Ids stay the input's: a source\n"
     "  vertex stands for every vertex it became (a split vertex: all its copies),\n"
@@ -94,6 +95,7 @@ static void print_usage(FILE *f)
             "  query DB --points FILE          ... between surface points (face, weights)\n"
             "  verify DB                       check a database whole (checksums, records)\n"
             "  field DB --source X             distances from X through the database\n"
+            "  within DB X R                   every vertex within distance R of X\n"
             "  sample DB K [--seed S]          farthest-point sampling: K vertex ids\n"
             "  eval DB --groundtruth F.gt      accuracy against exact distances\n"
             "  land MESH --landmarks M ...     the LAND baseline, evaluated\n"
@@ -604,6 +606,7 @@ static const command commands[] = {
     {"query", cmd_query, usage_query},
     {"verify", cmd_verify, usage_verify},
     {"field", cmd_field, usage_field},
+    {"within", cmd_within, usage_within},
     {"sample", cmd_sample, usage_sample},
     {"eval", cmd_eval, usage_eval},
     {"land", cmd_land, usage_land},

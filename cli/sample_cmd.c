@@ -13,8 +13,10 @@ const char usage_sample[] =
     "  infinitely far, so every component is sampled first; ties go to the\n"
     "  lowest id; vertices used by no face are never chosen). Prints the K\n"
     "  vertex ids in order, one per line, to OUT (written atomically) or\n"
-    "  stdout. K may not exceed the vertices used by faces. Costs K distance\n"
-    "  fields (geosep field) and 16 bytes per vertex.\n";
+    "  stdout. K may not exceed the vertices used by faces. Costs a distance\n"
+    "  field for the first sample (and each component's first), then for each\n"
+    "  sample the vertices within its distance to the ones before (geosep\n"
+    "  within), and 16 bytes per vertex.\n";
 
 int cmd_sample(int argc, char **argv)
 {

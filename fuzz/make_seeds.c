@@ -324,6 +324,7 @@ int main(int argc, char **argv)
     database("grid:6,4", "grid-sampled", 0, 1);
     repaired_database(&(soup){"bowtie", 12, 2, grid_xyz, bowtie});
     repaired_database(&(soup){"seam", 12, 8, grid_xyz, seam});
+    database("knot:40,8", "knot-near-pairs", 1, 0); /* 42 near pairs: section 'near_pairs' with entries */
 
     /* mode byte (see fuzz_cli_input.c), then the text */
     FILE *f = open_seed("fuzz_cli_input", "pairs");

@@ -408,19 +408,22 @@ typedef struct gs_solver_options {
                             /*   or GS_HEAT_REFINE_AUTO (gs_heat_refine_auto   */
                             /*   of the patch's vertex count; gs_db_build: of  */
                             /*   the whole mesh's, and its default)            */
-    double dgg_eps;         /* dgg: target relative error; sets the radius of  */
-                            /*   the local exact runs (gs_dgg_radius) [1e-3],  */
-                            /*   in [GS_DGG_EPS_MIN, GS_DGG_EPS_MAX]            */
+    double dgg_eps;         /* dgg: target relative error: sets the radius of  */
+                            /*   the local exact runs (gs_dgg_radius), and the */
+                            /*   graph is pruned to within 1 + eps of the      */
+                            /*   unpruned one [1e-3], in [GS_DGG_EPS_MIN,      */
+                            /*   GS_DGG_EPS_MAX]                                */
 } gs_solver_options;
 
 /* Range of gs_solver_options.dgg_eps. */
 #define GS_DGG_EPS_MIN 1e-5
 #define GS_DGG_EPS_MAX 0.5
 
-/* The radius, in mean edge lengths of the patch, of the local exact runs
+/* The radius R, in mean edge lengths of the patch, of the local exact runs
  * that build a dgg graph for target error eps: every pair of vertices
- * within this distance (inside the patch) is joined by a graph path of
- * exactly its geodesic length. Pure function, thread-safe. */
+ * within R (inside the patch) is joined by a graph path of at most
+ * (1 + eps) times its geodesic length, and a solver's fields are exact
+ * within 3 R of each source. Pure function, thread-safe. */
 GS_API double gs_dgg_radius(double eps);
 
 /* Range of gs_solver_options.heat_time. Values below the default 1 only
@@ -531,8 +534,9 @@ GS_API void gs_path_free(gs_path *path);
  * of threads at once. */
 typedef struct gs_db gs_db;
 
-/* Progress callback: stage name ("tree", "fields", "leaves", "write") and the
- * fraction done in [0,1]. Called from the building thread only. */
+/* Progress callback: stage name ("tree", "graph" (GS_METHOD_DGG only),
+ * "fields", "leaves", "near", "write") and the fraction done in [0,1].
+ * Called from the building thread only. */
 typedef void (*gs_progress_fn)(void *user, const char *stage, double fraction);
 
 typedef struct gs_build_options {
@@ -553,6 +557,13 @@ typedef struct gs_build_options {
                              /*   answer same-leaf pairs with the Euclidean    */
                              /*   distance, which underestimates on curved     */
                              /*   leaves (bunny-5k: 56%) [1]                   */
+    double near_radius;      /* near pairs, in mean edge lengths: every pair  */
+                             /*   of vertices in different leaves nearer than  */
+                             /*   this (twice this from a vertex with an       */
+                             /*   uncertified fit, see gs_build_stats) whose   */
+                             /*   answer through the separators is off by more */
+                             /*   than 2% gets its exact distance stored       */
+                             /*   (section 'near_pairs'); 0: none [5]          */
     uint32_t seed;           /* partitioning seed [1]                          */
     double sample_spacing;   /* separator sample spacing / mean edge length    */
                              /*   [0.5]                                        */
@@ -596,6 +607,9 @@ typedef struct gs_build_stats {
                              /*   with the smallest is kept; doc/accuracy.md)  */
     double max_fit_error;    /* the largest such error over all fits           */
     double mean_fit_error;   /* mean relative error of the fits on the samples */
+    uint64_t n_near_pairs;   /* near pairs stored (near_radius)                */
+    double seconds_near;     /* their exact fields and checks (also counted    */
+                             /*   in seconds_fields)                           */
 } gs_build_stats;
 
 /* Build a database in memory. stats may be NULL. *out receives a new
@@ -664,6 +678,10 @@ typedef struct gs_db_info {
     gs_solver_options solver;  /* the field method's parameters (heat_refine  */
                                /*   as used: never GS_HEAT_REFINE_AUTO; 0     */
                                /*   for methods other than heat)              */
+    double near_radius;        /* near pairs: the radius (mesh units; 0: no   */
+                               /*   section) and how many are stored          */
+    uint64_t n_near_pairs;
+    uint64_t near_bytes;       /* the section's size                          */
 } gs_db_info;
 
 GS_API int gs_db_get_info(const gs_db *db, gs_db_info *info, gs_error *err);
@@ -678,8 +696,80 @@ GS_API double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y);
 GS_API int gs_db_distances(const gs_db *db, const uint32_t *pairs, size_t n, double *out,
                     gs_error *err);
 
-/* Distances from x to every vertex (out: n_vertices doubles). */
+/* Distances from x to every vertex (out: n_vertices doubles), each equal
+ * bit for bit to gs_db_distance(db, x, y). x's separator functions are
+ * decoded and tabulated once and shared by all targets. GS_EARG for a NULL
+ * argument or x out of range; GS_ENOMEM if the work array (about 1 KB per
+ * separator function of x, freed before returning) cannot be allocated.
+ * Thread-safe (the database is only read). */
 GS_API int gs_db_field(const gs_db *db, uint32_t x, double *out, gs_error *err);
+
+/* ---- Neighbourhoods (src/query/within.c, radius.c) --------------------- */
+
+/* Vertices and their database distances from one vertex, by increasing
+ * distance (ties: lower id first); dist[i] == gs_db_distance(db, x, ids[i])
+ * bit for bit. Owned by the caller: gs_neighbors_free (accepts NULL). */
+typedef struct gs_neighbors {
+    size_t n;        /* entries                                             */
+    uint32_t *ids;   /* n vertex ids                                        */
+    double *dist;    /* n distances                                         */
+} gs_neighbors;
+
+GS_API void gs_neighbors_free(gs_neighbors *nb);
+
+/* Every vertex y with gs_db_distance(db, x, y) <= r (x itself included,
+ * at 0; vertices used by no face never, unless y == x), by increasing
+ * distance: exactly the vertices of the thresholded gs_db_field. Whole
+ * subtrees of the bisection tree are skipped with lower bounds taken from
+ * the file (the stored minima of the separator functions, and bounding
+ * spheres), so the cost grows with the answer, not with n_vertices. The
+ * first call on a database computes these bounds for every tree node (one
+ * pass over every vertex's stored minima, about the time of one
+ * gs_db_field; 4 bytes per function of each node's root path, plus 52
+ * bytes per node and 4 per vertex: 0.9 MB for 60,000 vertices) and keeps
+ * them until gs_db_free.
+ * r: a number >= 0 (+INFINITY: every vertex at a finite distance, i.e.
+ * connected to x; unreachable vertices are never listed). *out: new
+ * result (gs_neighbors_free), NULL on error. GS_EARG for a NULL argument,
+ * x out of range or a bad r; GS_ENOMEM. Thread-safe (threads racing for
+ * the first call each compute the bounds, one is kept). */
+GS_API int gs_db_within(const gs_db *db, uint32_t x, double r, gs_neighbors **out, gs_error *err);
+
+/* The k nearest to x among candidates[0..n_candidates) (database
+ * distances; a repeated candidate counts once): min(k, distinct
+ * candidates) entries by increasing distance, ties to the lower id;
+ * unreachable candidates come last at +INFINITY (a corrupt, unverified
+ * file's NaN answers count as +INFINITY). Candidates are answered in
+ * increasing order of the lower bounds gs_db_within uses, until the bound
+ * exceeds the k-th distance found. *out: new result (gs_neighbors_free),
+ * NULL on error. GS_EARG for a NULL argument or an id out of range (the
+ * message names the candidate); GS_ENOMEM. Thread-safe. */
+GS_API int gs_db_nearest(const gs_db *db, uint32_t x, const uint32_t *candidates, size_t n_candidates, size_t k,
+                         gs_neighbors **out, gs_error *err);
+
+/* A sparse matrix in compressed sparse rows (scipy.sparse.csr_matrix's
+ * layout): row i's entries are indices/data[indptr[i] .. indptr[i+1]),
+ * columns increasing within a row. Owned by the caller: gs_csr_free
+ * (accepts NULL). */
+typedef struct gs_csr {
+    uint32_t n_rows, n_cols;
+    uint64_t nnz;       /* entries: indptr[n_rows]                          */
+    uint64_t *indptr;   /* n_rows + 1                                       */
+    uint32_t *indices;  /* nnz column ids                                   */
+    double *data;       /* nnz values                                       */
+} gs_csr;
+
+GS_API void gs_csr_free(gs_csr *m);
+
+/* The radius matrix of many sources: row i holds gs_db_within(db,
+ * sources[i], r) by increasing vertex id (n_rows = n_sources, n_cols =
+ * n_vertices). Rows are computed on `threads` OpenMP threads (0: the
+ * library's default count); the result does not depend on the count.
+ * *out: new matrix (gs_csr_free), NULL on error. GS_EARG for a NULL
+ * argument, a bad r or a source out of range (named); GS_ENOMEM.
+ * Thread-safe (the database is only read). */
+GS_API int gs_db_radius_matrix(const gs_db *db, const uint32_t *sources, uint32_t n_sources, double r,
+                               uint32_t threads, gs_csr **out, gs_error *err);
 
 /* Borrowed: the vertex positions the database was built from (3 *
  * n_vertices doubles, x y z per vertex), valid while db lives; NULL if db
@@ -788,8 +878,15 @@ GS_API int gs_db_point_field(const gs_db *db, const gs_surface_point *p, double 
  * vertex ids (caller's array). GS_EARG if k exceeds the number of vertices
  * used by faces, seed_vertex is out of range or used by no face, or an
  * argument is NULL; GS_ENOMEM if the work arrays cannot be allocated.
- * Cost: k calls of gs_db_field; memory: 2 x n_vertices doubles, freed
- * before returning. Thread-safe (the database is only read). */
+ * Cost: a gs_db_field while some vertex is unreached from every sample so
+ * far (the first sample; one per component), then for each sample a
+ * gs_db_within of the distance of that sample to the ones before (only
+ * the vertices within it can come closer): far below a field each once
+ * the samples spread out. Memory: 2 x n_vertices doubles, freed before
+ * returning. Thread-safe (the database is only read). */
+GS_API int gs_db_farthest_point_sampling(const gs_db *db, uint32_t k, uint32_t seed_vertex, uint32_t *out,
+                                         gs_error *err);
+
 /* ---- Queries by input vertex id (src/query/input.c; doc/repair.md) ------
  * A database built from a repaired mesh (gs_build_options.repair, geosep
  * build --repair) stores where every input vertex went: input vertex v
@@ -826,9 +923,6 @@ GS_API int gs_db_input_distances(const gs_db *db, const uint32_t *pairs, size_t 
  * arrays (8 bytes per repaired vertex, 16 when x has several aliases; freed
  * before returning) cannot be allocated. Thread-safe. */
 GS_API int gs_db_input_field(const gs_db *db, uint32_t x, double *out, gs_error *err);
-
-GS_API int gs_db_farthest_point_sampling(const gs_db *db, uint32_t k, uint32_t seed_vertex, uint32_t *out,
-                                         gs_error *err);
 
 /* ---- Paths from a database (src/query/db_path.c, doc/paths.md) --------- */
 

@@ -1,5 +1,5 @@
 /* test_approx_db.c - databases of approximate fields (issue 4, the paper's
- * second experiment): a database built with --method fmm or heat, with the
+ * second experiment): a database built with --method fmm, heat or dgg, with the
  * default options, reproduces that method's own whole-mesh fields to the
  * paper's ME <= 0.5% and RMSE <= 1.1%. On bunny-5k and stanford-bunny from
  * ../shared (every source of their ground-truth files; stanford-bunny is
@@ -152,6 +152,8 @@ int main(void)
     generated("peaks:40", GS_METHOD_HEAT, 0.008, 0.015);
     generated("torus:60,30", GS_METHOD_HEAT, 0.010, 0.012);
     generated("plate:1400", GS_METHOD_HEAT, 0.0095, 0.013);
+    generated("peaks:40", GS_METHOD_DGG, 0.004, 0.0055);
+    generated("torus:60,30", GS_METHOD_DGG, 0.0021, 0.0028);
     if (!gs__test_shared_path("meshes/bunny-5k.obj"))
         printf("shared data absent (no meshes/bunny-5k.obj): bunny-5k and stanford-bunny skipped\n");
     else {

@@ -55,7 +55,7 @@ run help
 { [ "$rc" -eq 0 ] && grep -q "usage: geosep" "$T/out"; }; verdict "help exits 0"
 run help solve
 { [ "$rc" -eq 0 ] && grep -q -- "--sources-from" "$T/out"; }; verdict "help solve"
-for c in info generate subdivide solve repair sample; do
+for c in info generate subdivide solve repair sample within; do
     run "$c" --help
     { [ "$rc" -eq 0 ] && grep -q "usage: geosep $c" "$T/out"; }; verdict "$c --help"
 done
@@ -560,6 +560,35 @@ expect_fail 2 "not a count" "sample: bad K" sample "$T/grid.gsdb" x
 expect_fail 2 "need DB K" "sample: missing K" sample "$T/grid.gsdb"
 expect_fail 2 "unknown or incomplete option" "sample: unknown option" sample "$T/grid.gsdb" 2 --k 3
 expect_fail 1 "nope.gsdb" "sample: missing database" sample "$T/nope.gsdb" 2
+
+# ---- within (neighbourhoods) -------------------------------------------------
+# the thresholded field: "id distance" of every vertex of f0.txt at most R,
+# by distance then id
+thresholded() { awk -v r="$1" '$1 != "inf" && $1 + 0 <= r + 0 { printf "%d %s\n", NR - 1, $1 }' "$T/f0.txt" | sort -s -k2,2g -k1,1n; }
+R=$(sed -n 60p "$T/f0.txt")
+run within "$T/grid.gsdb" 0 "$R"
+{ [ "$rc" -eq 0 ] && [ -s "$T/out" ] && [ "$(head -1 "$T/out")" = "0 0" ] && thresholded "$R" | cmp -s - "$T/out"; }
+verdict "within: the vertices of the field at most R (R a field value: its vertex included), by distance"
+run within "$T/grid.gsdb" 0 0.3 -o "$T/w.txt"
+{ [ "$rc" -eq 0 ] && [ ! -s "$T/out" ] && thresholded 0.3 | cmp -s - "$T/w.txt"; }; verdict "within -o: written to the file"
+run within "$T/grid.gsdb" 0 0
+{ [ "$rc" -eq 0 ] && [ "$(cat "$T/out")" = "0 0" ]; }; verdict "within: R = 0 gives X alone"
+run within "$T/grid.gsdb" 0 inf
+{ [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/out")" -eq 400 ] && [ "$(tail -1 "$T/out")" = "399 $(sed -n 400p "$T/f0.txt")" ]; }
+verdict "within: R = inf lists every vertex, the farthest last"
+run within "$T/two_s.gsdb" 0 inf
+{ [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/out")" -gt 1 ] && ! grep -q inf "$T/out" && [ "$(wc -l <"$T/out")" -lt "$("$BIN" field "$T/two_s.gsdb" --source 0 | wc -l)" ]; }
+verdict "within: R = inf stops at X's component"
+expect_fail 2 "R '-1' is not a distance" "within: negative R" within "$T/grid.gsdb" 0 -1
+expect_fail 2 "R 'nan' is not a distance" "within: R nan" within "$T/grid.gsdb" 0 nan
+expect_fail 2 "R '1x' is not a distance" "within: R not a number" within "$T/grid.gsdb" 0 1x
+expect_fail 2 "X 'a' is not a vertex id" "within: X not an id" within "$T/grid.gsdb" a 1
+expect_fail 2 "vertex 400 out of range \(the database has 400\)" "within: X out of range" within "$T/grid.gsdb" 400 1
+expect_fail 2 "need DB X R" "within: missing R" within "$T/grid.gsdb" 0
+expect_fail 2 "unexpected argument" "within: one argument too many" within "$T/grid.gsdb" 0 1 2
+expect_fail 2 "unknown or incomplete option" "within: unknown option" within "$T/grid.gsdb" --k 3 0 1
+expect_fail 1 "nope.gsdb" "within: missing database" within "$T/nope.gsdb" 0 1
+{ [ ! -e "$T/w2.txt" ]; run within "$T/grid.gsdb" 400 1 -o "$T/w2.txt"; [ ! -e "$T/w2.txt" ]; }; verdict "within: a failure leaves no file"
 
 # ---- path (exact paths) ------------------------------------------------------
 run generate grid:5,5 -o "$T/g55.obj"

@@ -3,9 +3,14 @@
  * bounds everywhere, within the error targets), agreement with the exact
  * solver on curved generated meshes and on patches (d_P), surface-point
  * sources, several sources, max_distance, options, thread independence,
- * and the shared ground truth (skipped with a reason when absent).
- * GEOSEP_QUICK=1: shared meshes over 40k vertices are skipped. */
+ * the pruning's guarantee (within 1 + eps of the unpruned graph), views
+ * of a whole mesh's graph on a patch (the builder's), and the shared
+ * ground truth: every source of every file within the targets ME 0.1% and
+ * max 1% (skipped with a reason when absent).
+ * GEOSEP_QUICK=1: shared meshes over 20k vertices are skipped, the others
+ * checked from their first 4 sources. */
 #include "check.h"
+#include "geodesic/geodesic_internal.h"
 #include "geosep.h"
 
 #include <math.h>
@@ -258,6 +263,140 @@ static void test_options_threads(void)
     gs_mesh_free(m);
 }
 
+/* Pruning: the pruned graph's fields lie within 1 + eps of the unpruned
+ * graph's (and never below them: it is a subgraph, the same start), with
+ * fewer edges; both are exact within the start radius (3 R) and upper
+ * bounds of the exact distances. Threads: the same graph and fields for 1
+ * and 3 construction threads. */
+static void test_prune(const char *spec, double eps)
+{
+    gs_error err;
+    gs_mesh *m = NULL;
+    gs_patch *p = NULL;
+    gs_solver *se = NULL, *sp = NULL, *sf = NULL, *s3 = NULL;
+    CHECK(gs_mesh_generate(spec, &m, &err) == GS_OK);
+    CHECK(gs_patch_create(m, NULL, 0, &p, &err) == GS_OK);
+    gs_solver_options o;
+    gs_solver_options_default(&o);
+    o.dgg_eps = eps;
+    CHECK(gs_solver_create(p, GS_METHOD_EXACT, &se, &err) == GS_OK);
+    CHECK(gs__solver_create_dgg(p, &o, 1, 1, NULL, &sp, &err) == GS_OK);
+    CHECK(gs__solver_create_dgg(p, &o, 1, 0, NULL, &sf, &err) == GS_OK);
+    CHECK(gs__solver_create_dgg(p, &o, 3, 1, NULL, &s3, &err) == GS_OK);
+    gs__dgg_stats a, b, c;
+    CHECK(gs__solver_dgg_info(sp, &a, &err) == GS_OK && gs__solver_dgg_info(sf, &b, &err) == GS_OK &&
+          gs__solver_dgg_info(s3, &c, &err) == GS_OK);
+    CHECK(gs__solver_dgg_info(se, &c, &err) == GS_EARG);
+    CHECK(gs__solver_dgg_info(s3, &c, &err) == GS_OK);
+    CHECK_MSG(a.candidates == b.candidates && b.edges == b.candidates && a.edges < b.edges,
+              "%s: %llu candidates, %llu / %llu edges", spec, (unsigned long long)a.candidates,
+              (unsigned long long)a.edges, (unsigned long long)b.edges);
+    CHECK(c.edges == a.edges && c.candidates == a.candidates);
+    uint32_t nv = gs_mesh_num_vertices(m);
+    double *de = malloc(nv * sizeof *de), *dp = malloc(nv * sizeof *dp), *df = malloc(nv * sizeof *df),
+           *d3 = malloc(nv * sizeof *d3);
+    uint32_t srcs[4];
+    CHECK(gs_mesh_random_vertices(m, 4, 3, srcs, &err) == GS_OK);
+    uint32_t bad_eps = 0, bad_sub = 0, bad_start = 0, below = 0, differ = 0;
+    double worst = 0;
+    for (int j = 0; j < 4; ++j) {
+        gs_source src = gs_source_vertex(srcs[j]);
+        CHECK(gs_solver_solve(se, &src, 1, 0, de, &err) == GS_OK);
+        CHECK(gs_solver_solve(sp, &src, 1, 0, dp, &err) == GS_OK);
+        CHECK(gs_solver_solve(sf, &src, 1, 0, df, &err) == GS_OK);
+        CHECK(gs_solver_solve(s3, &src, 1, 0, d3, &err) == GS_OK);
+        differ += memcmp(dp, d3, nv * sizeof *dp) != 0;
+        for (uint32_t v = 0; v < nv; ++v) {
+            if (dp[v] > (1 + eps) * df[v] * (1 + 1e-12)) bad_eps++;
+            if (dp[v] < df[v] * (1 - 1e-12)) bad_sub++;
+            if (df[v] < de[v] * (1 - 1e-10)) below++;
+            if (de[v] <= 3 * a.radius * 0.999 && fabs(dp[v] - de[v]) > 1e-9 * (1 + de[v])) bad_start++;
+            if (df[v] > 0) worst = fmax(worst, dp[v] / df[v] - 1);
+        }
+    }
+    printf("%-16s eps %g: %.1f candidates, %.1f edges per vertex; pruned / unpruned - 1 <= %.5f%%\n", spec, eps,
+           (double)a.candidates / nv, (double)a.edges / nv, 100 * worst);
+    CHECK_MSG(bad_eps == 0, "%s: %u values above (1 + eps) x unpruned", spec, bad_eps);
+    CHECK_MSG(bad_sub == 0, "%s: %u values below the unpruned graph's", spec, bad_sub);
+    CHECK_MSG(below == 0, "%s: %u values below the exact distance", spec, below);
+    CHECK_MSG(bad_start == 0, "%s: %u vertices within 3 R not exact", spec, bad_start);
+    CHECK_MSG(differ == 0, "%s: 1 and 3 construction threads give different fields", spec);
+    free(de), free(dp), free(df), free(d3);
+    gs_solver_free(se), gs_solver_free(sp), gs_solver_free(sf), gs_solver_free(s3);
+    gs_patch_free(p);
+    gs_mesh_free(m);
+}
+
+/* Views (what gs_db_build does): the whole grid's graph, restricted to a
+ * patch with a wall cut out. A view's edges may cross the wall's gap (their
+ * geodesics leave the patch), so its fields lie between d_M (Euclidean here)
+ * and d_P, never below d_M; every patch vertex is reached; sizes checked. */
+static void test_view(void)
+{
+    gs_error err;
+    gs_mesh *m = NULL;
+    gs_patch *whole = NULL, *p = NULL, *tiny = NULL;
+    gs_solver *sw = NULL, *sv = NULL, *sc = NULL, *se = NULL, *st = NULL;
+    CHECK(gs_mesh_generate("grid:40,40", &m, &err) == GS_OK);
+    const double *x = gs_mesh_positions(m);
+    const uint32_t *f = gs_mesh_faces(m);
+    uint32_t nf = gs_mesh_num_faces(m), k = 0;
+    uint32_t *keep = malloc(nf * sizeof *keep);
+    for (uint32_t i = 0; i < nf; ++i) {
+        double cx = 0, cy = 0;
+        for (int c = 0; c < 3; ++c) cx += x[3 * f[3 * i + c]] / 3, cy += x[3 * f[3 * i + c] + 1] / 3;
+        if (!(cx > 0.47 && cx < 0.53 && cy < 0.8)) keep[k++] = i; /* grid:40,40 spans [0,1]^2 */
+    }
+    CHECK(k < nf);
+    CHECK(gs_patch_create(m, NULL, 0, &whole, &err) == GS_OK);
+    CHECK(gs_patch_create(m, keep, k, &p, &err) == GS_OK);
+    CHECK(gs_patch_create(m, keep, 6, &tiny, &err) == GS_OK); /* binary-search map */
+    CHECK(gs__solver_create_dgg(whole, NULL, 2, 1, NULL, &sw, &err) == GS_OK);
+    CHECK(gs__solver_dgg_view(sw, p, &sv, &err) == GS_OK);
+    CHECK(gs__solver_clone(sv, &sc, &err) == GS_OK);
+    CHECK(gs__solver_dgg_view(sw, tiny, &st, &err) == GS_OK);
+    CHECK(gs__solver_dgg_view(sv, p, &se, &err) == GS_EARG && se == NULL); /* a view of a view */
+    CHECK(gs_solver_create(p, GS_METHOD_EXACT, &se, &err) == GS_OK);
+    uint32_t nv = gs_patch_num_vertices(p);
+    double *dv = malloc(nv * sizeof *dv), *dc = malloc(nv * sizeof *dc), *dp = malloc(nv * sizeof *dp);
+    uint32_t s0 = gs_patch_vertex_from_mesh(p, 0);
+    gs_source src = gs_source_vertex(s0);
+    CHECK(gs_solver_solve(sv, &src, 1, 0, dv, &err) == GS_OK);
+    CHECK(gs_solver_solve(sc, &src, 1, 0, dc, &err) == GS_OK);
+    CHECK(gs_solver_solve(se, &src, 1, 0, dp, &err) == GS_OK);
+    CHECK(memcmp(dv, dc, nv * sizeof *dv) == 0);
+    uint32_t below_m = 0, above_p = 0, unreached = 0, shorter = 0;
+    const double *x0 = x + 3 * (size_t)0;
+    for (uint32_t v = 0; v < nv; ++v) {
+        uint32_t mv = gs_patch_vertex_to_mesh(p, v);
+        double e = dist3(x + 3 * (size_t)mv, x0);
+        if (!isfinite(dv[v])) unreached++;
+        if (dv[v] < e * (1 - 1e-12)) below_m++;
+        if (dv[v] > dp[v] * 1.01) above_p++;
+        if (dv[v] < dp[v] * (1 - 1e-6)) shorter++;
+    }
+    printf("view of a grid's graph on a patch with a wall: %u of %u vertices shorter than d_P (edges across the gap)\n",
+           shorter, nv);
+    CHECK_MSG(unreached == 0 && below_m == 0 && above_p == 0, "view: %u unreached, %u below d_M, %u above 1.01 d_P",
+              unreached, below_m, above_p);
+    /* the tiny patch: its own vertices only */
+    uint32_t nt = gs_patch_num_vertices(tiny);
+    double *dt = malloc(nt * sizeof *dt);
+    gs_source s1 = gs_source_vertex(0);
+    CHECK(gs_solver_solve(st, &s1, 1, 0, dt, &err) == GS_OK);
+    uint32_t bad_t = 0;
+    for (uint32_t v = 0; v < nt; ++v) {
+        double e = dist3(x + 3 * (size_t)gs_patch_vertex_to_mesh(tiny, v), x + 3 * (size_t)gs_patch_vertex_to_mesh(tiny, 0));
+        if (!(fabs(dt[v] - e) <= 1e-12 * (1 + e))) bad_t++; /* within R: exact */
+    }
+    CHECK_MSG(bad_t == 0, "tiny view: %u of %u vertices not exact", bad_t, nt);
+    free(dt);
+    free(keep), free(dv), free(dc), free(dp);
+    gs_solver_free(sc), gs_solver_free(sv), gs_solver_free(st), gs_solver_free(se), gs_solver_free(sw);
+    gs_patch_free(tiny), gs_patch_free(p), gs_patch_free(whole);
+    gs_mesh_free(m);
+}
+
 static int test_shared_mesh(const char *name, int quick)
 {
     char obj[4096], gtp[4096];
@@ -273,7 +412,7 @@ static int test_shared_mesh(const char *name, int quick)
         CHECK_MSG(0, "%s: %s", obj, err.message);
         return 0;
     }
-    if (quick && gs_mesh_num_vertices(m) > 40000) {
+    if (quick && gs_mesh_num_vertices(m) > 20000) { /* the graph: ~0.3 ms of CPU per vertex */
         printf("%-16s skipped (GEOSEP_QUICK, %u vertices)\n", name, gs_mesh_num_vertices(m));
         goto done;
     }
@@ -286,7 +425,7 @@ static int test_shared_mesh(const char *name, int quick)
     CHECK(nv == gs_mesh_num_vertices(m));
     if (nv != gs_mesh_num_vertices(m)) goto done;
     d = malloc(nv * sizeof *d);
-    uint32_t n_src = gt->n_sources < 4 ? gt->n_sources : 4;
+    uint32_t n_src = quick && gt->n_sources > 4 ? 4 : gt->n_sources;
     double me = 0, mx = 0;
     uint32_t below = 0;
     for (uint32_t j = 0; j < n_src; ++j) {
@@ -303,12 +442,11 @@ static int test_shared_mesh(const char *name, int quick)
         me += fe.me / n_src;
         if (fe.max > mx) mx = fe.max;
     }
-    printf("%-16s %6u vertices %u sources  dgg ME %.5f%%  max %.4f%%\n", name, nv, n_src, 100 * me, 100 * mx);
+    printf("%-16s %6u vertices %2u sources  dgg ME %.5f%%  max %.4f%%\n", name, nv, n_src, 100 * me, 100 * mx);
     CHECK_MSG(below == 0, "%s: %u values below the ground truth", name, below);
+    /* the targets of issue 20 at the default eps */
     CHECK_MSG(me < 1e-3, "%s: dgg ME %g", name, me);
-    /* the issue's target is 1%; rocker-arm (coarse, uneven triangles) has
-     * sources up to 1.6% at the default eps (doc/approximate-fields.md) */
-    CHECK_MSG(mx < (strcmp(name, "rocker-arm") ? 1e-2 : 2e-2), "%s: dgg max %g", name, mx);
+    CHECK_MSG(mx < 1e-2, "%s: dgg max %g", name, mx);
     tested = 1;
 done:
     free(d);
@@ -346,6 +484,9 @@ int main(void)
     test_vs_exact("peaks:40", 1e-3);
     test_patch();
     test_options_threads();
+    test_prune("torus:60,24", 1e-3);
+    test_prune("sphere:4", 1e-2);
+    test_view();
     test_shared();
     return gs__test_finish("test_dgg");
 }

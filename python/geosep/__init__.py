@@ -12,6 +12,7 @@ microsecond each::
     db.save("bunny.gsdb")
     d = db.distance(0, 100)                       # float
     D = db.pairwise([0, 1, 2])                    # (3, 3) array
+    ids, dist = db.within(0, 0.05)                # every vertex within 0.05
     exact = geosep.distance_field(mesh, 0)        # (n,) exact distances
     path = geosep.geodesic_path(mesh, 0, 100)     # (k, 3) exact shortest path
     geosep.render(mesh, exact, separators=db, path="bunny.png")

@@ -93,11 +93,12 @@ static void on_progress(void *user, const char *stage, double fraction)
 
 static PyObject *stats_dict(const gs_build_stats *s)
 {
-    return Py_BuildValue("{s:d,s:d,s:d,s:d,s:K,s:K,s:d,s:K,s:d}", "seconds_tree", s->seconds_tree, "seconds_fields",
-                         s->seconds_fields, "seconds_fits", s->seconds_fits, "seconds_total", s->seconds_total,
-                         "n_fields", (unsigned long long)s->n_fields, "n_functions",
+    return Py_BuildValue("{s:d,s:d,s:d,s:d,s:K,s:K,s:d,s:K,s:d,s:K,s:d}", "seconds_tree", s->seconds_tree,
+                         "seconds_fields", s->seconds_fields, "seconds_fits", s->seconds_fits, "seconds_total",
+                         s->seconds_total, "n_fields", (unsigned long long)s->n_fields, "n_functions",
                          (unsigned long long)s->n_functions, "mean_degree", s->mean_degree, "n_over_tol",
-                         (unsigned long long)s->n_over_tol, "mean_fit_error", s->mean_fit_error);
+                         (unsigned long long)s->n_over_tol, "mean_fit_error", s->mean_fit_error, "n_near_pairs",
+                         (unsigned long long)s->n_near_pairs, "seconds_near", s->seconds_near);
 }
 
 static PyObject *wrap_db(PyTypeObject *type, gs_db *db, PyObject *mesh)
@@ -134,15 +135,16 @@ static PyObject *db_build(PyObject *cls, PyObject *args, PyObject *kwargs)
 {
     static char *kw[] = {"mesh",         "method",     "threads", "progress",  "vmax",        "mmax",
                          "tol",          "spacing",    "vertex_sources", "sampled", "leaf_exact", "seed",
-                         "max_samples",  "field_memory", "heat_time", "heat_refine", "fmm_start", "dgg_eps", NULL};
+                         "max_samples",  "field_memory", "heat_time", "heat_refine", "fmm_start", "dgg_eps",
+                         "near_radius", NULL};
     PyObject *mesh, *method = NULL, *threads = NULL, *progress = Py_False, *vmax = NULL, *mmax = NULL, *tol = NULL,
                     *spacing = NULL, *vertex_sources = NULL, *sampled = NULL, *leaf_exact = NULL, *seed = NULL,
                     *max_samples = NULL, *field_memory = NULL, *heat_time = NULL, *heat_refine = NULL,
-                    *fmm_start = NULL, *dgg_eps = NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O!|OOO$OOOOOOOOOOOOOO:build", kw, &gspy_MeshType, &mesh, &method,
+                    *fmm_start = NULL, *dgg_eps = NULL, *near_radius = NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O!|OOO$OOOOOOOOOOOOOOO:build", kw, &gspy_MeshType, &mesh, &method,
                                      &threads, &progress, &vmax, &mmax, &tol, &spacing, &vertex_sources, &sampled,
                                      &leaf_exact, &seed, &max_samples, &field_memory, &heat_time, &heat_refine,
-                                     &fmm_start, &dgg_eps))
+                                     &fmm_start, &dgg_eps, &near_radius))
         return NULL;
     gs_build_options o;
     gs_build_options_default(&o);
@@ -151,6 +153,7 @@ static PyObject *db_build(PyObject *cls, PyObject *args, PyObject *kwargs)
         gspy_opt_u32(vmax, o.vmax, "vmax", &o.vmax) < 0 || gspy_opt_u32(mmax, o.mmax, "mmax", &o.mmax) < 0 ||
         gspy_opt_double(tol, o.tol, "tol", &o.tol) < 0 ||
         gspy_opt_double(spacing, o.sample_spacing, "spacing", &o.sample_spacing) < 0 ||
+        gspy_opt_double(near_radius, o.near_radius, "near_radius", &o.near_radius) < 0 ||
         opt_bool(sampled, &o.sampled) < 0 || opt_bool(leaf_exact, &o.leaf_exact) < 0 ||
         opt_bool(vertex_sources, &o.vertex_sources) < 0 || gspy_opt_u32(seed, o.seed, "seed", &o.seed) < 0 ||
         gspy_opt_u32(max_samples, o.max_samples, "max_samples", &o.max_samples) < 0 ||
@@ -251,7 +254,8 @@ static PyObject *db_info(gspy_Database *self, PyObject *Py_UNUSED(ignored))
     int rc = gs_db_get_info(self->db, &i, &err);
     if (rc) return gspy_raise(rc, &err, GSPY_CTX_DB, NULL, 0);
     const char *method = gs_method_name(i.method);
-    return Py_BuildValue("{s:I,s:I,s:I,s:I,s:I,s:d,s:I,s:d,s:d,s:K,s:s,s:I,s:I,s:d,s:O,s:O,s:O,s:d,s:I,s:I,s:d,s:I,s:d,s:d,s:I}",
+    return Py_BuildValue("{s:I,s:I,s:I,s:I,s:I,s:d,s:I,s:d,s:d,s:K,s:s,s:I,s:I,s:d,s:O,s:O,s:O,s:d,s:I,s:I,s:d,s:I,s:d,s:d,s:I,"
+                         "s:d,s:K}",
                          "format_version", i.format_version, "n_vertices", i.n_vertices, "n_nodes", i.n_nodes,
                          "n_leaves", i.n_leaves, "n_curves", i.n_curves, "avg_depth", i.avg_depth, "max_depth",
                          i.max_depth, "cost", i.cost, "bytes_per_vertex", i.bytes_per_vertex, "file_bytes",
@@ -261,7 +265,8 @@ static PyObject *db_info(gspy_Database *self, PyObject *Py_UNUSED(ignored))
                          "spacing", i.sample_spacing, "seed", i.seed, "max_samples", i.max_samples, "heat_time",
                          i.solver.heat_time, "heat_refine", i.solver.heat_refine, "fmm_start",
                          i.solver.fmm_exact_start, "dgg_eps", i.solver.dgg_eps, "n_input_vertices",
-                         gs_db_num_input_vertices(self->db));
+                         gs_db_num_input_vertices(self->db), "near_radius", i.near_radius, "n_near_pairs",
+                         (unsigned long long)i.n_near_pairs);
 }
 
 static PyObject *db_get_n_vertices(gspy_Database *self, void *Py_UNUSED(closure))
@@ -314,7 +319,8 @@ static PyGetSetDef db_getset[] = {
     {"build_stats", (getter)db_get_stats, NULL,
      "For a database built in this process, a dict of the build's figures\n"
      "(seconds_tree, seconds_fields, seconds_fits, seconds_total, n_fields,\n"
-     "n_functions, mean_degree, n_over_tol, mean_fit_error); else None.",
+     "n_functions, mean_degree, n_over_tol, mean_fit_error, n_near_pairs,\n"
+     "seconds_near); else None.",
      NULL},
     {NULL, NULL, NULL, NULL, NULL}};
 
@@ -335,7 +341,8 @@ static PyMethodDef db_methods[] = {
      "  values, False), leaf_exact (exact distances inside leaves, False),\n"
      "  seed (partitioning seed, 1), max_samples (per curve, 192; 0: no cap),\n"
      "  field_memory (MiB per block of fields, 384), heat_time, heat_refine\n"
-     "  (0..3 or \"auto\", the default), fmm_start, dgg_eps (method \"dgg\").\n"
+     "  (0..3 or \"auto\", the default), fmm_start, dgg_eps (method \"dgg\"),\n"
+     "  near_radius (mean edge lengths, 5; 0: no near pairs; doc/accuracy.md).\n"
      "A Mesh made with repair=True gives a database that also answers by the\n"
      "input's vertex ids (input_distance, input_field).\n"
      "An unknown option raises TypeError, a value out of range ValueError. The\n"
@@ -361,10 +368,12 @@ static PyMethodDef db_methods[] = {
      "and the build's parameters: method, vmax, mmax, tol, vertex_sources,\n"
      "sampled, leaf_exact, spacing, seed, max_samples, heat_time, heat_refine,\n"
      "fmm_start, dgg_eps (method \"dgg\"; 0 for the others), n_input_vertices\n"
-     "(input_distance)."},
+     "(input_distance), near_radius (mesh units; 0: none) and n_near_pairs (the\n"
+     "exact distances stored for near pairs)."},
     GSPY_DB_QUERY_METHODS,
     GSPY_DB_PATH_METHODS,
     GSPY_DB_INPUT_METHODS,
+    GSPY_DB_WITHIN_METHODS,
     {NULL, NULL, 0, NULL}};
 
 PyTypeObject gspy_DatabaseType = {

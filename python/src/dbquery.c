@@ -347,8 +347,9 @@ const char gspy_db_farthest_point_sampling_doc[] =
     "seed; each next one is the vertex farthest from the samples so far (a\n"
     "vertex of a component without a sample yet counts as infinitely far, so\n"
     "every component is sampled first); ties go to the lowest id; vertices used\n"
-    "by no face are never chosen. Costs k fields (field()). ValueError if k\n"
-    "exceeds the vertices used by faces or seed is used by no face, IndexError\n"
+    "by no face are never chosen. Costs a field() per component, then a\n"
+    "within() per sample (of its distance to the samples before). ValueError if\n"
+    "k exceeds the vertices used by faces or seed is used by no face, IndexError\n"
     "for a seed out of range. Runs without the GIL.";
 
 PyObject *gspy_db_farthest_point_sampling(PyObject *self_obj, PyObject *args, PyObject *kwargs)

@@ -166,4 +166,17 @@ extern const char gspy_db_input_distance_doc[], gspy_db_input_field_doc[], gspy_
             gspy_db_point_distance_doc                                                                        \
     }
 
+/* dbwithin.c: neighbourhoods, methods of Database */
+PyObject *gspy_db_within(PyObject *self, PyObject *args);
+PyObject *gspy_db_nearest(PyObject *self, PyObject *args);
+PyObject *gspy_db_radius_matrix(PyObject *self, PyObject *args, PyObject *kwargs);
+extern const char gspy_db_within_doc[], gspy_db_nearest_doc[], gspy_db_radius_matrix_doc[];
+#define GSPY_DB_WITHIN_METHODS                                                                                \
+    {"within", (PyCFunction)gspy_db_within, METH_VARARGS, gspy_db_within_doc},                                \
+        {"nearest", (PyCFunction)gspy_db_nearest, METH_VARARGS, gspy_db_nearest_doc},                         \
+    {                                                                                                         \
+        "radius_matrix", (PyCFunction)(void (*)(void))gspy_db_radius_matrix, METH_VARARGS | METH_KEYWORDS,    \
+            gspy_db_radius_matrix_doc                                                                         \
+    }
+
 #endif /* GEOSEP_PY_H */

@@ -235,6 +235,12 @@ def test_build_options(plane):
     assert (i["method"], i["vmax"], i["mmax"], i["tol"], i["spacing"], i["seed"], i["max_samples"]) == (
         "fmm", 12, 8, 0.01, 1.0, 4, 32)
     assert i["vertex_sources"] and i["leaf_exact"] and not i["sampled"] and i["fmm_start"] == 2.0
+    assert i["near_radius"] > 0 and i["n_near_pairs"] >= 0  # near pairs by default
+    assert db.build_stats["n_near_pairs"] == i["n_near_pairs"]
+    n0 = geosep.Database.build(plane, vmax=12, near_radius=0).info()
+    assert n0["near_radius"] == 0 and n0["n_near_pairs"] == 0
+    with pytest.raises(ValueError, match="near_radius"):
+        geosep.Database.build(plane, near_radius=-1)
     h = geosep.Database.build(plane, method="heat", heat_time=2.0, heat_refine=1, sampled=True).info()
     assert (h["method"], h["heat_time"], h["heat_refine"], h["sampled"]) == ("heat", 2.0, 1, True)
     with pytest.raises(TypeError, match="vmaxx"):
@@ -259,13 +265,13 @@ def test_progress(plane, capsys):
     # one line per stage, in order; the build reports "fields" only from its
     # own thread, which may get no node of a small mesh
     assert stages[0] == "tree" and stages[-1] == "write" and stages == sorted(
-        stages, key=["tree", "fields", "leaves", "write"].index)
+        stages, key=["tree", "fields", "leaves", "near", "write"].index)
     assert all(ln.startswith("\r") and ln.rstrip().endswith("s") and "100%" in ln.split("\r")[-1] for ln in lines)
     calls = []
     geosep.Database.build(plane, progress=lambda stage, f: calls.append((stage, f)))
     assert capsys.readouterr().err == ""
     assert calls[0] == ("tree", 0.0) and calls[-1] == ("write", 1.0)
-    assert {s for s, _ in calls} <= {"tree", "fields", "leaves", "write"}
+    assert {s for s, _ in calls} <= {"tree", "fields", "leaves", "near", "write"}
 
     def fail(stage, f):
         raise RuntimeError("stop here")

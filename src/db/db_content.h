@@ -8,6 +8,7 @@
 #define GS_DB_CONTENT_H
 
 #include "../fit/fun.h"
+#include "db_near.h"
 #include "format.h"
 
 typedef struct gs__db_curve {
@@ -47,6 +48,12 @@ typedef struct gs__db_content {
     uint32_t n_input;             /* <= nv                                   */
     const uint32_t *alias_start;  /* n_input + 1                             */
     const uint32_t *alias;
+    /* Optional exact distances of near pairs (section 'near_pairs'):
+     * near_radius > 0 writes the section with near_pairs[0..n_near),
+     * sorted by x then y (db_near.h); 0: no section. */
+    double near_radius;
+    const gs__near_pair *near_pairs;
+    uint64_t n_near;
     /* build parameters, recorded in the file */
     uint32_t method;              /* gs_method                               */
     uint32_t vmax, mmax;

@@ -6,6 +6,7 @@
 #define GS_DB_INTERNAL_H
 
 #include "db_content.h"
+#include "db_near.h"
 #include "format.h"
 
 #include <stddef.h>
@@ -43,6 +44,11 @@ struct gs_db {
     /* input-id aliases (NULL without) */
     const gs__db_alias_head *alias_index; /* alias_exceptions + 1          */
     const uint32_t *alias_list;
+    gs__db_near near;              /* near.start NULL without the section   */
+    /* data a later stage derives from the file on first use and keeps (the
+     * neighbourhood bounds of src/query/within.c): NULL until then; set
+     * once with an atomic compare-and-swap; gs_db_free calls its free */
+    struct gs__db_derived *derived;
 };
 
 /* Vertex x's number in its leaf (leaf tables present). */
@@ -50,6 +56,11 @@ static inline uint32_t gs__db_leaf_local(const gs_db *db, uint32_t x)
 {
     return db->leaf_local8 ? db->leaf_local8[x] : db->leaf_local16[x];
 }
+
+/* The head of such derived data. */
+typedef struct gs__db_derived {
+    void (*free)(struct gs__db_derived *self);
+} gs__db_derived;
 
 /* Vertex x's record: its nf minima (float) then its function blocks;
  * *end receives the byte after it. Guaranteed in bounds by the structural

@@ -167,7 +167,11 @@ static int check_table(reader *r, const unsigned char *b, uint64_t size, int ver
         if (o != off)
             return BAD(r, "%s: section '%s': offset %llu (expected %llu)", r->name, SEC(s), (unsigned long long)o,
                        (unsigned long long)off);
-        if (sz != want[s])
+        if (s == GS__SEC_NEAR) { /* sized by its own head (db_near.c checks it) */
+            if (sz % 8 || sz > size - off)
+                return BAD(r, "%s: section '%s': size %llu (a multiple of 8 within the file's %llu bytes)", r->name,
+                           SEC(s), (unsigned long long)sz, (unsigned long long)size);
+        } else if (sz != want[s])
             return BAD(r, "%s: section '%s': size %llu disagrees with the header counts (expected %llu)", r->name,
                        SEC(s), (unsigned long long)sz, (unsigned long long)want[s]);
         if (sz > size - off)
@@ -547,6 +551,7 @@ static int check_values(reader *r)
     for (uint32_t x = 0; x < db->nv && !rc; ++x) rc = check_record(r, x, path);
     free(path);
     if (!rc) rc = check_leaf_values(r);
+    if (!rc) rc = gs__db_near_verify(&db->near, db->nv, r->name, r->err);
     return rc;
 }
 
@@ -595,6 +600,9 @@ static int validate(reader *r, const unsigned char *b, uint64_t size, int verify
     if (!rc) rc = check_index(r);
     if (!rc) rc = check_leaf_structure(r);
     if (!rc) rc = check_aliases(r);
+    if (!rc && r->sec[GS__SEC_NEAR])
+        rc = gs__db_near_attach(r->sec[GS__SEC_NEAR], r->sec_size[GS__SEC_NEAR], r->db->nv, r->name, &r->db->near,
+                                r->err);
     if (!rc && verify) rc = check_values(r);
     return rc;
 }
@@ -680,6 +688,7 @@ int gs_db_verify(const gs_db *db, gs_error *err)
 void gs_db_free(gs_db *db)
 {
     if (!db) return;
+    if (db->derived) db->derived->free(db->derived);
     if (db->mapped) munmap(db->storage, db->storage_size);
     else free(db->storage);
     free(db);
@@ -708,6 +717,9 @@ int gs_db_get_info(const gs_db *db, gs_db_info *info, gs_error *err)
     info->vertex_sources = (db->build_flags & GS__DB_BUILD_VERTEX_SOURCES) != 0;
     info->sampled = (db->build_flags & GS__DB_BUILD_SAMPLED) != 0;
     info->leaf_exact = db->leaf_nodes != NULL;
+    info->near_radius = db->near.start ? db->near.radius : 0.0;
+    info->n_near_pairs = db->near.n;
+    info->near_bytes = db->near.start ? gs__db_near_bytes(db->nv, db->near.n) : 0;
     info->sample_spacing = db->sample_spacing;
     info->seed = db->seed;
     info->max_samples = db->max_samples;

@@ -448,10 +448,13 @@ int gs__db_pack(const gs__db_content *c, gs_db **out, gs_error *err)
         cn.flags |= GS__DB_FLAG_LEAF_EXACT | (local16 ? GS__DB_FLAG_LEAF_LOCAL16 : 0);
     if (!rc && c->n_input && !(rc = alias_plan(c, &cn.alias_exceptions, &cn.alias_entries, err)))
         cn.flags |= GS__DB_FLAG_ALIASES;
+    if (c->near_radius > 0) cn.flags |= GS__DB_FLAG_NEAR;
     uint64_t size[GS__SEC_MAX + 1];
     uint32_t ids[GS__SEC_MAX], n_sec = gs__db_section_ids(cn.flags, ids);
     if (!rc && !gs__db_layout(&cn, size))
         rc = gs__fail(err, GS_ELIMIT, "database: too many records or leaf entries");
+    if (!rc && (cn.flags & GS__DB_FLAG_NEAR) && !(size[GS__SEC_NEAR] = gs__db_near_bytes(c->nv, c->n_near)))
+        rc = gs__fail(err, GS_ELIMIT, "database: %llu near pairs", (unsigned long long)c->n_near);
     uint64_t total = GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * n_sec;
     for (uint32_t e = 0; e < n_sec && !rc; ++e) total += size[ids[e]];
     if (!rc && total > SIZE_MAX) rc = gs__fail(err, GS_ELIMIT, "database: %llu bytes", (unsigned long long)total);
@@ -471,6 +474,8 @@ int gs__db_pack(const gs__db_content *c, gs_db **out, gs_error *err)
             encode_vertex(c, grid, fcurve, x, sec[GS__SEC_RECORDS] + 8 * (uint64_t)index[x], &unused, &unused_bad);
         if (tables) write_leaf_tables(sec, c, local16);
         if (cn.flags & GS__DB_FLAG_ALIASES) write_aliases(sec, c);
+        if (cn.flags & GS__DB_FLAG_NEAR)
+            gs__db_near_write(sec[GS__SEC_NEAR], c->nv, c->near_radius, c->near_pairs, c->n_near);
         write_table(buf, sec, size, ids, n_sec);
         rc = gs__db_attach(buf, (size_t)total, 0, "built database", 0, out, err);
         if (rc) free(buf);

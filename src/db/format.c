@@ -96,7 +96,7 @@ int gs__db_host_little_endian(void)
 
 const char *const gs__db_section_name[GS__SEC_MAX + 1] = {
     "?",          "positions",  "leaves", "nodes",       "curves",    "vertex_index",
-    "records",    "leaf_nodes", "leaf_local", "leaf_q", "alias_index", "alias_list"};
+    "records",    "leaf_nodes", "leaf_local", "leaf_q", "alias_index", "alias_list", "near_pairs"};
 
 uint32_t gs__db_section_ids(uint32_t flags, uint32_t ids[GS__SEC_MAX])
 {
@@ -106,6 +106,7 @@ uint32_t gs__db_section_ids(uint32_t flags, uint32_t ids[GS__SEC_MAX])
         for (uint32_t s = GS__SEC_LEAF_NODES; s <= GS__SEC_LEAF_Q; ++s) ids[n++] = s;
     if (flags & GS__DB_FLAG_ALIASES)
         for (uint32_t s = GS__SEC_ALIAS_INDEX; s <= GS__SEC_ALIAS_LIST; ++s) ids[n++] = s;
+    if (flags & GS__DB_FLAG_NEAR) ids[n++] = GS__SEC_NEAR;
     return n;
 }
 

@@ -23,7 +23,8 @@
 #define GS__DB_FLAG_LEAF_EXACT 1u   /* leaf tables: sections 7-9            */
 #define GS__DB_FLAG_LEAF_LOCAL16 2u /* leaf_local holds u16 (else u8)       */
 #define GS__DB_FLAG_ALIASES 4u      /* input-id aliases: sections 10-11     */
-#define GS__DB_FLAGS_KNOWN 7u
+#define GS__DB_FLAG_NEAR 8u         /* near pairs: section 12 (db_near.h)   */
+#define GS__DB_FLAGS_KNOWN 15u
 #define GS__DB_BUILD_VERTEX_SOURCES 1u
 #define GS__DB_BUILD_SAMPLED 2u
 /* bits 2-3: gs_solver_options.heat_refine */
@@ -81,7 +82,8 @@ enum {
     GS__SEC_LEAF_Q,
     GS__SEC_ALIAS_INDEX, /* flags bit 2 */
     GS__SEC_ALIAS_LIST,
-    GS__SEC_MAX = GS__SEC_ALIAS_LIST
+    GS__SEC_NEAR,        /* flags bit 3: near pairs (db_near.h)          */
+    GS__SEC_MAX = GS__SEC_NEAR
 };
 
 /* Section names for messages, by id (0 unused). */
@@ -265,7 +267,8 @@ typedef struct gs__db_counts {
 } gs__db_counts;
 
 /* Sizes in bytes of sections 1..GS__SEC_MAX (size[0] unused) from the
- * header counts; 0 for the sections the flags leave out. Returns 0 if a
+ * header counts; 0 for the sections the flags leave out, and for
+ * 'near_pairs', which describes its own size (db_near.h). Returns 0 if a
  * size would exceed 2^62. */
 int gs__db_layout(const gs__db_counts *c, uint64_t size[GS__SEC_MAX + 1]);
 

@@ -1,33 +1,51 @@
 /* dgg.c - GS_METHOD_DGG: a discrete geodesic graph (after Wang, Fang, Wu,
- * Xin and He 2017) built once per solver from bounded runs of the exact
- * solver; each field is then a Dijkstra over the graph.
+ * Xin and He 2017, pruned as in Adikusuma, Fang and He 2020) built once
+ * from bounded runs of the exact solver; each field is then a Dijkstra
+ * over the graph.
  *
- * Construction. For every vertex v of the patch, one exact window
- * propagation from v bounded to the radius R_v = max(R, longest edge at v),
- * R = gs_dgg_radius(eps) mean edge lengths. Every vertex u reached within
- * R_v whose shortest path from v is straight (it leaves v and reaches u
- * without bending at a vertex) becomes an edge v -> u weighted by the exact
- * distance. A vertex whose shortest path bends at a saddle or boundary
- * vertex w is left out: d(v,u) = d(v,w) + d(w,u) with both parts shorter,
- * so by induction on the distance the graph holds a path of exactly
- * d(v,u) for every pair within R_v (the lossless pruning; rounding aside).
+ * Candidates. For every vertex v, one exact window propagation from v
+ * bounded to the radius R_v = max(R, longest edge at v), R =
+ * gs_dgg_radius(eps) mean edge lengths (scaled up where v's edges are
+ * longer than the mean), with the rays straight from v only (no windows
+ * from saddle or boundary vertices: gs__exact_solve_local_ex, direct_only;
+ * 1.6 times faster). Every vertex u it reaches within R_v by a straight
+ * path becomes a candidate edge v -> u of that path's length: exact when
+ * the shortest path from v to u is straight; otherwise the length of a
+ * longer straight path, a real path all the same. A pair whose shortest
+ * path bends at a vertex w has d(v,u) = d(v,w) + d(w,u) with both parts
+ * shorter, so by induction on the distance the candidate graph C holds a
+ * path of exactly d(v,u) for every pair within R_v (lossless; rounding
+ * aside).
  *
- * Guarantee. Every graph path is a real path on the patch, so fields are
- * upper bounds of the exact distances inside the patch (d_P: the local runs
- * are on the patch, so no edge leaves it). Pairs within R are exact. A
- * longer geodesic is followed by a chain of straight pieces between
- * vertices, each of length about R; where it crosses faces (not through
- * vertices) each hop deviates from it by at most about half an edge, which
- * costs a relative (h / R)^2 / 2 or so per hop: this is how eps sets R.
- * That bound is measured (doc/approximate-fields.md), not proven: needle
- * triangles or very uneven edge lengths widen it.
+ * Pruning (eps). Each vertex v then keeps a subset K_v of its candidates,
+ * taken in order of increasing length: u is dropped when some x already
+ * kept gives d(v,x) + (1 + eps) c(x,u) <= (1 + eps) d(v,u), c(x,u) the
+ * candidate x -> u; mesh edges are always kept. By induction on d(v,u)
+ * (c(x,u) < d(v,u)) the pruned graph G then joins every candidate pair by
+ * a path of at most (1 + eps) times its length, and so every pair of
+ * vertices by at most (1 + eps) times its distance in C: G(a,b) <= (1 + eps)
+ * C(a,b). Each vertex's choice reads only candidate lists, so the graph does
+ * not depend on the thread count or the order of the vertices.
  *
- * Surface-point sources: one bounded exact run from the point seeds the
- * Dijkstra with the exact distances of the vertices it reaches straight.
+ * Guarantee. Every graph path is a real path on the surface, so fields are
+ * upper bounds of the exact distances. Pairs within R are within (1 + eps)
+ * of exact (C is exact there). A longer geodesic is followed in C by a
+ * chain of straight pieces between vertices, each about R long; where it
+ * crosses faces (not through vertices) each piece deviates from it by up
+ * to about half an edge, which costs a relative (h / R)^2 / 2 or so per
+ * piece: this part is measured (doc/approximate-fields.md), not proven.
  *
- * Threads: the local runs are split over OpenMP threads (one exact solver
- * each); every vertex's edge list depends only on its own run, so the graph
- * is the same for any thread count. */
+ * Patches. A solver created on a patch builds the patch's own graph (its
+ * local runs stay in the patch: fields are upper bounds of d_P). A view
+ * (gs__dgg_view) runs the Dijkstra of a larger patch's graph restricted to
+ * a sub-patch's vertices: the database builder makes one graph for the
+ * whole mesh and a view per tree node; an edge between two vertices of the
+ * node may then follow a geodesic that leaves the node's patch, so a
+ * view's fields lie between d_M and (about) d_P, never below d_M.
+ *
+ * Surface-point sources: one bounded exact run from the point (on the
+ * solver's patch) seeds the Dijkstra with the exact distances of the
+ * vertices it reaches straight. */
 #include "../core/heap.h"
 #include "geodesic_internal.h"
 
@@ -38,21 +56,39 @@
 #include <omp.h>
 #endif
 
-typedef struct dgg_edge {
-    uint32_t to;
-    double w;
-} dgg_edge;
+/* Fields are exact within this many R of each source (dgg_solve): one
+ * bounded exact run per source; most of the largest relative errors of
+ * graph paths are at one to two R (two hops) and go with it. */
+#define DGG_START 3.0
+
+#ifndef DGG_DIRECT
+#define DGG_DIRECT 1
+#endif
+
+/* The pruned graph of a patch (ids of that patch). */
+typedef struct dgg_graph {
+    uint32_t nv;
+    uint64_t *start; /* nv + 1: CSR offsets     */
+    uint32_t *to;    /* kept edges: target      */
+    double *w;       /*             length      */
+    uint64_t n_cand; /* candidate edges         */
+    double radius;   /* R, absolute              */
+    double eps;
+    double seconds;  /* construction, wall      */
+} dgg_graph;
 
 typedef struct dgg_state {
-    const gs__topo *t;
-    double radius;       /* R, absolute                                  */
-    uint64_t *start;     /* nv + 1: CSR offsets                          */
-    dgg_edge *e;         /* edges                                        */
+    const gs__topo *t;     /* the solver's patch (local ids)                  */
+    const dgg_graph *g;    /* the graph (of this patch, or of a larger one)   */
+    dgg_graph *own;        /* g, when this state owns it                      */
+    const uint32_t *p2m;   /* local -> graph vertex; NULL: the same ids       */
+    uint32_t *m2p;         /* graph vertex -> local or GS_NONE; NULL: bsearch */
+    int own_m2p;
+    double start;          /* exact start radius of vertex sources, in R:   */
+                           /*   <= 1: none (the graph is exact within R)    */
     gs__iheap heap;
-    void *ex;            /* exact solver for surface-point sources (lazy) */
-    double *exd;         /* its nv scratch distances, all +INFINITY       */
-    double build_seconds;
-    int shared;          /* start / e belong to the state this was cloned from */
+    void *ex;              /* exact solver for surface-point sources (lazy)   */
+    double *exd;           /* its nv scratch distances, all +INFINITY         */
 } dgg_state;
 
 double gs_dgg_radius(double eps)
@@ -64,41 +100,54 @@ double gs_dgg_radius(double eps)
     return r;
 }
 
-static void dgg_destroy(void *state)
+static void graph_free(dgg_graph *g)
 {
-    dgg_state *g = state;
     if (!g) return;
-    if (!g->shared) {
-        free(g->start);
-        free(g->e);
-    }
-    gs__iheap_free(&g->heap);
-    if (g->ex) gs__exact_ops.destroy(g->ex);
-    free(g->exd);
+    free(g->start);
+    free(g->to);
+    free(g->w);
     free(g);
 }
 
-static int cmp_edge(const void *a, const void *b)
+static void dgg_destroy(void *state)
 {
-    const dgg_edge *x = a, *y = b;
+    dgg_state *s = state;
+    if (!s) return;
+    graph_free(s->own);
+    if (s->own_m2p) free(s->m2p);
+    gs__iheap_free(&s->heap);
+    if (s->ex) gs__exact_ops.destroy(s->ex);
+    free(s->exd);
+    free(s);
+}
+
+typedef struct cand {
+    uint32_t to;
+    double w;
+} cand;
+
+static int cmp_w(const void *a, const void *b)
+{
+    const cand *x = a, *y = b;
+    if (x->w != y->w) return x->w < y->w ? -1 : 1;
     return (x->to > y->to) - (x->to < y->to);
 }
 
 /* The straight vertices of the last local run within r (not `self`), sorted
- * by id, into *out (malloc'd) / *n; the touched distances are reset. */
+ * by length, into *out (malloc'd) / *n; the touched distances are reset. */
 static int collect(const void *ex, uint32_t self, double r, double *dist, const uint32_t *tv, uint32_t ntv,
-                   dgg_edge **out, uint32_t *n)
+                   cand **out, uint32_t *n)
 {
-    dgg_edge *l = malloc((ntv ? ntv : 1) * sizeof *l);
+    cand *l = malloc((ntv ? ntv : 1) * sizeof *l);
     uint32_t k = 0;
     for (uint32_t i = 0; i < ntv; ++i) {
         uint32_t u = tv[i];
         double du = dist[u];
-        if (l && u != self && du <= r && gs__exact_straight(ex, self, u, du)) l[k++] = (dgg_edge){u, du};
+        if (l && u != self && du <= r && gs__exact_straight(ex, self, u, du)) l[k++] = (cand){u, du};
     }
     for (uint32_t i = 0; i < ntv; ++i) dist[tv[i]] = INFINITY;
     if (!l) return GS_ENOMEM;
-    qsort(l, k, sizeof *l, cmp_edge);
+    qsort(l, k, sizeof *l, cmp_w);
     *out = l;
     *n = k;
     return GS_OK;
@@ -124,37 +173,107 @@ static double dgg_vertex_radius(const gs__topo *t, double r, double hbar, uint32
     return r * (1 + 1e-9);
 }
 
-static int dgg_create(const gs__topo *t, const gs_solver_options *opt, void **state, gs_error *err)
+/* Keep K_v (header comment) from v's candidates lists[v] (sorted by
+ * length, all within rv): into *out (malloc'd) / *nk. best: nv doubles, all
+ * +INFINITY (restored); nbr: nv bytes, all 0 (restored); touched: nv. */
+static int prune_vertex(const gs__topo *t, uint32_t v, double rv, double eps, cand *const *lists,
+                        const uint32_t *cnt, double *best, uint8_t *nbr, uint32_t *touched, cand **out,
+                        uint32_t *nk)
+{
+    const cand *c = lists[v];
+    uint32_t n = cnt[v];
+    cand *kept = malloc((n ? n : 1) * sizeof *kept);
+    if (!kept) return GS_ENOMEM;
+    for (uint32_t k = t->vc_start[v]; k < t->vc_start[v + 1]; ++k) {
+        uint32_t h = t->vc[k];
+        nbr[t->tri[gs__next(h)]] = 1;
+        nbr[t->tri[gs__prev(h)]] = 1;
+    }
+    uint32_t k = 0, ntouched = 0;
+    const double f = 1 + eps, lim = f * rv;
+    for (uint32_t i = 0; i < n; ++i) {
+        uint32_t u = c[i].to;
+        double du = c[i].w;
+        if (!nbr[u] && best[u] <= f * du) continue; /* covered through a kept vertex */
+        kept[k++] = c[i];
+        /* what u offers v's farther candidates (lists[u] by length; only
+         * values <= (1 + eps) rv can cover one) */
+        const cand *cu = lists[u];
+        for (uint32_t j = 0; j < cnt[u]; ++j) {
+            double val = du + f * cu[j].w;
+            if (val > lim) break;
+            uint32_t y = cu[j].to;
+            if (val < best[y]) {
+                if (best[y] == INFINITY) touched[ntouched++] = y;
+                best[y] = val;
+            }
+        }
+    }
+    for (uint32_t i = 0; i < ntouched; ++i) best[touched[i]] = INFINITY;
+    for (uint32_t kk = t->vc_start[v]; kk < t->vc_start[v + 1]; ++kk) {
+        uint32_t h = t->vc[kk];
+        nbr[t->tri[gs__next(h)]] = 0;
+        nbr[t->tri[gs__prev(h)]] = 0;
+    }
+    cand *sh = realloc(kept, (k ? k : 1) * sizeof *sh);
+    *out = sh ? sh : kept;
+    *nk = k;
+    return GS_OK;
+}
+
+/* Progress: phase 1 (local runs) is 90% of the work, phase 2 (pruning) 10%. */
+static void report(const gs__dgg_progress *p, double frac)
+{
+    if (p && p->fn) p->fn(p->user, frac);
+}
+
+int gs__dgg_build(const gs__topo *t, double eps, int prune, uint32_t nthreads, const gs__dgg_progress *progress,
+                  void **graph_out, gs_error *err)
 {
     double t0 = gs__now();
-    dgg_state *g = gs__calloc(1, sizeof *g);
-    if (!g) return gs__fail(err, GS_ENOMEM, "out of memory creating a dgg solver");
-    g->t = t;
+    *graph_out = NULL;
+    dgg_graph *g = gs__calloc(1, sizeof *g);
+    if (!g) return gs__fail(err, GS_ENOMEM, "out of memory creating a dgg graph");
     uint32_t nv = t->nv;
     size_t nh = 3 * (size_t)t->nf;
     double sum = 0;
     for (size_t h = 0; h < nh; ++h) sum += t->len[h];
     double hbar = nh ? sum / (double)nh : 0;
-    g->radius = gs_dgg_radius(opt->dgg_eps) * hbar;
+    g->nv = nv;
+    g->eps = eps;
+    g->radius = gs_dgg_radius(eps) * hbar;
     g->start = gs__calloc((size_t)nv + 1, sizeof *g->start);
-    dgg_edge **lists = gs__calloc(nv ? nv : 1, sizeof *lists);
+    cand **lists = gs__calloc(nv ? nv : 1, sizeof *lists);
     uint32_t *cnt = gs__calloc(nv ? nv : 1, sizeof *cnt);
-    if (!g->start || !lists || !cnt || gs__iheap_init(&g->heap, nv)) {
-        free(lists);
-        free(cnt);
-        dgg_destroy(g);
-        return gs__fail(err, GS_ENOMEM, "out of memory creating a dgg solver");
+    cand **kept = gs__calloc(nv ? nv : 1, sizeof *kept);
+    uint32_t *kcnt = gs__calloc(nv ? nv : 1, sizeof *kcnt);
+    if (!g->start || !lists || !cnt || !kept || !kcnt) {
+        free(lists), free(cnt), free(kept), free(kcnt);
+        graph_free(g);
+        return gs__fail(err, GS_ENOMEM, "out of memory creating a dgg graph");
     }
     int status = GS_OK;
     uint32_t bad_v = GS_NONE;
     gs_error first = {0};
-#pragma omp parallel
+    uint64_t done = 0;
+    int nthr = nthreads ? (int)nthreads : 0;
+#ifdef _OPENMP
+    if (!nthr) nthr = omp_get_max_threads();
+#else
+    nthr = 1;
+#endif
+    report(progress, 0);
+#pragma omp parallel num_threads(nthr)
     {
         void *ex = NULL;
         gs_error e = {0};
-        int rc = gs__exact_ops.create(t, opt, &ex, &e);
+        gs_solver_options eo;
+        gs_solver_options_default(&eo);
+        int rc = gs__exact_ops.create(t, &eo, &ex, &e);
         double *dist = rc ? NULL : malloc((nv ? nv : 1) * sizeof *dist);
-        if (!rc && !dist) rc = gs__fail(&e, GS_ENOMEM, "out of memory creating a dgg solver");
+        uint8_t *nbr = rc ? NULL : calloc(nv ? nv : 1, 1);
+        uint32_t *touched = rc ? NULL : malloc((nv ? nv : 1) * sizeof *touched);
+        if (!rc && (!dist || !nbr || !touched)) rc = gs__fail(&e, GS_ENOMEM, "out of memory creating a dgg graph");
         if (rc) {
 #pragma omp critical(gs__dgg_err)
             {
@@ -165,137 +284,294 @@ static int dgg_create(const gs__topo *t, const gs_solver_options *opt, void **st
         }
         if (dist)
             for (uint32_t v = 0; v < nv; ++v) dist[v] = INFINITY;
+        int tid = 0;
+#ifdef _OPENMP
+        tid = omp_get_thread_num();
+#endif
+        /* phase 1: candidates */
 #pragma omp for schedule(dynamic, 64)
         for (int64_t iv = 0; iv < (int64_t)nv; ++iv) {
             uint32_t v = (uint32_t)iv;
-            if (rc || t->vc_start[v] == t->vc_start[v + 1]) continue;
-            double rv = dgg_vertex_radius(t, g->radius, hbar, v);
-            gs_source s = gs_source_vertex(v);
-            const uint32_t *tv;
-            uint32_t ntv;
-            rc = gs__exact_solve_local(ex, &s, rv, dist, &tv, &ntv, &e);
-            if (!rc && collect(ex, v, rv, dist, tv, ntv, &lists[v], &cnt[v]))
-                rc = gs__fail(&e, GS_ENOMEM, "out of memory building the dgg graph");
+            if (!rc && t->vc_start[v] < t->vc_start[v + 1]) {
+                double rv = dgg_vertex_radius(t, g->radius, hbar, v);
+                gs_source s = gs_source_vertex(v);
+                const uint32_t *tv;
+                uint32_t ntv;
+                rc = gs__exact_solve_local_ex(ex, &s, rv, DGG_DIRECT, dist, &tv, &ntv, &e);
+                if (!rc && collect(ex, v, rv, dist, tv, ntv, &lists[v], &cnt[v]))
+                    rc = gs__fail(&e, GS_ENOMEM, "out of memory building the dgg graph");
+                if (rc) {
+#pragma omp critical(gs__dgg_err)
+                    if (bad_v == GS_NONE || v < bad_v) {
+                        bad_v = v;
+                        status = rc;
+                        first = e;
+                    }
+                }
+            }
+            if ((v & 63) == 63) {
+                uint64_t d;
+#pragma omp atomic capture
+                d = done += 64;
+                if (tid == 0) report(progress, 0.9 * (double)d / (nv ? nv : 1));
+            }
+        }
+        if (ex) gs__exact_ops.destroy(ex);
+        ex = NULL;
+        free(dist);
+        dist = NULL;
+        /* phase 2: pruning (reads every candidate list; the barrier of the
+         * loop above makes them complete) */
+        double *best = NULL;
+        if (!rc && prune) {
+            best = malloc((nv ? nv : 1) * sizeof *best);
+            if (!best) rc = gs__fail(&e, GS_ENOMEM, "out of memory pruning the dgg graph");
+            else
+                for (uint32_t v = 0; v < nv; ++v) best[v] = INFINITY;
             if (rc) {
 #pragma omp critical(gs__dgg_err)
-                if (bad_v == GS_NONE || v < bad_v) {
-                    bad_v = v;
+                {
                     status = rc;
                     first = e;
+                    bad_v = 0;
                 }
             }
         }
-        free(dist);
-        if (ex) gs__exact_ops.destroy(ex);
+#pragma omp for schedule(dynamic, 64)
+        for (int64_t iv = 0; iv < (int64_t)nv; ++iv) {
+            uint32_t v = (uint32_t)iv;
+            if (rc || !prune) continue;
+            double rv = dgg_vertex_radius(t, g->radius, hbar, v);
+            if (prune_vertex(t, v, rv, eps, lists, cnt, best, nbr, touched, &kept[v], &kcnt[v])) {
+                rc = gs__fail(&e, GS_ENOMEM, "out of memory pruning the dgg graph");
+#pragma omp critical(gs__dgg_err)
+                {
+                    status = rc;
+                    first = e;
+                    bad_v = 0;
+                }
+            }
+            if (tid == 0 && (v & 1023) == 0) report(progress, 0.9 + 0.1 * (double)v / (nv ? nv : 1));
+        }
+        free(best);
+        free(nbr);
+        free(touched);
     }
+    cand **fin = prune ? kept : lists;
+    uint32_t *fcnt = prune ? kcnt : cnt;
     if (status == GS_OK) {
-        for (uint32_t v = 0; v < nv; ++v) g->start[v + 1] = g->start[v] + cnt[v];
-        g->e = gs__malloc(g->start[nv] ? g->start[nv] : 1, sizeof *g->e);
-        if (!g->e) status = gs__fail(&first, GS_ENOMEM, "out of memory storing the dgg graph (%llu edges)",
-                                     (unsigned long long)g->start[nv]);
+        for (uint32_t v = 0; v < nv; ++v) {
+            g->start[v + 1] = g->start[v] + fcnt[v];
+            g->n_cand += cnt[v];
+        }
+        uint64_t ne = g->start[nv];
+        g->to = gs__malloc(ne ? ne : 1, sizeof *g->to);
+        g->w = gs__malloc(ne ? ne : 1, sizeof *g->w);
+        if (!g->to || !g->w)
+            status = gs__fail(&first, GS_ENOMEM, "out of memory storing the dgg graph (%llu edges)",
+                              (unsigned long long)ne);
         else
             for (uint32_t v = 0; v < nv; ++v)
-                if (cnt[v]) memcpy(g->e + g->start[v], lists[v], cnt[v] * sizeof *g->e);
+                for (uint32_t k = 0; k < fcnt[v]; ++k) {
+                    g->to[g->start[v] + k] = fin[v][k].to;
+                    g->w[g->start[v] + k] = fin[v][k].w;
+                }
     }
-    for (uint32_t v = 0; v < nv; ++v) free(lists[v]);
-    free(lists);
-    free(cnt);
+    for (uint32_t v = 0; v < nv; ++v) free(lists[v]), free(kept[v]);
+    free(lists), free(cnt), free(kept), free(kcnt);
     if (status) {
-        dgg_destroy(g);
+        graph_free(g);
         if (err) *err = first;
         return status;
     }
-    g->build_seconds = gs__now() - t0;
-    *state = g;
+    g->seconds = gs__now() - t0;
+    report(progress, 1);
+    *graph_out = g;
     return GS_OK;
 }
 
-static void relax(dgg_state *g, double *dist, uint32_t v, double d, double max_d)
+void gs__dgg_free(void *graph)
+{
+    graph_free(graph);
+}
+
+static int state_new(const gs__topo *t, dgg_state **out, gs_error *err)
+{
+    dgg_state *s = gs__calloc(1, sizeof *s);
+    if (!s || gs__iheap_init(&s->heap, t->nv)) {
+        if (s) gs__iheap_free(&s->heap);
+        free(s);
+        return gs__fail(err, GS_ENOMEM, "out of memory creating a dgg solver");
+    }
+    s->t = t;
+    s->start = DGG_START;
+    *out = s;
+    return GS_OK;
+}
+
+int gs__dgg_state_from_graph(const gs__topo *t, void *graph, void **state, gs_error *err)
+{
+    dgg_state *s;
+    int rc = state_new(t, &s, err);
+    if (rc) {
+        graph_free(graph);
+        return rc;
+    }
+    s->g = s->own = graph;
+    *state = s;
+    return GS_OK;
+}
+
+static int dgg_create(const gs__topo *t, const gs_solver_options *opt, void **state, gs_error *err)
+{
+    void *g;
+    int rc = gs__dgg_build(t, opt->dgg_eps, 1, 0, NULL, &g, err);
+    if (rc) return rc;
+    return gs__dgg_state_from_graph(t, g, state, err);
+}
+
+int gs__dgg_view(const void *whole, const gs__topo *t, const uint32_t *vmap, void **state, gs_error *err)
+{
+    const dgg_state *w = whole;
+    const dgg_graph *g = w->g;
+    if (w->p2m) return gs__fail(err, GS_EINTERNAL, "gs__dgg_view: the graph's solver is itself a view");
+    dgg_state *s;
+    int rc = state_new(t, &s, err);
+    if (rc) return rc;
+    s->g = g;
+    s->p2m = vmap;
+    s->start = 0; /* builds: many fields per patch; the graph alone */
+    /* a direct map for patches that are not tiny next to the graph; a
+     * binary search in vmap (increasing) otherwise */
+    if (vmap && (uint64_t)t->nv * 64 >= g->nv) {
+        s->m2p = gs__malloc(g->nv ? g->nv : 1, sizeof *s->m2p);
+        if (!s->m2p) {
+            dgg_destroy(s);
+            return gs__fail(err, GS_ENOMEM, "out of memory creating a dgg view");
+        }
+        s->own_m2p = 1;
+        memset(s->m2p, 0xff, (size_t)g->nv * sizeof *s->m2p);
+        for (uint32_t v = 0; v < t->nv; ++v) s->m2p[vmap[v]] = v;
+    }
+    for (uint32_t v = 0; v < t->nv; ++v)
+        if ((vmap ? vmap[v] : v) >= g->nv) {
+            dgg_destroy(s);
+            return gs__fail(err, GS_EINTERNAL, "gs__dgg_view: patch vertex %u is not in the graph", v);
+        }
+    *state = s;
+    return GS_OK;
+}
+
+static inline uint32_t to_local(const dgg_state *s, uint32_t m)
+{
+    if (!s->p2m) return m;
+    if (s->m2p) return s->m2p[m];
+    uint32_t lo = 0, hi = s->t->nv;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (s->p2m[mid] < m) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo < s->t->nv && s->p2m[lo] == m ? lo : GS_NONE;
+}
+
+static inline void relax(dgg_state *s, double *dist, uint32_t v, double d, double max_d)
 {
     if (d < dist[v] && d <= max_d) {
         dist[v] = d;
-        gs__iheap_push_or_decrease(&g->heap, v, d);
+        gs__iheap_push_or_decrease(&s->heap, v, d);
     }
 }
 
 static int dgg_solve(void *state, const gs_source *src, uint32_t n_src, double max_d, double *dist,
                      gs__solve_stats *stats, gs_error *err)
 {
-    dgg_state *g = state;
-    const gs__topo *t = g->t;
+    dgg_state *s = state;
+    const gs__topo *t = s->t;
+    const dgg_graph *g = s->g;
     for (uint32_t v = 0; v < t->nv; ++v) dist[v] = INFINITY;
-    gs__iheap_clear(&g->heap);
+    gs__iheap_clear(&s->heap);
     for (uint32_t i = 0; i < n_src; ++i) {
-        if (src[i].face == GS_NONE) {
-            relax(g, dist, src[i].vertex, 0, max_d);
+        if (src[i].face == GS_NONE && s->start <= 1) {
+            relax(s, dist, src[i].vertex, 0, max_d);
             continue;
         }
-        /* a surface point: exact distances of what it reaches straight */
-        if (!g->ex) {
+        if (!s->ex) {
             gs_solver_options o;
             gs_solver_options_default(&o);
-            int rc = gs__exact_ops.create(t, &o, &g->ex, err);
+            int rc = gs__exact_ops.create(t, &o, &s->ex, err);
             if (rc) return rc;
-            g->exd = gs__malloc(t->nv ? t->nv : 1, sizeof *g->exd);
-            if (!g->exd) return gs__fail(err, GS_ENOMEM, "out of memory in the dgg solver");
-            for (uint32_t v = 0; v < t->nv; ++v) g->exd[v] = INFINITY;
+            s->exd = gs__malloc(t->nv ? t->nv : 1, sizeof *s->exd);
+            if (!s->exd) return gs__fail(err, GS_ENOMEM, "out of memory in the dgg solver");
+            for (uint32_t v = 0; v < t->nv; ++v) s->exd[v] = INFINITY;
         }
-        double r = g->radius;
-        for (int k = 0; k < 3; ++k)
-            if (t->len[3 * (size_t)src[i].face + k] > r) r = t->len[3 * (size_t)src[i].face + k];
-        r *= 1 + 1e-9;
+        /* the start: exact distances within start R of the source (at
+         * least R and its face's or star's longest edge), one bounded run */
+        double r = g->radius, lmax = 0;
+        if (src[i].face != GS_NONE) {
+            for (int k = 0; k < 3; ++k) lmax = fmax(lmax, t->len[3 * (size_t)src[i].face + k]);
+        } else {
+            uint32_t v = src[i].vertex;
+            for (uint32_t k = t->vc_start[v]; k < t->vc_start[v + 1]; ++k)
+                lmax = fmax(lmax, fmax(t->len[t->vc[k]], t->len[gs__prev(t->vc[k])]));
+        }
+        r = fmax(fmax(s->start, 1) * r, lmax) * (1 + 1e-9);
+        if (max_d < r) r = max_d;
         const uint32_t *tv;
         uint32_t ntv;
-        int rc = gs__exact_solve_local(g->ex, &src[i], r, g->exd, &tv, &ntv, err);
+        int rc = gs__exact_solve_local(s->ex, &src[i], r, s->exd, &tv, &ntv, err);
         if (rc) {
-            for (uint32_t k = 0; k < t->nv; ++k) g->exd[k] = INFINITY;
+            for (uint32_t k = 0; k < t->nv; ++k) s->exd[k] = INFINITY;
             return rc;
         }
+        /* every touched vertex holds a real path length (exact within r) */
         for (uint32_t k = 0; k < ntv; ++k) {
             uint32_t u = tv[k];
-            double du = g->exd[u];
-            if (du <= r && gs__exact_straight(g->ex, GS_NONE, u, du)) relax(g, dist, u, du, max_d);
-            g->exd[u] = INFINITY;
+            relax(s, dist, u, s->exd[u], max_d);
+            s->exd[u] = INFINITY;
         }
     }
     uint64_t pops = 0;
-    while (g->heap.n) {
+    while (s->heap.n) {
         double d;
-        uint32_t v = gs__iheap_pop(&g->heap, &d);
+        uint32_t v = gs__iheap_pop(&s->heap, &d);
         ++pops;
-        for (uint64_t k = g->start[v]; k < g->start[v + 1]; ++k) relax(g, dist, g->e[k].to, d + g->e[k].w, max_d);
+        uint32_t m = s->p2m ? s->p2m[v] : v;
+        for (uint64_t k = g->start[m]; k < g->start[m + 1]; ++k) {
+            uint32_t u = to_local(s, g->to[k]);
+            if (u != GS_NONE) relax(s, dist, u, d + g->w[k], max_d);
+        }
     }
     stats->windows_propagated = pops;
     return GS_OK;
 }
 
-void gs__dgg_info(const void *state, double *seconds, uint64_t *edges, uint64_t *bytes)
+void gs__dgg_info(const void *state, gs__dgg_stats *st)
 {
-    const dgg_state *g = state;
-    if (seconds) *seconds = g->build_seconds;
-    if (edges) *edges = g->start[g->t->nv];
-    if (bytes)
-        *bytes = g->start[g->t->nv] * sizeof *g->e + ((uint64_t)g->t->nv + 1) * sizeof *g->start +
-                 (uint64_t)g->t->nv * (2 * sizeof(uint32_t) + sizeof(double));
+    const dgg_state *s = state;
+    const dgg_graph *g = s->g;
+    memset(st, 0, sizeof *st);
+    st->seconds = g->seconds;
+    st->edges = g->start[g->nv];
+    st->candidates = g->n_cand;
+    st->radius = g->radius;
+    st->bytes = g->start[g->nv] * (sizeof *g->to + sizeof *g->w) + ((uint64_t)g->nv + 1) * sizeof *g->start;
+    st->solve_bytes = (uint64_t)s->t->nv * (2 * sizeof(uint32_t) + sizeof(double));
 }
 
-/* Another thread's solver: the graph is shared read-only (src outlives it). */
+/* Another thread's solver: the graph and maps are shared read-only (src
+ * outlives it). */
 static int dgg_clone(const void *state, void **out, gs_error *err)
 {
     const dgg_state *src = state;
-    dgg_state *g = gs__calloc(1, sizeof *g);
-    if (!g || gs__iheap_init(&g->heap, src->t->nv)) {
-        if (g) gs__iheap_free(&g->heap);
-        free(g);
-        return gs__fail(err, GS_ENOMEM, "out of memory creating a dgg solver");
-    }
-    g->t = src->t;
-    g->radius = src->radius;
-    g->start = src->start;
-    g->e = src->e;
-    g->build_seconds = src->build_seconds;
-    g->shared = 1;
-    *out = g;
+    dgg_state *s;
+    int rc = state_new(src->t, &s, err);
+    if (rc) return rc;
+    s->g = src->g;
+    s->p2m = src->p2m;
+    s->m2p = src->m2p;
+    s->start = src->start;
+    *out = s;
     return GS_OK;
 }
 

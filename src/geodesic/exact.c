@@ -89,6 +89,7 @@ typedef struct ex_state {
     uint32_t *th, nth;    /* half-edges given windows                         */
     uint8_t *hmark;       /* per half-edge: listed in th                      */
     int local_clean;      /* state arrays reset but for tv / th               */
+    int direct_only;      /* local solves: no pseudo-source windows           */
     /* per solve */
     double *d;
     double max_d;
@@ -229,7 +230,7 @@ static inline void ex_update_vertex(ex_state *s, uint32_t v, double val, uint32_
         if (s->pseudo[v]) {
             s->in_c[v] = c;
             s->in_a[v] = a;
-            if (val <= s->max_d) gs__iheap_push_or_decrease(&s->vheap, v, val);
+            if (val <= s->max_d && !s->direct_only) gs__iheap_push_or_decrease(&s->vheap, v, val);
         }
     }
 }
@@ -630,7 +631,14 @@ static void ex_run(ex_state *s, const gs_source *src, uint32_t n_src)
 int gs__exact_solve_local(void *state, const gs_source *src, double max_d, double *dist,
                           const uint32_t **touched, uint32_t *n_touched, gs_error *err)
 {
+    return gs__exact_solve_local_ex(state, src, max_d, 0, dist, touched, n_touched, err);
+}
+
+int gs__exact_solve_local_ex(void *state, const gs_source *src, double max_d, int direct_only, double *dist,
+                             const uint32_t **touched, uint32_t *n_touched, gs_error *err)
+{
     ex_state *s = state;
+    s->direct_only = direct_only;
     const gs__topo *t = s->t;
     size_t nh = 3 * (size_t)t->nf;
     if (!s->tv) {
@@ -739,6 +747,7 @@ static int ex_solve(void *state, const gs_source *src, uint32_t n_src, double ma
     uint32_t *tv = s->tv;
     uint8_t *hmark = s->hmark;
     s->tv = NULL, s->hmark = NULL; /* no touched lists in full solves */
+    s->direct_only = 0;
     ex_run(s, src, n_src);
     s->tv = tv, s->hmark = hmark;
     stats->windows_created = s->created;

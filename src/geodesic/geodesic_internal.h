@@ -49,16 +49,64 @@ extern const gs__method_ops gs__dgg_ops;   /* dgg.c    */
  * caller resets the touched entries before the next call. */
 int gs__exact_solve_local(void *state, const gs_source *src, double max_d, double *dist,
                           const uint32_t **touched, uint32_t *n_touched, gs_error *err);
+/* The same; direct_only: no windows from pseudo-source vertices (saddle,
+ * boundary), only the rays straight from the source: a vertex reached
+ * straight by its shortest path gets its exact distance (within max_d),
+ * any other one the length of a straight path or of a path along edges,
+ * or none (dgg.c's candidates: only straight paths matter there). */
+int gs__exact_solve_local_ex(void *state, const gs_source *src, double max_d, int direct_only, double *dist,
+                             const uint32_t **touched, uint32_t *n_touched, gs_error *err);
 /* After gs__exact_solve_local from vertex source_vertex (or from a surface
  * point: pass GS_NONE): 1 if the shortest path found to u (distance du)
  * is straight (no bend at a vertex on the way: it leaves the source
  * directly), 0 if it bends at a pseudo-source vertex w, where then
  * du = d(w) + d(w, u). */
-/* dgg.c: the graph of a dgg state: build time, edge count, bytes held. */
-void gs__dgg_info(const void *state, double *seconds, uint64_t *edges, uint64_t *bytes);
-/* The same for a solver; GS_EARG if its method is not GS_METHOD_DGG. */
-int gs__solver_dgg_info(const gs_solver *s, double *seconds, uint64_t *edges, uint64_t *bytes, gs_error *err);
 int gs__exact_straight(const void *state, uint32_t source_vertex, uint32_t u, double du);
+
+/* ---- dgg (dgg.c) --------------------------------------------------------- */
+
+/* Progress of a graph construction: fn(user, fraction done), called from
+ * one thread (may be NULL). */
+typedef struct gs__dgg_progress {
+    void (*fn)(void *user, double frac);
+    void *user;
+} gs__dgg_progress;
+
+/* The graph of topology t for eps (pruned to eps if prune, else every
+ * candidate edge is kept), its local runs on nthreads OpenMP threads (0:
+ * the OpenMP default); the same graph for any thread count. *graph: owned
+ * by the caller until handed to gs__dgg_state_from_graph (or
+ * gs__dgg_free). */
+int gs__dgg_build(const gs__topo *t, double eps, int prune, uint32_t nthreads, const gs__dgg_progress *progress,
+                  void **graph, gs_error *err);
+void gs__dgg_free(void *graph);
+/* A dgg solver state of t owning graph (freed here on failure). */
+int gs__dgg_state_from_graph(const gs__topo *t, void *graph, void **state, gs_error *err);
+/* A dgg state for the sub-patch t whose vertex v is vertex vmap[v] of the
+ * graph of `whole` (vmap increasing; NULL: the same ids): the Dijkstra of
+ * whole's graph restricted to t's vertices. whole and vmap must outlive it. */
+int gs__dgg_view(const void *whole, const gs__topo *t, const uint32_t *vmap, void **state, gs_error *err);
+
+typedef struct gs__dgg_stats {
+    double seconds;        /* construction (wall)                          */
+    double radius;         /* R (absolute)                                 */
+    uint64_t candidates;   /* straight pairs within R_v (edges before pruning) */
+    uint64_t edges;        /* edges kept                                   */
+    uint64_t bytes;        /* the graph's memory                           */
+    uint64_t solve_bytes;  /* per solver (thread): heap and maps           */
+} gs__dgg_stats;
+void gs__dgg_info(const void *state, gs__dgg_stats *st);
+/* The same for a solver; GS_EARG if its method is not GS_METHOD_DGG. */
+int gs__solver_dgg_info(const gs_solver *s, gs__dgg_stats *st, gs_error *err);
+/* gs_solver_create_ex for GS_METHOD_DGG with the construction's threads,
+ * pruning and progress given (opt->dgg_eps is checked as there). */
+int gs__solver_create_dgg(const gs_patch *patch, const gs_solver_options *opt, uint32_t nthreads, int prune,
+                          const gs__dgg_progress *progress, gs_solver **out, gs_error *err);
+/* A solver of sub, a patch of the mesh of whole's patch, whose fields are
+ * the Dijkstra of whole's dgg graph restricted to sub's vertices
+ * (gs__dgg_view). whole's patch must be the whole mesh (identity); whole
+ * and sub must outlive it. */
+int gs__solver_dgg_view(const gs_solver *whole, const gs_patch *sub, gs_solver **out, gs_error *err);
 
 /* One field per source: dist receives n rows of gs_patch_num_vertices()
  * doubles, row i the field of sources[i] alone (unbounded). Same results

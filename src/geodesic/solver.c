@@ -110,6 +110,27 @@ int gs_solver_create(const gs_patch *patch, gs_method method, gs_solver **out, g
     return gs_solver_create_ex(patch, method, NULL, out, err);
 }
 
+/* Validated options (defaults for NULL) into *o. */
+static int resolve_options(const gs_patch *patch, const gs_solver_options *opt, gs_solver_options *o, gs_error *err)
+{
+    gs_solver_options_default(o);
+    if (opt) *o = *opt;
+    if (!(o->heat_time >= GS_HEAT_TIME_MIN && o->heat_time <= GS_HEAT_TIME_MAX))
+        return gs__fail(err, GS_EARG, "gs_solver_create: heat_time %g out of range [%g, %g]", o->heat_time,
+                        GS_HEAT_TIME_MIN, GS_HEAT_TIME_MAX);
+    if (!(isfinite(o->fmm_exact_start) && o->fmm_exact_start >= 0))
+        return gs__fail(err, GS_EARG, "gs_solver_create: fmm_exact_start %g must be finite and >= 0",
+                        o->fmm_exact_start);
+    if (!(o->dgg_eps >= GS_DGG_EPS_MIN && o->dgg_eps <= GS_DGG_EPS_MAX))
+        return gs__fail(err, GS_EARG, "gs_solver_create: dgg_eps %g out of range [%g, %g]", o->dgg_eps,
+                        GS_DGG_EPS_MIN, GS_DGG_EPS_MAX);
+    if (o->heat_refine == GS_HEAT_REFINE_AUTO) o->heat_refine = gs_heat_refine_auto(gs_patch_num_vertices(patch));
+    if (o->heat_refine > GS_HEAT_REFINE_MAX)
+        return gs__fail(err, GS_EARG, "gs_solver_create: heat_refine %u must be at most %d (or GS_HEAT_REFINE_AUTO)",
+                        o->heat_refine, GS_HEAT_REFINE_MAX);
+    return GS_OK;
+}
+
 int gs_solver_create_ex(const gs_patch *patch, gs_method method, const gs_solver_options *opt,
                         gs_solver **out, gs_error *err)
 {
@@ -119,27 +140,61 @@ int gs_solver_create_ex(const gs_patch *patch, gs_method method, const gs_solver
     const gs__method_ops *ops = ops_of(method);
     if (!ops) return gs__fail(err, GS_EARG, "gs_solver_create: unknown method %d", (int)method);
     gs_solver_options o;
-    gs_solver_options_default(&o);
-    if (opt) o = *opt;
-    if (!(o.heat_time >= GS_HEAT_TIME_MIN && o.heat_time <= GS_HEAT_TIME_MAX))
-        return gs__fail(err, GS_EARG, "gs_solver_create: heat_time %g out of range [%g, %g]", o.heat_time,
-                        GS_HEAT_TIME_MIN, GS_HEAT_TIME_MAX);
-    if (!(isfinite(o.fmm_exact_start) && o.fmm_exact_start >= 0))
-        return gs__fail(err, GS_EARG, "gs_solver_create: fmm_exact_start %g must be finite and >= 0",
-                        o.fmm_exact_start);
-    if (!(o.dgg_eps >= GS_DGG_EPS_MIN && o.dgg_eps <= GS_DGG_EPS_MAX))
-        return gs__fail(err, GS_EARG, "gs_solver_create: dgg_eps %g out of range [%g, %g]", o.dgg_eps,
-                        GS_DGG_EPS_MIN, GS_DGG_EPS_MAX);
-    if (o.heat_refine == GS_HEAT_REFINE_AUTO) o.heat_refine = gs_heat_refine_auto(gs_patch_num_vertices(patch));
-    if (o.heat_refine > GS_HEAT_REFINE_MAX)
-        return gs__fail(err, GS_EARG, "gs_solver_create: heat_refine %u must be at most %d (or GS_HEAT_REFINE_AUTO)",
-                        o.heat_refine, GS_HEAT_REFINE_MAX);
+    int rc = resolve_options(patch, opt, &o, err);
+    if (rc) return rc;
     gs_solver *s = gs__calloc(1, sizeof *s);
     if (!s) return gs__fail(err, GS_ENOMEM, "out of memory");
     s->patch = patch;
     s->ops = ops;
     s->opt = o;
-    int rc = ops->create(patch->topo, &o, &s->state, err);
+    rc = ops->create(patch->topo, &o, &s->state, err);
+    if (rc) {
+        free(s);
+        return rc;
+    }
+    *out = s;
+    return GS_OK;
+}
+
+int gs__solver_create_dgg(const gs_patch *patch, const gs_solver_options *opt, uint32_t nthreads, int prune,
+                          const gs__dgg_progress *progress, gs_solver **out, gs_error *err)
+{
+    if (!out) return gs__fail(err, GS_EARG, "gs_solver_create: out is NULL");
+    *out = NULL;
+    if (!patch) return gs__fail(err, GS_EARG, "gs_solver_create: patch is NULL");
+    gs_solver_options o;
+    int rc = resolve_options(patch, opt, &o, err);
+    if (rc) return rc;
+    gs_solver *s = gs__calloc(1, sizeof *s);
+    if (!s) return gs__fail(err, GS_ENOMEM, "out of memory");
+    s->patch = patch;
+    s->ops = &gs__dgg_ops;
+    s->opt = o;
+    void *g = NULL;
+    rc = gs__dgg_build(patch->topo, o.dgg_eps, prune, nthreads, progress, &g, err);
+    if (rc == GS_OK) rc = gs__dgg_state_from_graph(patch->topo, g, &s->state, err);
+    if (rc) {
+        free(s);
+        return rc;
+    }
+    *out = s;
+    return GS_OK;
+}
+
+int gs__solver_dgg_view(const gs_solver *whole, const gs_patch *sub, gs_solver **out, gs_error *err)
+{
+    if (!out) return gs__fail(err, GS_EARG, "gs__solver_dgg_view: out is NULL");
+    *out = NULL;
+    if (!whole || !sub || whole->ops != &gs__dgg_ops)
+        return gs__fail(err, GS_EARG, "gs__solver_dgg_view: needs a dgg solver and a patch");
+    if (!whole->patch->identity || sub->mesh != whole->patch->mesh)
+        return gs__fail(err, GS_EARG, "gs__solver_dgg_view: the dgg solver must be of the sub-patch's whole mesh");
+    gs_solver *s = gs__calloc(1, sizeof *s);
+    if (!s) return gs__fail(err, GS_ENOMEM, "out of memory");
+    s->patch = sub;
+    s->ops = &gs__dgg_ops;
+    s->opt = whole->opt;
+    int rc = gs__dgg_view(whole->state, sub->topo, sub->identity ? NULL : sub->vmap, &s->state, err);
     if (rc) {
         free(s);
         return rc;
@@ -340,9 +395,9 @@ int gs_solver_path(gs_solver *s, const gs_source *source, const gs_source *targe
     return gs__exact_trace_path(t, gs__exact_get_trace(s->state), &q, out, err);
 }
 
-int gs__solver_dgg_info(const gs_solver *s, double *seconds, uint64_t *edges, uint64_t *bytes, gs_error *err)
+int gs__solver_dgg_info(const gs_solver *s, gs__dgg_stats *st, gs_error *err)
 {
     if (!s || s->ops != &gs__dgg_ops) return gs__fail(err, GS_EARG, "gs__solver_dgg_info: not a dgg solver");
-    gs__dgg_info(s->state, seconds, edges, bytes);
+    gs__dgg_info(s->state, st);
     return GS_OK;
 }

@@ -10,6 +10,7 @@
 
 #include "../db/db_content.h"
 #include "../db/db_internal.h"
+#include "../fit/fit.h"
 #include "../geodesic/geodesic_internal.h"
 
 #include <math.h>
@@ -28,6 +29,7 @@ void gs_build_options_default(gs_build_options *o)
     o->vertex_sources = -1; /* by the method (see geosep.h) */
     o->sampled = 0;
     o->leaf_exact = 1; /* same-leaf pairs: Euclidean answers were off by up to 56% (bunny-5k) */
+    o->near_radius = 5; /* twice that around uncertified fits: every pair beyond within 5% on every shared mesh (doc/accuracy.md) */
     o->seed = 1;
     o->sample_spacing = 0.5;
     gs_solver_options_default(&o->solver);
@@ -153,7 +155,14 @@ static void tree_progress(void *user, double frac)
     gs__pipe_progress(user, "tree", frac);
 }
 
-static int assemble(gs__builder *b, const gs__leaf_tables *lt, gs_db **out, gs_error *err)
+static void graph_progress(void *user, double frac)
+{
+    gs__pipe_progress(user, "graph", frac);
+}
+
+/* near_radius > 0: the section 'near_pairs' with pairs[0..n_near). */
+static int assemble(gs__builder *b, const gs__leaf_tables *lt, double near_radius, const gs__near_pair *pairs,
+                    uint64_t n_near, gs_db **out, gs_error *err)
 {
     const gs__tree *t = b->tree;
     gs__db_node *nodes = gs__malloc(t->n_nodes, sizeof *nodes);
@@ -188,6 +197,9 @@ static int assemble(gs__builder *b, const gs__leaf_tables *lt, gs_db **out, gs_e
         c.leaf_dstart = lt->dstart;
         c.leaf_dist = lt->dist;
     }
+    c.near_radius = near_radius;
+    c.near_pairs = pairs;
+    c.n_near = n_near;
     c.method = (uint32_t)b->opt->method;
     c.vmax = b->opt->vmax;
     c.mmax = b->opt->mmax;
@@ -215,6 +227,25 @@ static int assemble(gs__builder *b, const gs__leaf_tables *lt, gs_db **out, gs_e
     return rc;
 }
 
+/* Each vertex's near radius: R0, or GS_PIPE_NEAR_WIDE R0 when one of its
+ * functions is uncertified (a fit off by more than GS_FIT_MAX_ERR
+ * somewhere: homer's answers through such functions were off by up to 9%
+ * 6 to 10 mean edges apart). *rmax: the largest. NULL when out of memory. */
+static double *near_radii(const gs__builder *b, double R0, double *rmax)
+{
+    uint32_t nv = b->mesh->nv;
+    double *r = gs__malloc(nv ? nv : 1, sizeof *r);
+    if (!r) return NULL;
+    *rmax = 0;
+    for (uint32_t x = 0; x < nv; ++x) {
+        float worst = 0;
+        for (uint64_t k = b->fun_start[x]; k < b->fun_start[x + 1]; ++k) worst = fmaxf(worst, b->fun_err[k]);
+        r[x] = worst >= GS_FIT_MAX_ERR ? GS_PIPE_NEAR_WIDE * R0 : R0;
+        *rmax = fmax(*rmax, r[x]);
+    }
+    return r;
+}
+
 static int check_options(const gs_build_options *o, gs_error *err)
 {
     if (!gs_method_name(o->method)) return gs__fail(err, GS_EARG, "unknown method %d", (int)o->method);
@@ -222,6 +253,8 @@ static int check_options(const gs_build_options *o, gs_error *err)
     if (o->mmax < 2 || o->mmax > GS_FUN_MAX_DEGREE)
         return gs__fail(err, GS_EARG, "mmax %u out of range [2, %d]", o->mmax, GS_FUN_MAX_DEGREE);
     if (!(o->tol > 0 && o->tol < 1)) return gs__fail(err, GS_EARG, "tol %g out of range (0, 1)", o->tol);
+    if (!(o->near_radius >= 0 && o->near_radius <= 100))
+        return gs__fail(err, GS_EARG, "near_radius %g out of range [0, 100] (mean edge lengths)", o->near_radius);
     if (!(o->sample_spacing >= 0.01 && o->sample_spacing <= 100))
         return gs__fail(err, GS_EARG, "sample_spacing %g out of range [0.01, 100]", o->sample_spacing);
     if (o->max_samples && (o->max_samples < 8 || o->max_samples > (1u << 24)))
@@ -361,7 +394,8 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
         b.fun_start[x + 1] = b.fun_start[x] + (l == GS_NONE ? 0 : tree->nodes[l].curve_prefix);
     }
     b.funs = gs__calloc(b.fun_start[mesh->nv], sizeof *b.funs);
-    if (!b.funs) {
+    b.fun_err = gs__calloc(b.fun_start[mesh->nv] + 1, sizeof *b.fun_err);
+    if (!b.funs || !b.fun_err) {
         rc = gs__fail(err, GS_ENOMEM, "out of memory for %llu functions",
                       (unsigned long long)b.fun_start[mesh->nv]);
         goto done;
@@ -370,6 +404,16 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
         if (tree->nodes[i].n_curves)
             b.work_total += (double)tree->nodes[i].n_faces * tree->nodes[i].n_curves;
     double t_fields = 0, t_fits = 0;
+    if (opt->method == GS_METHOD_DGG) {
+        /* one graph for every node (doc/approximate-fields.md: patches) */
+        double ta = gs__now();
+        gs__dgg_progress pr = {graph_progress, &b};
+        gs__pipe_progress(&b, "graph", 0);
+        rc = gs_patch_create(mesh, NULL, 0, &b.dgg_patch, err);
+        if (rc == GS_OK) rc = gs__solver_create_dgg(b.dgg_patch, &opt->solver, b.nthreads, 1, &pr, &b.dgg, err);
+        if (rc) goto done;
+        t_fields += gs__now() - ta;
+    }
     /* Large nodes one at a time, threads inside each (sources, vertices);
      * then the small ones in parallel, one thread each. The result is the
      * same either way (chunks of sources do not depend on threads). */
@@ -415,11 +459,31 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
         rc = gs__pipe_leaf_tables(&b, &lt, err);
         t_fields += gs__now() - ta; /* exact leaf fields count as fields */
     }
+    /* near pairs: checked against the database without them (the same
+     * records), then the database is packed again with them */
+    double t_near = 0, R = 0;
+    gs__near_pair *pairs = NULL;
+    uint64_t n_near = 0;
+    if (stats) memset(stats, 0, sizeof *stats);
+    if (rc == GS_OK && opt->near_radius > 0 && mesh->report.mean_edge > 0) {
+        double ta = gs__now();
+        gs_db *db0 = NULL;
+        gs__pipe_progress(&b, "near", 0);
+        double *radius = near_radii(&b, opt->near_radius * mesh->report.mean_edge, &R);
+        rc = radius ? assemble(&b, &lt, 0, NULL, 0, &db0, err) : gs__fail(err, GS_ENOMEM, "out of memory for near pairs");
+        if (rc == GS_OK) rc = gs__pipe_near_pairs(&b, db0, radius, GS_PIPE_NEAR_TOL, &pairs, &n_near, err);
+        free(radius);
+        gs_db_free(db0);
+        t_near = gs__now() - ta;
+        t_fields += t_near; /* exact near fields count as fields */
+        if (stats) stats->n_near_pairs = n_near;
+    }
     if (rc == GS_OK) {
         gs__pipe_progress(&b, "write", 0);
-        rc = assemble(&b, &lt, out, err);
+        rc = assemble(&b, &lt, R, pairs, n_near, out, err);
         gs__pipe_progress(&b, "write", 1);
     }
+    free(pairs);
     gs__pipe_leaf_tables_free(&lt);
     if (rc == GS_OK && stats) {
         stats->seconds_tree = t1 - t0;
@@ -433,12 +497,16 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
         stats->n_uncertified = b.n_uncertified;
         stats->max_fit_error = b.max_fit_error;
         stats->mean_fit_error = b.n_functions ? b.fit_err_sum / (double)b.n_functions : 0;
+        stats->seconds_near = t_near;
     }
 done:
+    gs_solver_free(b.dgg);
+    gs_patch_free(b.dgg_patch);
     if (b.arenas)
         for (uint32_t i = 0; i < tree->n_nodes; ++i) free(b.arenas[i]);
     free(b.arenas);
     free(b.funs);
+    free(b.fun_err);
     free(b.fun_start);
     gs__tree_free(tree);
     return rc;

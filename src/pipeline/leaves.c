@@ -80,36 +80,41 @@ static int face_near_leaf(const gs_mesh *m, uint32_t f, const uint32_t *lv, uint
     return 0;
 }
 
-/* The faces of the region of a leaf (see above) into w->faces; returns the
- * count, or GS_NONE when out of memory. stamp is unique per leaf (> 0). */
-static uint32_t leaf_region(const gs_mesh *m, const uint32_t *lv, uint32_t n, const double *r, uint32_t stamp,
-                            leaf_work *w)
+uint32_t gs__pipe_region(const gs_mesh *m, const uint32_t *lv, uint32_t n, const double *r, uint32_t stamp,
+                         uint32_t *fstamp, uint32_t **faces, size_t *cap)
 {
     const gs__topo *t = &m->topo;
     size_t nf = 0;
     for (uint32_t k = 0; k < n; ++k)
         for (uint32_t c = t->vc_start[lv[k]]; c < t->vc_start[lv[k] + 1]; ++c) {
             uint32_t f = t->vc[c] / 3;
-            if (w->fstamp[f] == stamp) continue;
-            w->fstamp[f] = stamp;
-            if (grow((void **)&w->faces, &w->cap, nf + 1, sizeof *w->faces)) return GS_NONE;
-            w->faces[nf++] = f;
+            if (fstamp[f] == stamp) continue;
+            fstamp[f] = stamp;
+            if (grow((void **)faces, cap, nf + 1, sizeof **faces)) return GS_NONE;
+            (*faces)[nf++] = f;
         }
     for (size_t q = 0; q < nf; ++q) { /* breadth first through shared vertices */
-        uint32_t f = w->faces[q];
+        uint32_t f = (*faces)[q];
         for (int i = 0; i < 3; ++i) {
             uint32_t v = m->tri[3 * (size_t)f + i];
             for (uint32_t c = t->vc_start[v]; c < t->vc_start[v + 1]; ++c) {
                 uint32_t g = t->vc[c] / 3;
-                if (w->fstamp[g] == stamp) continue;
-                w->fstamp[g] = stamp;
+                if (fstamp[g] == stamp) continue;
+                fstamp[g] = stamp;
                 if (!face_near_leaf(m, g, lv, n, r)) continue;
-                if (grow((void **)&w->faces, &w->cap, nf + 1, sizeof *w->faces)) return GS_NONE;
-                w->faces[nf++] = g;
+                if (grow((void **)faces, cap, nf + 1, sizeof **faces)) return GS_NONE;
+                (*faces)[nf++] = g;
             }
         }
     }
     return (uint32_t)nf;
+}
+
+/* The faces of the region of a leaf (see above) into w->faces. */
+static uint32_t leaf_region(const gs_mesh *m, const uint32_t *lv, uint32_t n, const double *r, uint32_t stamp,
+                            leaf_work *w)
+{
+    return gs__pipe_region(m, lv, n, r, stamp, w->fstamp, &w->faces, &w->cap);
 }
 
 /* Fields from every vertex of patch p's subset lv (n vertices); row k of T

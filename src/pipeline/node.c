@@ -163,6 +163,7 @@ static int solve_block(gs__builder *b, node_job *j, const gs_source *src, uint32
     int rc = GS_OK;
     /* one factorisation for all threads (heat): the first solver here, the
      * others clone it */
+    if (!j->solver[0] && b->dgg && (rc = gs__solver_dgg_view(b->dgg, j->patch, &j->solver[0], err))) return rc;
     if (!j->solver[0] && (rc = gs_solver_create_ex(j->patch, b->opt->method, &b->opt->solver, &j->solver[0], err)))
         return rc;
 #pragma omp parallel num_threads(j->nthreads)
@@ -431,6 +432,7 @@ static int fit_node(gs__builder *b, node_job *j, uint32_t node_id, gs_error *err
                     err_sum += res.mean_rel_err;
                     n_over += res.mean_rel_err > fo.tol;
                     double worst = fmax(res.max_rel_err, res.cert_err);
+                    b->fun_err[f - b->funs] = (float)worst;
                     n_uncert += worst >= GS_FIT_MAX_ERR;
                     worst_fit = fmax(worst_fit, worst);
                 }

@@ -8,6 +8,7 @@
 
 #include "../fit/fun.h"
 #include "../mesh/mesh_internal.h"
+#include "../db/db_near.h"
 #include "../partition/tree.h"
 
 /* Per-vertex function slots: vertex x owns funs[fun_start[x] ..) and each
@@ -21,7 +22,15 @@ typedef struct gs__builder {
     uint32_t nthreads;
     uint64_t *fun_start;   /* nv+1 */
     gs__fun *funs;
+    float *fun_err;        /* per function: its fit's worst error (at the  */
+                           /*   samples or outside the band between them;  */
+                           /*   0 for sampled): near.c widens the radius   */
+                           /*   of vertices with an uncertified function   */
     double **arenas;       /* one coefficient arena per node (or NULL)     */
+    /* GS_METHOD_DGG: one graph of the whole mesh (dgg_patch: the identity
+     * patch), nodes solve on views of it (gs__solver_dgg_view) */
+    gs_patch *dgg_patch;
+    gs_solver *dgg;
     /* progress */
     double work_total, work_done;
     /* stats */
@@ -52,5 +61,27 @@ typedef struct gs__leaf_tables {
 
 void gs__pipe_leaf_tables_free(gs__leaf_tables *lt);
 int gs__pipe_leaf_tables(gs__builder *b, gs__leaf_tables *lt, gs_error *err);
+
+/* The faces that a shortest path of length <= r[k] from some lv[k] may
+ * cross (leaves.c: reached from the vertices' faces through shared
+ * vertices, keeping faces that may meet a ball B(lv[k], r[k])) into
+ * *faces (grown as needed, *cap entries); fstamp: per mesh face, the
+ * stamp of the last region that took it (stamp > 0, unique per call on
+ * the same fstamp). Returns the count, GS_NONE when out of memory. */
+/* Near pairs (near.c): every pair x < y in different leaves with exact
+ * d(x, y) < radius[x] or < radius[y] (mesh units, per vertex) whose answer
+ * from db0 (the database without near pairs) is off by more than tol * d;
+ * *out (malloc'ed, sorted by x then y, caller frees) and its count. */
+int gs__pipe_near_pairs(gs__builder *b, const gs_db *db0, const double *radius, double tol, gs__near_pair **out,
+                        uint64_t *n_out, gs_error *err);
+
+/* Pairs off by more than this through the separators are stored (the fit
+ * certificate's eps, GS_FIT_MAX_ERR). */
+#define GS_PIPE_NEAR_TOL 0.02
+/* The radius of vertices with an uncertified function, times near_radius. */
+#define GS_PIPE_NEAR_WIDE 2.0
+
+uint32_t gs__pipe_region(const gs_mesh *m, const uint32_t *lv, uint32_t n, const double *r, uint32_t stamp,
+                         uint32_t *fstamp, uint32_t **faces, size_t *cap);
 
 #endif

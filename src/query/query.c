@@ -8,23 +8,24 @@
  * the vertex's record (a malformed block gives NaN). The hot path: no
  * allocation, no locks. */
 #include "../db/db_internal.h"
+#include "../fit/fun_internal.h"
 #include "pair_grid.h"
+#include "query_internal.h"
 
 #include <math.h>
+#include <stdlib.h>
 
-#define FIELD_MAX_DEPTH 512 /* x's ancestors by depth kept on the stack     */
+static double euclidean2(const gs_db *db, uint32_t x, uint32_t y)
+{
+    const double *p = db->xyz + 3 * (size_t)x, *q = db->xyz + 3 * (size_t)y;
+    double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+    return dx * dx + dy * dy + dz * dz;
+}
 
+/* as gs__db_segment, bit for bit (sqrt of euclidean2) */
 static double euclidean(const gs_db *db, uint32_t x, uint32_t y)
 {
     return gs__db_segment(db->xyz + 3 * (size_t)x, db->xyz + 3 * (size_t)y);
-}
-
-/* A geodesic is never shorter than the straight segment: the bound catches a
- * fitted function that dips too low. */
-static double at_least_euclidean(const gs_db *db, uint32_t x, uint32_t y, double d)
-{
-    double e = euclidean(db, x, y);
-    return d < e ? e : d;
 }
 
 /* Same leaf: the straight segment plus the stored table's 16-bit excess
@@ -237,21 +238,70 @@ static double sampled_pair(const dfun *a, const dfun *b)
     return best;
 }
 
-/* min over curve c of f_x + f_y (function k of both; x < y: the order of
- * the two functions makes d(x,y) == d(y,x) bit for bit). NaN: malformed. */
-static double pair_min(const gs_db *db, cursor *cx, cursor *cy, uint32_t k, uint32_t c)
+/* x's function k kept for many targets (a source, below): decoded and
+ * tabulated on its curve's grid once. state 0: not yet, 1: ready, -1:
+ * malformed. */
+typedef struct xfun {
+    dfun d;
+    float grid[GS_FUN_GRID_MAX + 8];
+    int state;
+} xfun;
+
+/* min over curve c of f_a + f_b (decoded; a is the lower vertex id's: the
+ * order of the two functions makes d(x,y) == d(y,x) bit for bit). ga, gb:
+ * the functions' values on the curve's grid when the caller has them, else
+ * NULL. */
+static double pair_min_dec(const gs_db *db, uint32_t c, const dfun *a, const float *ga, const dfun *b,
+                           const float *gb)
 {
-    dfun a, b;
-    if (!decode(cursor_block(cx, k), cx->end, cx->ent[k], &a) || !decode(cursor_block(cy, k), cy->end, cy->ent[k], &b))
-        return NAN;
-    if (a.b.sampled || b.b.sampled) return sampled_pair(&a, &b);
+    if (a->b.sampled || b->b.sampled) return sampled_pair(a, b);
     uint32_t d1 = db->curves[c].degree1;
-    if (!d1) return gs__fun_pair_min(&a.f, &b.f, NULL);
+    if (!d1) return gs__fun_pair_min(&a->f, &b->f, NULL);
     uint32_t g = gs__fun_grid_points(d1 - 1);
     float va[GS_FUN_GRID_MAX + 8], vb[GS_FUN_GRID_MAX + 8];
-    gs__grid_values(&a.f, g, va);
-    gs__grid_values(&b.f, g, vb);
-    return gs__fun_pair_min_grid(&a.f, &b.f, va, vb, g, &a.dip, &b.dip, NULL);
+    if (!ga) gs__grid_values(&a->f, g, va), ga = va;
+    if (!gb) gs__grid_values(&b->f, g, vb), gb = vb;
+    return gs__fun_pair_min_grid(&a->f, &b->f, ga, gb, g, &a->dip, &b->dip, NULL);
+}
+
+/* x's function k (of curve c) from the source's cache, decoded and
+ * tabulated on first use; NULL if malformed. */
+static const xfun *xfun_get(const gs_db *db, cursor *cx, xfun *cache, uint32_t k, uint32_t c)
+{
+    xfun *f = cache + k;
+    if (f->state == 0) {
+        f->state = -1;
+        if (decode(cursor_block(cx, k), cx->end, cx->ent[k], &f->d)) {
+            uint32_t d1 = db->curves[c].degree1;
+            if (!f->d.b.sampled && d1) {
+                uint32_t g = gs__fun_grid_points(d1 - 1);
+                gs__grid_values(&f->d.f, g, f->grid);
+                if (f->d.f.closed) { /* what the minimiser would find each time */
+                    f->d.dip.seam = gs__fun_seam_value(&f->d.f);
+                    f->d.dip.seam_cell = gs__fun_seam_cell(&f->d.f, g);
+                }
+            }
+            f->state = 1;
+        }
+    }
+    return f->state == 1 ? f : NULL;
+}
+
+/* min over curve c of f_x + f_y (function k of both; x < y). With a cache
+ * (x's functions kept by a source), cx is the source's cursor and
+ * x_first says whether the source is the lower id. NaN: malformed. */
+static double pair_min(const gs_db *db, cursor *cx, cursor *cy, uint32_t k, uint32_t c, xfun *cache, int x_first)
+{
+    dfun a, b;
+    if (cache) {
+        const xfun *s = xfun_get(db, cx, cache, k, c);
+        if (!s || !decode(cursor_block(cy, k), cy->end, cy->ent[k], &b)) return NAN;
+        const float *gs = s->d.b.sampled || !db->curves[c].degree1 ? NULL : s->grid;
+        return x_first ? pair_min_dec(db, c, &s->d, gs, &b, NULL) : pair_min_dec(db, c, &b, NULL, &s->d, gs);
+    }
+    if (!decode(cursor_block(cx, k), cx->end, cx->ent[k], &a) || !decode(cursor_block(cy, k), cy->end, cy->ent[k], &b))
+        return NAN;
+    return pair_min_dec(db, c, &a, NULL, &b, NULL);
 }
 
 /* The prefetch helpers are always inlined: GCC counts __builtin_prefetch
@@ -282,26 +332,24 @@ static PREFETCH_FN void prefetch_record(const gs_db *db, uint32_t x)
     prefetch_lines(p, n < RECORD_AHEAD ? n : RECORD_AHEAD);
 }
 
-/* eq. 4-5 with the quick reject, x < y. */
-static double cross(const gs_db *db, uint32_t x, uint32_t y, uint32_t top, uint32_t nfx, uint32_t nfy)
+/* eq. 4-5 with the quick reject over the candidates of cursors cx, cy
+ * (x < y; or, with a cache, cx the source's: x_first says which is lower). */
+static double cross_cursors(const gs_db *db, cursor *cx, cursor *cy, uint32_t top, xfun *cache, int x_first)
 {
-    cursor cx, cy;
-    cursor_init(db, x, nfx, &cx);
-    cursor_init(db, y, nfy, &cy);
     candidate c[MAX_CANDIDATES];
-    uint32_t rest, n = gather(db, cx.ent, cy.ent, top, c, &rest);
+    uint32_t rest, n = gather(db, cx->ent, cy->ent, top, c, &rest);
     double best = INFINITY;
     for (uint32_t i = 0; i < n; ++i) {
         if (c[i].bound >= best) break; /* sorted: all others rejected too (and unreachable) */
-        double d = pair_min(db, &cx, &cy, c[i].k, c[i].curve);
+        double d = pair_min(db, cx, cy, c[i].k, c[i].curve, cache, x_first);
         if (d != d) return NAN;
         if (d < best) best = d;
     }
     for (uint32_t a = rest; a != GS_NONE; a = db->nodes[a].parent) { /* > 64 curves: rare */
         uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
         for (uint32_t k = k0; k < k1; ++k) {
-            if ((double)cx.ent[k] + (double)cy.ent[k] >= best) continue;
-            double d = pair_min(db, &cx, &cy, k, db->nodes[a].curve_start + (k - k0));
+            if ((double)cx->ent[k] + (double)cy->ent[k] >= best) continue;
+            double d = pair_min(db, cx, cy, k, db->nodes[a].curve_start + (k - k0), cache, x_first);
             if (d != d) return NAN;
             if (d < best) best = d;
         }
@@ -309,13 +357,68 @@ static double cross(const gs_db *db, uint32_t x, uint32_t y, uint32_t top, uint3
     return best;
 }
 
+/* cross_cursors for a source (cx its cursor, its functions in cache): the
+ * same candidates visited in the same order (the lowest bound first, ties
+ * in gathering order) and the same stop, found by selection instead of a
+ * sort: most targets stop after one or two candidates. Also stops at a
+ * candidate whose bound exceeds cut (+inf: never). */
+static double cross_source(const gs_db *db, cursor *cx, cursor *cy, uint32_t top, xfun *cache, int x_first,
+                           double cut)
+{
+    candidate c[MAX_CANDIDATES];
+    uint32_t n = 0, a = top;
+    for (; a != GS_NONE; a = db->nodes[a].parent) {
+        uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
+        if (n + (k1 - k0) > MAX_CANDIDATES) break;
+        for (uint32_t k = k0; k < k1; ++k, ++n)
+            c[n].bound = (double)cx->ent[k] + (double)cy->ent[k], c[n].k = k,
+            c[n].curve = db->nodes[a].curve_start + (k - k0);
+    }
+    if (a != GS_NONE) return cross_cursors(db, cx, cy, top, cache, x_first); /* > 64 curves: rare */
+    double best = INFINITY;
+    for (uint32_t left = n; left; --left) {
+        uint32_t m = 0;
+        for (uint32_t i = 1; i < left; ++i)
+            if (c[i].bound < c[m].bound) m = i;
+        if (c[m].bound >= best || c[m].bound > cut) break; /* all others rejected too (and unreachable) */
+        double d = pair_min(db, cx, cy, c[m].k, c[m].curve, cache, x_first);
+        if (d != d) return NAN;
+        if (d < best) best = d;
+        for (uint32_t i = m; i + 1 < left; ++i) c[i] = c[i + 1]; /* keeps the order of the rest */
+    }
+    return best;
+}
+
+/* eq. 4-5 with the quick reject, x < y. */
+static double cross(const gs_db *db, uint32_t x, uint32_t y, uint32_t top, uint32_t nfx, uint32_t nfy)
+{
+    cursor cx, cy;
+    cursor_init(db, x, nfx, &cx);
+    cursor_init(db, y, nfy, &cy);
+    return cross_cursors(db, &cx, &cy, top, NULL, 1);
+}
+
+/* The stored exact distance of a near pair (section 'near_pairs'): only
+ * pairs nearer than its radius are stored, so a pair at least that far
+ * apart in space costs one comparison. e2: their squared Euclidean
+ * distance. */
+static int near_pair(const gs_db *db, uint32_t x, uint32_t y, double e2, double *d)
+{
+    if (!(e2 < db->near.radius2)) return 0; /* also without the section: 0 */
+    return x < y ? gs__db_near_find(&db->near, x, y, d) : gs__db_near_find(&db->near, y, x, d);
+}
+
 /* Cross-leaf distance of x != y (any order), top their leaves' lowest common
  * ancestor: the two go in vertex-id order so that d(x,y) == d(y,x). */
 static double cross_leaf(const gs_db *db, uint32_t x, uint32_t y, uint32_t lx, uint32_t ly, uint32_t top)
 {
-    uint32_t nfx = db->nodes[lx].curve_prefix, nfy = db->nodes[ly].curve_prefix;
-    double d = x < y ? cross(db, x, y, top, nfx, nfy) : cross(db, y, x, top, nfy, nfx);
-    return d != d ? d : at_least_euclidean(db, x, y, d);
+    double e2 = euclidean2(db, x, y), d;
+    if (!near_pair(db, x, y, e2, &d)) {
+        uint32_t nfx = db->nodes[lx].curve_prefix, nfy = db->nodes[ly].curve_prefix;
+        d = x < y ? cross(db, x, y, top, nfx, nfy) : cross(db, y, x, top, nfy, nfx);
+    }
+    double e = sqrt(e2);
+    return d != d || d >= e ? d : e;
 }
 
 double gs_db_distance(const gs_db *db, uint32_t x, uint32_t y)
@@ -373,53 +476,84 @@ int gs_db_distances(const gs_db *db, const uint32_t *pairs, size_t n, double *ou
     return GS_OK;
 }
 
-/* ---- fields: x's ancestors marked by depth ---- */
+/* ---- a source kept for many targets (query_internal.h) ---- */
 
-typedef struct field_ctx {
+struct gs__qsrc {
     const gs_db *db;
-    uint32_t x, lx, depth_x;
-    uint32_t anc[FIELD_MAX_DEPTH]; /* anc[d]: x's ancestor at depth d      */
-} field_ctx;
+    uint32_t x, lx, depth_x, nfx;
+    cursor cx;             /* x's record                                  */
+    xfun *cache;           /* nfx: x's functions, filled as used          */
+    uint32_t *anc;         /* depth_x + 1: x's ancestor at each depth     */
+};
 
-static double field_cross(const field_ctx *c, uint32_t y, uint32_t ly)
+gs__qsrc *gs__qsrc_create(const gs_db *db, uint32_t x)
 {
-    const gs_db *db = c->db;
-    uint32_t a = ly;
-    while (db->nodes[a].depth > c->depth_x || c->anc[db->nodes[a].depth] != a) a = db->nodes[a].parent;
-    return cross_leaf(db, c->x, y, c->lx, ly, a);
+    gs__qsrc *s = gs__calloc(1, sizeof *s);
+    if (!s) return NULL;
+    s->db = db, s->x = x, s->lx = db->leaf[x];
+    if (s->lx == GS_NONE) return s;
+    s->depth_x = db->nodes[s->lx].depth;
+    s->nfx = db->nodes[s->lx].curve_prefix;
+    s->anc = gs__malloc((size_t)s->depth_x + 1, sizeof *s->anc);
+    s->cache = gs__malloc(s->nfx ? s->nfx : 1, sizeof *s->cache);
+    if (!s->anc || !s->cache) {
+        gs__qsrc_free(s);
+        return NULL;
+    }
+    for (uint32_t k = 0; k < s->nfx; ++k) s->cache[k].state = 0;
+    for (uint32_t a = s->lx; a != GS_NONE; a = db->nodes[a].parent) s->anc[db->nodes[a].depth] = a;
+    cursor_init(db, x, s->nfx, &s->cx);
+    return s;
 }
 
-static void field_fast(field_ctx *c, double *out)
+void gs__qsrc_free(gs__qsrc *s)
 {
-    const gs_db *db = c->db;
-    for (uint32_t a = c->lx; a != GS_NONE; a = db->nodes[a].parent) c->anc[db->nodes[a].depth] = a;
-    for (uint32_t y = 0; y < db->nv; ++y) {
-        uint32_t ly = db->leaf[y];
-        if (y == c->x) out[y] = 0.0;
-        else if (ly == GS_NONE) out[y] = INFINITY;
-        else if (ly == c->lx) out[y] = same_leaf(db, ly, c->x, y);
-        else out[y] = field_cross(c, y, ly);
-    }
+    if (!s) return;
+    free(s->anc);
+    free(s->cache);
+    free(s);
 }
 
-int gs_db_field(const gs_db *db, uint32_t x, double *out, gs_error *err)
+uint32_t gs__qsrc_leaf(const gs__qsrc *s)
 {
-    if (!db || !out) return gs__fail(err, GS_EARG, "gs_db_field: NULL argument");
-    if (x >= db->nv) return gs__fail(err, GS_EARG, "gs_db_field: vertex %u >= n_vertices %u", x, db->nv);
-    uint32_t lx = db->leaf[x];
-    if (lx == GS_NONE) {
-        for (uint32_t y = 0; y < db->nv; ++y) out[y] = y == x ? 0.0 : INFINITY;
-        return GS_OK;
-    }
-    if (db->nodes[lx].depth >= FIELD_MAX_DEPTH) {
-        for (uint32_t y = 0; y < db->nv; ++y) out[y] = gs_db_distance(db, x, y);
-        return GS_OK;
-    }
-    field_ctx c; /* ~2 KB on the stack; no heap allocation */
-    c.db = db;
-    c.x = x;
-    c.lx = lx;
-    c.depth_x = db->nodes[lx].depth;
-    field_fast(&c, out);
-    return GS_OK;
+    return s->lx;
+}
+
+const float *gs__qsrc_minima(const gs__qsrc *s)
+{
+    return s->lx == GS_NONE ? NULL : s->cx.ent;
+}
+
+uint32_t gs__qsrc_ancestor(const gs__qsrc *s, uint32_t node)
+{
+    const gs__db_node *nodes = s->db->nodes;
+    while (nodes[node].depth > s->depth_x || s->anc[nodes[node].depth] != node) node = nodes[node].parent;
+    return node;
+}
+
+double gs__qsrc_cross_cut(gs__qsrc *s, uint32_t y, uint32_t ly, uint32_t top, double cut)
+{
+    const gs_db *db = s->db;
+    cursor cy;
+    cursor_init(db, y, db->nodes[ly].curve_prefix, &cy);
+    double e2 = euclidean2(db, s->x, y), d; /* as cross_leaf, bit for bit */
+    if (!near_pair(db, s->x, y, e2, &d)) d = cross_source(db, &s->cx, &cy, top, s->cache, s->x < y, cut);
+    double e = sqrt(e2);
+    return d != d || d >= e ? d : e;
+}
+
+double gs__qsrc_cross(gs__qsrc *s, uint32_t y, uint32_t ly, uint32_t top)
+{
+    return gs__qsrc_cross_cut(s, y, ly, top, INFINITY);
+}
+
+double gs__qsrc_distance(gs__qsrc *s, uint32_t y)
+{
+    const gs_db *db = s->db;
+    if (y >= db->nv) return NAN;
+    if (y == s->x) return 0.0;
+    uint32_t ly = db->leaf[y];
+    if (s->lx == GS_NONE || ly == GS_NONE) return INFINITY;
+    if (ly == s->lx) return same_leaf(db, ly, s->x, y);
+    return gs__qsrc_cross(s, y, ly, gs__qsrc_ancestor(s, ly));
 }

@@ -1,6 +1,11 @@
 /* sample.c - farthest-point sampling by the database's distances: greedy,
- * one gs_db_field per sample folded into a running minimum. Uses only the
- * public query functions. */
+ * each new sample's distances folded into a running minimum. A sample only
+ * brings closer the vertices within the current largest minimum (the
+ * distance of the sample itself to the ones before), so after the first
+ * samples each fold is a gs_db_within of that radius, whose cost shrinks
+ * with it; while some vertex is unreached (the first sample, other
+ * components) it is a whole gs_db_field. Uses only the public query
+ * functions. */
 #include "../core/internal.h"
 
 #include <math.h>
@@ -41,19 +46,29 @@ int gs_db_farthest_point_sampling(const gs_db *db, uint32_t k, uint32_t seed_ver
         return gs__fail(err, GS_ENOMEM, "gs_db_farthest_point_sampling: out of memory (%u vertices)", n);
     }
     uint32_t s = seed_vertex;
+    double reach = INFINITY; /* the largest mind[] over the candidates left */
     for (uint32_t i = 0; i < k; ++i) {
         out[i] = s;
         mind[s] = -INFINITY;
         if (i + 1 == k) break;
-        rc = gs_db_field(db, s, field, err);
-        if (rc) break;
+        if (reach == INFINITY) { /* some vertex is still unreached: the whole field */
+            rc = gs_db_field(db, s, field, err);
+            if (rc) break;
+            for (uint32_t v = 0; v < n; ++v)
+                if (field[v] < mind[v]) mind[v] = field[v]; /* -inf stays; NaN is ignored */
+        } else { /* only vertices within `reach` of s can come closer: mind <= reach */
+            gs_neighbors *nb = NULL;
+            rc = gs_db_within(db, s, reach, &nb, err);
+            if (rc) break;
+            for (size_t j = 0; j < nb->n; ++j)
+                if (nb->dist[j] < mind[nb->ids[j]]) mind[nb->ids[j]] = nb->dist[j];
+            gs_neighbors_free(nb);
+        }
         uint32_t best = GS_NONE;
         double best_d = -INFINITY;
-        for (uint32_t v = 0; v < n; ++v) {
-            double m = mind[v];
-            if (field[v] < m) mind[v] = m = field[v]; /* -inf stays; NaN is ignored */
-            if (m > best_d) best_d = m, best = v;     /* strict: ties to the lowest id */
-        }
+        for (uint32_t v = 0; v < n; ++v)
+            if (mind[v] > best_d) best_d = mind[v], best = v; /* strict: ties to the lowest id */
+        reach = best_d;
         if (best == GS_NONE) { /* cannot happen: k <= the vertices used by faces */
             rc = gs__fail(err, GS_EINTERNAL, "gs_db_farthest_point_sampling: no vertex left for sample %u", i + 1);
             break;
