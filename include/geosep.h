@@ -937,24 +937,29 @@ GS_API int gs_db_check_mesh(const gs_db *db, const gs_mesh *mesh, gs_error *err)
 
 /* A geodesic path from x to y (each a vertex or a surface point of mesh,
  * as gs_solver_path takes them: gs_source_vertex / gs_source_point) from
- * the database, without solving a field: a walk down the database's
- * distance to x, then shortened until locally shortest (funnel unfolding
- * and vertex flips; doc/paths.md). The database does not store faces:
- * mesh must be the one db was built from (GS_EARG if the vertex counts
- * differ or a vertex the path visits is not where db has it;
- * gs_db_check_mesh checks every vertex). The result has the form and
- * guarantees of gs_solver_path's paths (points as xyz and as face +
- * barycentric weights, consecutive points in one face, straight in faces
- * and across edges, bending only at saddle and boundary vertices) except
- * that it is the locally shortest path near the database's route: its
- * length is never below the exact distance and, on the meshes measured,
- * within 1% of it (doc/paths.md). x == y gives one point; points in
- * different components an empty path (0 points, length +INFINITY) and
- * GS_OK. GS_EARG for an invalid point (message names X or Y and what is
- * wrong), GS_ENOMEM, GS_EINTERNAL if the database answers NaN (a corrupt
- * file). *out receives a new path (gs_path_free), NULL on error.
- * Thread-safe: db and mesh are only read; each call allocates its own
- * work space (about the path's faces and visited vertices). */
+ * the database, without solving a field: a walk along the valley of the
+ * database's d(x, .) + d(., y), then shortened until locally shortest
+ * (funnel unfolding and vertex flips; doc/paths.md). The database does not
+ * store faces: mesh must be the one db was built from (GS_EARG if the
+ * vertex counts differ or a vertex the path visits is not where db has it;
+ * gs_db_check_mesh checks every vertex). The result has the form of
+ * gs_solver_path's paths (points as xyz and as face + barycentric weights,
+ * consecutive points in one face, straight in faces and across edges,
+ * bending only at saddle and boundary vertices) but is the locally
+ * shortest path along the database's route: its length is never below
+ * the exact distance and, on every mesh measured, within 1% of it. A path
+ * longer than the database's distance by more than its usual error is
+ * traced again from y, and if still too long replaced by the exact
+ * shortest path inside the corridor of shorter paths (an exact solve on
+ * those faces: milliseconds, for about 1% of the paths). x == y gives one
+ * point (GS_EARG for a vertex used by no face); points in different
+ * components, or a vertex used by no face, an empty path (0 points,
+ * length +INFINITY) and GS_OK. GS_EARG for an invalid point (the message
+ * names X or Y and what is wrong), GS_ENOMEM, GS_EINTERNAL if the database
+ * answers NaN (a corrupt file). *out receives a new path (gs_path_free),
+ * NULL on error. Thread-safe: db and mesh are only read; each call
+ * allocates its own work space (about the path's faces and the vertices
+ * it queried). */
 GS_API int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const gs_source *y,
                       gs_path **out, gs_error *err);
 

@@ -1,7 +1,7 @@
 /* test_db_path.c - geodesic paths from a database (gs_db_path): on
  * generated meshes (a plane, where the path is the straight segment; a
  * cylinder, a cone, a cube and a plate with holes, against the exact
- * solver's distance) and on the shared meshes up to 12,000 vertices
+ * solver's distance) and on the shared meshes up to 7,000 vertices
  * (against their ground truth; skipped with a reason without ../shared):
  * every path at least the exact distance (it is a real path on the
  * surface) and at most 1% longer; every point on the surface (face and
@@ -345,7 +345,7 @@ static void test_errors(void)
     env_close(&e);
 }
 
-/* The shared meshes up to 12,000 vertices: pairs from their ground-truth
+/* The shared meshes up to 7,000 vertices: pairs from their ground-truth
  * sources to random vertices, and surface-point pairs. */
 static void shared_meshes(void)
 {
@@ -367,8 +367,8 @@ static void shared_meshes(void)
             continue;
         }
         uint32_t nv = gs_mesh_num_vertices(m);
-        if (nv > 12000) {
-            printf("%-16s skipped here (%u vertices; bench_db_paths measures it)\n", names[i], nv);
+        if (nv > 7000) {
+            printf("%-16s skipped here (%u vertices: its database takes minutes to build; bench_db_paths)\n", names[i], nv);
             gs_mesh_free(m);
             gs_gt_free(gt);
             continue;

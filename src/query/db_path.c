@@ -244,6 +244,41 @@ static int dist_to_target(ctx *c, uint32_t v, double *out)
     return GS_OK;
 }
 
+/* The distances to the target (which = 0) or to the origin (which = 1) of
+ * the n vertices v[] into the cache: those not there yet in one batch
+ * (gs_db_distances fetches their records from memory in parallel). */
+#define MAX_FAN 256
+static int fetch(ctx *c, const uint32_t *v, uint32_t n, int which)
+{
+    uint32_t pairs[2 * MAX_FAN], idx[MAX_FAN], m = 0;
+    double d[MAX_FAN];
+    for (uint32_t j = 0; j < n; ++j) {
+        uint32_t s = vmap_get(&c->dmap, v[j]);
+        if (s != GS_NONE && c->dval[2 * s + which] == c->dval[2 * s + which]) continue;
+        if (s == GS_NONE) {
+            int rc = check_vertex(c, v[j]);
+            if (rc) return rc;
+            if (grow((void **)&c->dval, &c->dcap, 2 * c->nd + 2, sizeof *c->dval) ||
+                vmap_put(&c->dmap, v[j], (uint32_t)c->nd))
+                return oom(c);
+            s = (uint32_t)c->nd++;
+            c->dval[2 * s] = c->dval[2 * s + 1] = NAN;
+        }
+        idx[m] = s;
+        pairs[2 * m] = which ? c->origin : c->target, pairs[2 * m + 1] = v[j];
+        m++;
+    }
+    if (!m) return GS_OK;
+    gs_db_distances(c->db, pairs, m, d, NULL); /* ids in range: cannot fail */
+    for (uint32_t j = 0; j < m; ++j) {
+        if (d[j] != d[j])
+            return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: the database answers NaN for vertices %u and %u",
+                            pairs[2 * j], pairs[2 * j + 1]);
+        c->dval[2 * idx[j] + which] = d[j];
+    }
+    return GS_OK;
+}
+
 /* d(origin, v) of a vertex dist_to_target has seen. */
 static int dist_to_origin(ctx *c, uint32_t v, double *out)
 {
@@ -387,7 +422,8 @@ static int descend(ctx *c, const uint32_t *targets, int nt)
         if (rc) return rc;
         if (c->nvp > 1) /* the last step's direction: neighbours behind it come last */
             for (int k = 0; k < 3; ++k) dir[k] = vpos(c, v)[k] - vpos(c, c->vp[c->nvp - 2])[k];
-        for (int pass = 0; pass < 2 && bn == GS_NONE; ++pass)
+        for (int pass = 0; pass < 2 && bn == GS_NONE; ++pass) {
+            uint32_t cand[MAX_FAN], nc = 0;
             for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1]; ++i) {
                 uint32_t h = t->vc[i];
                 uint32_t nb[2] = {t->tri[gs__next(h)], t->tri[gs__prev(h)]};
@@ -395,15 +431,23 @@ static int descend(ctx *c, const uint32_t *targets, int nt)
                     const double *q = vpos(c, nb[k]), *p = vpos(c, v);
                     double ahead = (q[0] - p[0]) * dir[0] + (q[1] - p[1]) * dir[1] + (q[2] - p[2]) * dir[2];
                     if ((ahead >= 0) == (pass == 1)) continue;
-                    double dn;
-                    if ((rc = dist_to_target(c, nb[k], &dn))) return rc;
-                    if (!(dn < dv)) continue;
-                    double dy = 0;
-                    if ((rc = dist_to_origin(c, nb[k], &dy))) return rc;
-                    double s = dn + dy;
-                    if (s < best) best = s, bn = nb[k];
+                    uint32_t j = 0;
+                    while (j < nc && cand[j] != nb[k]) ++j;
+                    if (j == nc && nc < MAX_FAN) cand[nc++] = nb[k];
                 }
             }
+            /* d(X, .) of them all, then d(., Y) of those closer to X: each in one batch */
+            if ((rc = fetch(c, cand, nc, 0))) return rc;
+            uint32_t closer[MAX_FAN], ncl = 0;
+            for (uint32_t j = 0; j < nc; ++j)
+                if (c->dval[2 * vmap_get(&c->dmap, cand[j])] < dv) closer[ncl++] = cand[j];
+            if ((rc = fetch(c, closer, ncl, 1))) return rc;
+            for (uint32_t j = 0; j < ncl; ++j) {
+                uint32_t sl = vmap_get(&c->dmap, closer[j]);
+                double g = c->dval[2 * sl] + c->dval[2 * sl + 1];
+                if (g < best) best = g, bn = closer[j];
+            }
+        }
         if (bn == GS_NONE) {
             int found;
             if ((rc = astar(c, c->target, &found))) return rc;
@@ -924,28 +968,30 @@ static int make_path(ctx *c, gs_path **out)
 
 /* A path this much longer than the database's d(X, Y) is checked: beyond
  * the database's usual errors (exact fields; approximate ones err more). */
-#define CHECK_TOL_EXACT 0.008
+#define CHECK_TOL_EXACT 0.01
 /* ... and first, a little longer, also traced from the other end */
-#define REVERSE_TOL_EXACT 0.004
+#define REVERSE_TOL_EXACT 0.005
 #define REVERSE_TOL_APPROX 0.01
-#define CHECK_TOL_APPROX 0.015
+#define CHECK_TOL_APPROX 0.02
 #define CORRIDOR_TOL 0.01   /* the database's error allowed for in the corridor */
 
 /* ---- the check: a path much longer than the database's distance -------- */
 
-/* The path is longer than the database's distance by more than the
+/* The path is longer than the database's distance d by more than the
  * database's errors usually are (the descent then followed another
  * route's valley: a coarse mesh next to the path, a fitted function's
- * error): the exact shortest path inside the corridor that holds every
- * path shorter than this one, the vertices v with d(X, v) + d(v, Y) at
- * most its length (plus the database's tolerance and the ends' offsets),
- * grown from the vertex path; the faces at them form a patch, solved
- * exactly (gs_solver_path). *out: that path if shorter, else untouched. */
-static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_source *y, double len, double slack,
-                    gs_path **out)
+ * error): the exact shortest path inside the corridor that holds the
+ * shortest path as far as the database can tell, the vertices v with
+ * d(X, v) + d(v, Y) at most d plus CORRIDOR_TOL (at most the path's
+ * length; plus the ends' offsets and an edge), grown from the vertex path;
+ * the faces at them form a patch, solved exactly (gs_solver_path). *out:
+ * that path if shorter, else untouched. */
+static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_source *y, double len, double d,
+                    double slack, gs_path **out)
 {
     const gs__topo *t = c->t;
-    double thr = len * (1 + CORRIDOR_TOL) + slack + 2 * mesh->report.max_edge;
+    double bound = d * (1 + CORRIDOR_TOL); /* the shortest path, for the database (if its error is below the tolerance) */
+    double thr = (bound < len ? bound : len) + slack + 2 * mesh->report.max_edge;
     /* flood: c->vp grows into the corridor's vertices (amap: seen) */
     c->na = 0;
     if (c->amap.cap) memset(c->amap.key, 0xff, c->amap.cap * sizeof *c->amap.key), c->amap.n = 0;
@@ -964,7 +1010,7 @@ static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_so
             for (int k = 0; k < 2; ++k) {
                 if (vmap_get(&c->amap, nb[k]) != GS_NONE) continue;
                 if (anode(c, nb[k], &slot)) return oom(c);
-                double dx, dy;
+                double dx, dy = 0;
                 int rc = dist_to_target(c, nb[k], &dx);
                 if (!rc) rc = dist_to_origin(c, nb[k], &dy);
                 if (rc) return rc;
@@ -1280,7 +1326,7 @@ int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const g
         q_position(t, &qy, py);
         double slack = best == &c ? dist3(px, vpos(best, best->target)) + dist3(py, vpos(best, best->origin))
                                   : dist3(py, vpos(best, best->target)) + dist3(px, vpos(best, best->origin));
-        rc = corridor(best, mesh, x, y, len, slack, out);
+        rc = corridor(best, mesh, x, y, len, d, slack, out);
     }
     if (rc) gs_path_free(*out), *out = NULL;
     ctx_free(&c2);
