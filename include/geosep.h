@@ -1,5 +1,8 @@
 /* geosep.h - the one public header of geosep: fast point-to-point geodesic
  * distance queries on triangle meshes (Gotsman & Hormann, SIGGRAPH Asia 2022).
+ * One header (about 1,150 lines, most of them the contract of each function:
+ * ownership, thread safety, errors) so that users include one file and
+ * the installed API is one place to read.
  *
  * Conventions (stated once, they hold for every function below):
  *  - Every function that can fail returns an int status: GS_OK (0) on success,

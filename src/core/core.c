@@ -60,6 +60,17 @@ void *gs__realloc(void *p, size_t count, size_t size)
     return realloc(p, n ? n : 1);
 }
 
+int gs__grow(void **p, size_t *cap, size_t need, size_t size)
+{
+    if (need <= *cap) return GS_OK;
+    size_t c = *cap ? *cap : 256;
+    while (c < need) c *= 2;
+    void *q = gs__realloc(*p, c, size);
+    if (!q) return GS_ENOMEM;
+    *p = q, *cap = c;
+    return GS_OK;
+}
+
 double gs__now(void)
 {
     struct timespec ts;

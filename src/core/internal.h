@@ -27,6 +27,10 @@ void *gs__malloc(size_t count, size_t size);
 void *gs__calloc(size_t count, size_t size);
 void *gs__realloc(void *p, size_t count, size_t size);
 
+/* A growable array: make *p hold at least need elements of size bytes,
+ * doubling *cap (from 256); GS_OK, or GS_ENOMEM with *p and *cap unchanged. */
+int gs__grow(void **p, size_t *cap, size_t need, size_t size);
+
 /* Wall-clock seconds (monotonic). */
 double gs__now(void);
 

@@ -48,18 +48,6 @@ typedef struct leaf_work {
     size_t rcap;
 } leaf_work;
 
-static int grow(void **p, size_t *cap, size_t need, size_t size)
-{
-    if (need <= *cap) return 0;
-    size_t n = *cap ? *cap : 256;
-    while (n < need) n *= 2;
-    void *q = gs__realloc(*p, n, size);
-    if (!q) return -1;
-    *p = q;
-    *cap = n;
-    return 0;
-}
-
 /* Can face f meet the ball B(x, r) of some leaf vertex x? */
 static int face_near_leaf(const gs_mesh *m, uint32_t f, const uint32_t *lv, uint32_t n, const double *r)
 {
@@ -90,7 +78,7 @@ uint32_t gs__pipe_region(const gs_mesh *m, const uint32_t *lv, uint32_t n, const
             uint32_t f = t->vc[c] / 3;
             if (fstamp[f] == stamp) continue;
             fstamp[f] = stamp;
-            if (grow((void **)faces, cap, nf + 1, sizeof **faces)) return GS_NONE;
+            if (gs__grow((void **)faces, cap, nf + 1, sizeof **faces)) return GS_NONE;
             (*faces)[nf++] = f;
         }
     for (size_t q = 0; q < nf; ++q) { /* breadth first through shared vertices */
@@ -102,7 +90,7 @@ uint32_t gs__pipe_region(const gs_mesh *m, const uint32_t *lv, uint32_t n, const
                 if (fstamp[g] == stamp) continue;
                 fstamp[g] = stamp;
                 if (!face_near_leaf(m, g, lv, n, r)) continue;
-                if (grow((void **)faces, cap, nf + 1, sizeof **faces)) return GS_NONE;
+                if (gs__grow((void **)faces, cap, nf + 1, sizeof **faces)) return GS_NONE;
                 (*faces)[nf++] = g;
             }
         }
@@ -124,7 +112,7 @@ static int leaf_solve(const gs_patch *p, gs_method method, const gs_solver_optio
                       double *T, leaf_work *w, gs_error *err)
 {
     uint32_t nl = gs_patch_num_vertices(p);
-    if (grow((void **)&w->dist, &w->dcap, nl, sizeof *w->dist))
+    if (gs__grow((void **)&w->dist, &w->dcap, nl, sizeof *w->dist))
         return gs__fail(err, GS_ENOMEM, "out of memory for a leaf field");
     gs_solver *s = NULL;
     int rc = gs_solver_create_ex(p, method, so_opt, &s, err);
@@ -154,7 +142,7 @@ static int leaf_table(gs__builder *b, uint32_t node, const uint32_t *lv, double 
      * by the leaf's own distances, which only exact fields make safe (fmm's
      * overestimates left pairs of a leaf unreached: +inf answers) */
     gs_method method = GS_METHOD_EXACT;
-    if (grow((void **)&w->radius, &w->rcap, n, sizeof *w->radius))
+    if (gs__grow((void **)&w->radius, &w->rcap, n, sizeof *w->radius))
         return gs__fail(err, GS_ENOMEM, "out of memory for leaf %u", node);
     gs_patch *p = NULL;
     int rc = gs_patch_create(b->mesh, b->tree->faces + nd->face_start, nd->n_faces, &p, err);

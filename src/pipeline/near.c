@@ -36,25 +36,13 @@ typedef struct near_work {
     size_t n, pcap;
 } near_work;
 
-static int grow(void **p, size_t *cap, size_t need, size_t size)
-{
-    if (need <= *cap) return 0;
-    size_t n = *cap ? *cap : 256;
-    while (n < need) n *= 2;
-    void *q = gs__realloc(*p, n, size);
-    if (!q) return -1;
-    *p = q;
-    *cap = n;
-    return 0;
-}
-
 /* The pairs of leaf `node` (its n vertices lv) into w->pairs; radius:
  * each vertex's (near_radius). */
 static int near_leaf(const gs__builder *b, const gs_db *db0, uint32_t node, const uint32_t *lv, uint32_t n,
                      const double *radius, double tol, uint32_t stamp, near_work *w, gs_error *err)
 {
     const uint32_t *leaf = b->tree->leaf_of_vertex;
-    if (grow((void **)&w->radius, &w->rcap, n, sizeof *w->radius))
+    if (gs__grow((void **)&w->radius, &w->rcap, n, sizeof *w->radius))
         return gs__fail(err, GS_ENOMEM, "out of memory for leaf %u's near pairs", node);
     for (uint32_t k = 0; k < n; ++k) w->radius[k] = radius[lv[k]];
     uint32_t nf = gs__pipe_region(b->mesh, lv, n, w->radius, stamp, w->fstamp, &w->faces, &w->cap);
@@ -64,7 +52,7 @@ static int near_leaf(const gs__builder *b, const gs_db *db0, uint32_t node, cons
     int rc = gs_patch_create(b->mesh, w->faces, nf, &p, err);
     if (rc == GS_OK) rc = gs_solver_create_ex(p, GS_METHOD_EXACT, &b->opt->solver, &s, err);
     uint32_t np = rc == GS_OK ? gs_patch_num_vertices(p) : 0;
-    if (rc == GS_OK && grow((void **)&w->dist, &w->dcap, np, sizeof *w->dist))
+    if (rc == GS_OK && gs__grow((void **)&w->dist, &w->dcap, np, sizeof *w->dist))
         rc = gs__fail(err, GS_ENOMEM, "out of memory for a near field");
     for (uint32_t k = 0; k < n && rc == GS_OK; ++k) {
         uint32_t x = lv[k], src = gs_patch_vertex_from_mesh(p, x);
@@ -82,7 +70,7 @@ static int near_leaf(const gs__builder *b, const gs_db *db0, uint32_t node, cons
             if (leaf[y] == node || leaf[y] == GS_NONE) continue;
             double a = gs_db_distance(db0, x, y);
             if (fabs(a - d) <= tol * d) continue; /* NaN or inf: stored */
-            if (grow((void **)&w->pairs, &w->pcap, w->n + 1, sizeof *w->pairs))
+            if (gs__grow((void **)&w->pairs, &w->pcap, w->n + 1, sizeof *w->pairs))
                 rc = gs__fail(err, GS_ENOMEM, "out of memory for near pairs");
             else w->pairs[w->n++] = x < y ? (gs__near_pair){x, y, d} : (gs__near_pair){y, x, d};
         }

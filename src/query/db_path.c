@@ -1,6 +1,10 @@
 /* db_path.c - geodesic paths from a database (doc/paths.md, "From a
  * database"): a path between two vertices or surface points of the mesh the
  * database was built from, without solving a field.
+ * One file (about 1,300 lines) on purpose: the four stages below share one
+ * path context (the descent's distance cache, the sleeve, the unfolding)
+ * and each hands the next its half-built state; split, every part would
+ * export that context.
  *
  * 1. Descent along the valley. The points p of the shortest path are where
  *    g(p) = d(X, p) + d(p, Y) is smallest (= d(X, Y)); elsewhere g grows
@@ -92,19 +96,6 @@ static int vmap_put(vmap *m, uint32_t k, uint32_t v)
     while (m->key[i] != GS_NONE && m->key[i] != k) i = (i + 1) & (m->cap - 1);
     if (m->key[i] == GS_NONE) m->n++;
     m->key[i] = k, m->val[i] = v;
-    return GS_OK;
-}
-
-/* ---- growable arrays ---------------------------------------------------- */
-
-static int grow(void **p, size_t *cap, size_t need, size_t size)
-{
-    if (need <= *cap) return GS_OK;
-    size_t c = *cap ? *cap : 256;
-    while (c < need) c *= 2;
-    void *q = gs__realloc(*p, c, size);
-    if (!q) return GS_ENOMEM;
-    *p = q, *cap = c;
     return GS_OK;
 }
 
@@ -236,7 +227,7 @@ static int dist_to_target(ctx *c, uint32_t v, double *out)
     if (d != d)
         return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: the database answers NaN for vertices %u and %u",
                         c->target, v);
-    if (grow((void **)&c->dval, &c->dcap, 2 * c->nd + 2, sizeof *c->dval) || vmap_put(&c->dmap, v, (uint32_t)c->nd))
+    if (gs__grow((void **)&c->dval, &c->dcap, 2 * c->nd + 2, sizeof *c->dval) || vmap_put(&c->dmap, v, (uint32_t)c->nd))
         return oom(c);
     c->dval[2 * c->nd] = d, c->dval[2 * c->nd + 1] = NAN;
     c->nd++;
@@ -258,7 +249,7 @@ static int fetch(ctx *c, const uint32_t *v, uint32_t n, int which)
         if (s == GS_NONE) {
             int rc = check_vertex(c, v[j]);
             if (rc) return rc;
-            if (grow((void **)&c->dval, &c->dcap, 2 * c->nd + 2, sizeof *c->dval) ||
+            if (gs__grow((void **)&c->dval, &c->dcap, 2 * c->nd + 2, sizeof *c->dval) ||
                 vmap_put(&c->dmap, v[j], (uint32_t)c->nd))
                 return oom(c);
             s = (uint32_t)c->nd++;
@@ -297,7 +288,7 @@ static int dist_to_origin(ctx *c, uint32_t v, double *out)
 
 static int push_vertex(ctx *c, uint32_t v)
 {
-    if (grow((void **)&c->vp, &c->vpcap, c->nvp + 1, sizeof *c->vp)) return oom(c);
+    if (gs__grow((void **)&c->vp, &c->vpcap, c->nvp + 1, sizeof *c->vp)) return oom(c);
     c->vp[c->nvp++] = v;
     return GS_OK;
 }
@@ -306,8 +297,8 @@ static int push_vertex(ctx *c, uint32_t v)
 
 static int heap_push(ctx *c, double k, uint32_t v)
 {
-    if (grow((void **)&c->heapk, &c->heapcap, c->nheap + 1, sizeof *c->heapk) ||
-        grow((void **)&c->heapv, &c->heapvcap, c->nheap + 1, sizeof *c->heapv))
+    if (gs__grow((void **)&c->heapk, &c->heapcap, c->nheap + 1, sizeof *c->heapk) ||
+        gs__grow((void **)&c->heapv, &c->heapvcap, c->nheap + 1, sizeof *c->heapv))
         return GS_ENOMEM;
     size_t i = c->nheap++;
     while (i > 0) {
@@ -344,10 +335,10 @@ static int anode(ctx *c, uint32_t v, uint32_t *slot)
 {
     uint32_t s = vmap_get(&c->amap, v);
     if (s == GS_NONE) {
-        if (grow((void **)&c->ag, &c->acap[0], c->na + 1, sizeof *c->ag) ||
-            grow((void **)&c->aparent, &c->acap[1], c->na + 1, sizeof *c->aparent) ||
-            grow((void **)&c->anode, &c->acap[2], c->na + 1, sizeof *c->anode) ||
-            grow((void **)&c->aclosed, &c->acap[3], c->na + 1, 1))
+        if (gs__grow((void **)&c->ag, &c->acap[0], c->na + 1, sizeof *c->ag) ||
+            gs__grow((void **)&c->aparent, &c->acap[1], c->na + 1, sizeof *c->aparent) ||
+            gs__grow((void **)&c->anode, &c->acap[2], c->na + 1, sizeof *c->anode) ||
+            gs__grow((void **)&c->aclosed, &c->acap[3], c->na + 1, 1))
             return GS_ENOMEM;
         s = (uint32_t)c->na++;
         c->ag[s] = INFINITY, c->aparent[s] = GS_NONE, c->anode[s] = v, c->aclosed[s] = 0;
@@ -397,7 +388,7 @@ static int astar(ctx *c, uint32_t to, int *found_it)
     if (found == GS_NONE) return GS_OK;
     size_t n0 = c->nvp, k = 0;
     for (uint32_t a = found; a != s; a = c->aparent[a]) ++k;
-    if (grow((void **)&c->vp, &c->vpcap, n0 + k, sizeof *c->vp)) return oom(c);
+    if (gs__grow((void **)&c->vp, &c->vpcap, n0 + k, sizeof *c->vp)) return oom(c);
     c->nvp = n0 + k;
     for (uint32_t a = found; a != s; a = c->aparent[a]) c->vp[n0 + --k] = c->anode[a];
     *found_it = 1;
@@ -550,7 +541,7 @@ static int sleeve_push(ctx *c, uint32_t f)
         c->nsl--;
         return GS_OK;
     }
-    if (grow((void **)&c->sl, &c->slcap, c->nsl + 1, sizeof *c->sl)) return oom(c);
+    if (gs__grow((void **)&c->sl, &c->slcap, c->nsl + 1, sizeof *c->sl)) return oom(c);
     c->sl[c->nsl++] = f;
     return GS_OK;
 }
@@ -645,8 +636,8 @@ static int unfold(ctx *c, const qpt *x, const qpt *y)
 {
     const gs__topo *t = c->t;
     size_t m = c->nsl;
-    if (grow((void **)&c->uv, &c->uvcap, 3 * m, sizeof *c->uv) ||
-        grow((void **)&c->fp, &c->fpcap, m + 1, sizeof *c->fp))
+    if (gs__grow((void **)&c->uv, &c->uvcap, 3 * m, sizeof *c->uv) ||
+        gs__grow((void **)&c->fp, &c->fpcap, m + 1, sizeof *c->fp))
         return oom(c);
     uint32_t f = c->sl[0];
     p2 *u = c->uv;
@@ -686,7 +677,7 @@ static int push_apex(ctx *c, p2 p, uint32_t v, uint32_t idx)
         c->ap[c->nap - 1].idx = idx;
         return GS_OK;
     }
-    if (grow((void **)&c->ap, &c->apcap, c->nap + 1, sizeof *c->ap)) return oom(c);
+    if (gs__grow((void **)&c->ap, &c->apcap, c->nap + 1, sizeof *c->ap)) return oom(c);
     c->ap[c->nap++] = (apex){p, v, idx};
     return GS_OK;
 }
@@ -797,7 +788,7 @@ static int flip_at(ctx *c, size_t j, int force, uint32_t xv, uint32_t yv, size_t
     }
     if (!ok || (b - a + 1) + n - 2 != val) return GS_OK; /* the two ways must split v's faces */
     size_t old = b - a + 1, nn = c->nsl - old + n;
-    if (grow((void **)&c->sl, &c->slcap, nn, sizeof *c->sl)) return oom(c);
+    if (gs__grow((void **)&c->sl, &c->slcap, nn, sizeof *c->sl)) return oom(c);
     memmove(c->sl + a + n, c->sl + b + 1, (c->nsl - b - 1) * sizeof *c->sl);
     memcpy(c->sl + a, buf, n * sizeof *c->sl);
     c->nsl = nn;
@@ -879,7 +870,7 @@ static int add_q(ctx *c, qpt q, uint32_t g)
         c->q[c->nq - 1].seg = g;
         return GS_OK;
     }
-    if (grow((void **)&c->q, &c->qcap, c->nq + 1, sizeof *c->q)) return oom(c);
+    if (gs__grow((void **)&c->q, &c->qcap, c->nq + 1, sizeof *c->q)) return oom(c);
     if (c->nq) c->q[c->nq - 1].seg = g;
     q.seg = g;
     c->q[c->nq++] = q;
@@ -1031,7 +1022,7 @@ static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_so
         for (uint32_t i = i0; i < i1 && !rc; ++i) {
             uint32_t f = v != GS_NONE ? t->vc[i] / 3 : one;
             if (f == GS_NONE || vmap_get(&fmap, f) != GS_NONE) continue;
-            if (grow((void **)&faces, &fcap, nf + 1, sizeof *faces) || vmap_put(&fmap, f, (uint32_t)nf))
+            if (gs__grow((void **)&faces, &fcap, nf + 1, sizeof *faces) || vmap_put(&fmap, f, (uint32_t)nf))
                 rc = oom(c);
             else
                 faces[nf++] = f;
