@@ -458,11 +458,6 @@ uint32_t gs__fun_cost(const gs__fun *f)
     return f->degree + 1 + (f->kind == GS_FUN_CHEBYSHEV && f->closed ? 1u : 0u);
 }
 
-uint32_t gs__fun_grid_points(uint32_t m)
-{
-    uint32_t g = 4 * m + 9 < 33 ? 33 : 4 * m + 9;
-    return g > GS_FUN_GRID_MAX ? GS_FUN_GRID_MAX : g;
-}
 
 
 /* The lower of a loop's one-sided limits at its seam: its series at t = 1

@@ -71,9 +71,30 @@ static inline double gs__fun_wrap(double u)
 /* Largest grid of gs__fun_pair_min_grid. */
 #define GS_FUN_GRID_MAX 96
 
-/* Grid points for the functions of a curve whose largest degree is m: four
- * per degree and some, at least 33, at most GS_FUN_GRID_MAX. */
-uint32_t gs__fun_grid_points(uint32_t m);
+/* The query's grid for a pair of functions whose higher degree is m (the
+ * pair's own, not its curve's: a pair of low degrees needs fewer points):
+ * GS_FUN_GRID_A m + GS_FUN_GRID_B points, at least GS_FUN_GRID_MIN, at most
+ * GS_FUN_GRID_MAX (gs__fun_grid_points). Coarser grids (2 m + 9, m + 12)
+ * keep the all-pairs errors against exact distances but leave the grid
+ * minimiser further above the robust one than test_fit and test_query
+ * allow (doc/performance.md, "What a query does"). */
+#ifndef GS_FUN_GRID_A
+#define GS_FUN_GRID_A 4u
+#endif
+#ifndef GS_FUN_GRID_B
+#define GS_FUN_GRID_B 9u
+#endif
+#ifndef GS_FUN_GRID_MIN
+#define GS_FUN_GRID_MIN 33u
+#endif
+
+/* Grid points for a pair of functions whose higher degree is m (above). */
+static inline uint32_t gs__fun_grid_points(uint32_t m)
+{
+    uint32_t g = GS_FUN_GRID_A * m + GS_FUN_GRID_B;
+    g = g < GS_FUN_GRID_MIN ? GS_FUN_GRID_MIN : g;
+    return g > GS_FUN_GRID_MAX ? GS_FUN_GRID_MAX : g;
+}
 
 /* Whether f has a sharp dip (its minimum is below a tenth of its typical
  * value: a vertex close to the curve), the case where
@@ -124,5 +145,12 @@ uint32_t gs__fun_seam_cell(const gs__fun *f, uint32_t g);
  * and windows that bracket nothing clearly (rare) go to gs__fun_pair_min. */
 double gs__fun_pair_min_grid(const gs__fun *a, const gs__fun *b, const float *ga, const float *gb, uint32_t g,
                             const gs__fun_dip *da, const gs__fun_dip *db, double *u_at);
+
+/* gs__fun_pair_min_grid of two paths given the sum of their grid values
+ * instead: s = e + 1 holds s[j] = ga[j] + gb[j] for j < g (e readable and
+ * writable from e[0] to e[g + 4]: the ends' neighbours go there), mn the
+ * smallest s[j]. The same result, bit for bit (loops: gs__fun_pair_min). */
+double gs__fun_pair_min_grid_sum(const gs__fun *a, const gs__fun *b, float *e, float mn, uint32_t g,
+                                const gs__fun_dip *da, const gs__fun_dip *db, double *u_at);
 
 #endif

@@ -1,6 +1,7 @@
-/* pair_grid.c - separator distance functions on a curve's uniform query
+/* pair_grid.c - separator distance functions on a pair's uniform query
  * grid (pair_grid.h): tables of T_k at uniform points, built once per grid
- * size, then one dot product per point, four points at a time. */
+ * size, then one dot product per point, eight points at a time; a pair of
+ * paths tabulated and summed in one pass. */
 #include "pair_grid.h"
 
 #include <math.h>
@@ -10,28 +11,29 @@
 
 #define ROWS (GS_FUN_MAX_DEGREE + 1)
 
+#define SLOT0 ((GS_FUN_GRID_MIN - GS_FUN_GRID_B) / GS_FUN_GRID_A + 1) /* rows of the smallest grid */
+
 /* Rows a grid of g points needs: the degrees gs__fun_grid_points gives g
- * for (g = 4 m + 9, at least 33; the largest grid serves every degree), so
- * that a small grid's table stays small in memory. */
-static uint32_t rows_for(uint32_t g)
+ * for (fun.h; the largest grid serves every degree), so that a small
+ * grid's table stays small in memory. */
+static inline uint32_t rows_for(uint32_t g)
 {
     if (g >= GS_FUN_GRID_MAX) return ROWS;
-    uint32_t r = g >= 9 ? (g - 9) / 4 + 1 : 1;
-    return r > ROWS ? ROWS : (r < 7 ? 7 : r);
+    uint32_t r = g >= GS_FUN_GRID_B ? (g - GS_FUN_GRID_B) / GS_FUN_GRID_A + 1 : 1;
+    return r > ROWS ? ROWS : (r < SLOT0 ? SLOT0 : r);
 }
 #define STRIDE(g) ((((g) + 3u) + 7u) & ~7u) /* g + 3 points, padded to 8 */
 
-/* The grids the query uses are those of gs__fun_grid_points (19 sizes,
- * one per row count 7..25); their tables are packed one after the other
- * (about 100 KB for each kind), so that those a process touches stay small
- * in memory beside the mapped file. Any other g is tabulated without a
- * table (slow; only callers outside the query). */
-#define SLOT0 7u                       /* rows of the smallest grid (33)   */
+/* The grids the query uses are those of gs__fun_grid_points (one per row
+ * count SLOT0..ROWS); their tables are packed one after the other (about
+ * 40 KB for each kind), so that those a process touches stay small in
+ * memory beside the mapped file. Any other g is tabulated without a table
+ * (slow; only callers outside the query). */
 #define SLOTS (ROWS - SLOT0 + 1)
-#define POOL (4 * ROWS * ROWS * ROWS / 3 + 32 * ROWS * ROWS) /* > sum of r STRIDE(4 r + 5) */
+#define POOL (GS_FUN_GRID_A * ROWS * ROWS * ROWS / 3 + (GS_FUN_GRID_B + 24) * ROWS * ROWS) /* > sum of r STRIDE(g(r)) */
 
 /* Whether g is a grid of gs__fun_grid_points (and so has a table). */
-static int tabled(uint32_t g)
+static inline int tabled(uint32_t g)
 {
     return g >= 3 && g <= GS_FUN_GRID_MAX && gs__fun_grid_points(rows_for(g) - 1) == g;
 }
@@ -66,22 +68,27 @@ static void fill(float *tab, int loop, uint32_t g)
     }
 }
 
-/* The table of (loop, g) for a tabled g, built on first use. */
-static const float *table(int loop, uint32_t g)
+/* The table of (loop, g) for a tabled g, built on first use (the fast
+ * path: one acquire load of its pointer). */
+static const float *table_build(int loop, uint32_t g)
 {
     uint32_t slot = rows_for(g) - SLOT0;
-    if (!__atomic_load_n(&g_done[loop][slot], __ATOMIC_ACQUIRE)) {
-        pthread_mutex_lock(&g_lock);
-        if (!g_done[loop][slot]) {
-            size_t off = 0;
-            for (uint32_t r = SLOT0; r < rows_for(g); ++r) off += (size_t)r * STRIDE(gs__fun_grid_points(r - 1));
-            fill(g_pool[loop] + off, loop, g);
-            g_ptr[loop][slot] = g_pool[loop] + off;
-            __atomic_store_n(&g_done[loop][slot], 1, __ATOMIC_RELEASE);
-        }
-        pthread_mutex_unlock(&g_lock);
+    pthread_mutex_lock(&g_lock);
+    if (!g_done[loop][slot]) {
+        size_t off = 0;
+        for (uint32_t r = SLOT0; r < rows_for(g); ++r) off += (size_t)r * STRIDE(gs__fun_grid_points(r - 1));
+        fill(g_pool[loop] + off, loop, g);
+        __atomic_store_n(&g_ptr[loop][slot], g_pool[loop] + off, __ATOMIC_RELEASE);
+        g_done[loop][slot] = 1;
     }
+    pthread_mutex_unlock(&g_lock);
     return g_ptr[loop][slot];
+}
+
+static inline const float *table(int loop, uint32_t g)
+{
+    const float *t = __atomic_load_n(&g_ptr[loop][rows_for(g) - SLOT0], __ATOMIC_ACQUIRE);
+    return t ? t : table_build(loop, g);
 }
 
 /* p_j (j < n) of a g without a table: the series at each point. */
@@ -348,4 +355,118 @@ void gs__grid_values_path(const float *cf, uint32_t m, int squared, uint32_t g, 
         a = a > 0.0f ? a : 0.0f;
         v[j] = squared ? sqrtf(a) : a;
     }
+}
+
+/* ---- both functions of a path pair at once -------------------------------- */
+
+#ifdef HAVE_AVX2_PATH
+/* One function's values on NB vectors of 8 points from j: the operations
+ * of path_blocks, kept in registers (or loaded when cached: v). */
+__attribute__((target("avx2,fma"), always_inline)) static inline void fun_blocks(const float *tab, uint32_t st,
+                                                                                const float *cf, uint32_t m,
+                                                                                int squared, const float *v,
+                                                                                uint32_t j, __m256 *a, const int NB)
+{
+    if (v) {
+#pragma GCC unroll 4
+        for (int b = 0; b < NB; ++b) a[b] = _mm256_loadu_ps(v + j + 8 * b);
+        return;
+    }
+#pragma GCC unroll 4
+    for (int b = 0; b < NB; ++b) a[b] = _mm256_setzero_ps();
+    for (uint32_t k = 0; k <= m; ++k) {
+        __m256 ck = _mm256_set1_ps(cf[k]);
+        const float *r = tab + (size_t)k * st + j;
+#pragma GCC unroll 4
+        for (int b = 0; b < NB; ++b) a[b] = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 8 * b), a[b]);
+    }
+    const __m256 z = _mm256_setzero_ps();
+#pragma GCC unroll 4
+    for (int b = 0; b < NB; ++b) {
+        __m256 x = _mm256_max_ps(a[b], z);
+        a[b] = squared ? _mm256_sqrt_ps(x) : x;
+    }
+}
+
+static const int32_t lane_mask[16] = {-1, -1, -1, -1, -1, -1, -1, -1, 0, 0, 0, 0, 0, 0, 0, 0};
+
+__attribute__((target("avx2,fma"), always_inline)) static inline __m256 sum_blocks(
+    const float *tab, uint32_t st, const float *ca, uint32_t ma, int sqa, const float *va, const float *cb,
+    uint32_t mb, int sqb, const float *vb, uint32_t g, uint32_t j, float *s, __m256 mn, const int NB)
+{
+    __m256 a[4], b[4];
+    fun_blocks(tab, st, ca, ma, sqa, va, j, a, NB);
+    fun_blocks(tab, st, cb, mb, sqb, vb, j, b, NB);
+#pragma GCC unroll 4
+    for (int i = 0; i < NB; ++i) {
+        __m256 x = _mm256_add_ps(a[i], b[i]);
+        _mm256_storeu_ps(s + j + 8 * i, x);
+        uint32_t left = g - (j + 8 * i);
+        if (left < 8) /* the lanes beyond the grid: not a minimum */
+            x = _mm256_blendv_ps(_mm256_set1_ps(INFINITY), x,
+                                 _mm256_castsi256_ps(_mm256_loadu_si256((const __m256i *)(lane_mask + 8 - left))));
+        mn = _mm256_min_ps(mn, x);
+    }
+    return mn;
+}
+
+__attribute__((target("avx2,fma"))) static float pair_path_avx2(const float *tab, uint32_t st, const float *ca,
+                                                                 uint32_t ma, int sqa, const float *va,
+                                                                 const float *cb, uint32_t mb, int sqb,
+                                                                 const float *vb, uint32_t g, float *s)
+{
+    __m256 mn = _mm256_set1_ps(INFINITY);
+    uint32_t nb = (g + 7) / 8, j = 0;
+    while (nb) {
+        uint32_t b = nb <= 4 ? nb : (nb <= 6 ? 3 : 4);
+        switch (b) {
+        case 1: mn = sum_blocks(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, j, s, mn, 1); break;
+        case 2: mn = sum_blocks(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, j, s, mn, 2); break;
+        case 3: mn = sum_blocks(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, j, s, mn, 3); break;
+        default: b = 4; mn = sum_blocks(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, j, s, mn, 4); break;
+        }
+        nb -= b, j += 8 * b;
+    }
+    __m128 m4 = _mm_min_ps(_mm256_castps256_ps128(mn), _mm256_extractf128_ps(mn, 1));
+    m4 = _mm_min_ps(m4, _mm_movehl_ps(m4, m4));
+    m4 = _mm_min_ss(m4, _mm_shuffle_ps(m4, m4, 1));
+    return _mm_cvtss_f32(m4);
+}
+#endif
+
+/* One function's value at path grid point j (gs__grid_values_path's
+ * scalar operations). */
+static inline float fun_point(const float *tab, uint32_t st, const float *cf, uint32_t m, int squared, uint32_t j)
+{
+    float a = 0.0f;
+    for (uint32_t k = 0; k <= m; ++k) a += cf[k] * tab[(size_t)k * st + j];
+    a = a > 0.0f ? a : 0.0f;
+    return squared ? sqrtf(a) : a;
+}
+
+float gs__grid_pair_path(const float *ca, uint32_t ma, int sqa, const float *va, const float *cb, uint32_t mb,
+                         int sqb, const float *vb, uint32_t g, float *s)
+{
+    uint32_t r = rows_for(g);
+    if (g < 3 || g > GS_FUN_GRID_MAX || gs__fun_grid_points(r - 1) != g || ma >= r || mb >= r) {
+        float ta[GS_FUN_GRID_MAX + 8], tb[GS_FUN_GRID_MAX + 8], mn = INFINITY;
+        if (!va) gs__grid_values_path(ca, ma, sqa, g, ta), va = ta;
+        if (!vb) gs__grid_values_path(cb, mb, sqb, g, tb), vb = tb;
+        g = g < 3 ? 3 : (g > GS_FUN_GRID_MAX ? GS_FUN_GRID_MAX : g);
+        for (uint32_t j = 0; j < g; ++j) s[j] = va[j] + vb[j], mn = s[j] < mn ? s[j] : mn;
+        return mn;
+    }
+    const float *tab = table(0, g);
+    uint32_t st = STRIDE(g);
+#ifdef HAVE_AVX2_PATH
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
+        return pair_path_avx2(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, s);
+#endif
+    float mn = INFINITY;
+    for (uint32_t j = 0; j < g; ++j) {
+        float x = (va ? va[j] : fun_point(tab, st, ca, ma, sqa, j)) + (vb ? vb[j] : fun_point(tab, st, cb, mb, sqb, j));
+        s[j] = x;
+        mn = x < mn ? x : mn;
+    }
+    return mn;
 }

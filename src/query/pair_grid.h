@@ -22,4 +22,13 @@ void gs__grid_values(const gs__fun *f, uint32_t g, float *v);
  * g are padding): the query's fast path. Thread-safe. */
 void gs__grid_values_path(const float *cf, uint32_t m, int squared, uint32_t g, float *v);
 
+/* The sum of two paths' values on the grid of g points (tabled: a g of
+ * gs__fun_grid_points; else by gs__grid_values_path), each from its float
+ * coefficients (cf, degree m, squared) or given (v: its
+ * gs__grid_values_path values, NULL: computed), bit for bit the sum of
+ * gs__grid_values_path's: s[0 .. g rounded up to 8) (beyond g: padding);
+ * returns the smallest s[j], j < g. Thread-safe. */
+float gs__grid_pair_path(const float *ca, uint32_t ma, int sqa, const float *va, const float *cb, uint32_t mb,
+                         int sqb, const float *vb, uint32_t g, float *s);
+
 #endif

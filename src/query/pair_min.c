@@ -744,15 +744,39 @@ static int seam_windows(const gs__fun *f, const gs__fun *o, double h, double *be
            window_min(f, o, us + SEAM_EPS, us + w, best, bu, exact);
 }
 
+/* Whether the grid minimiser takes the pair (else gs__fun_pair_min). */
+static inline int grid_ok(const gs__fun *a, const gs__fun *b, uint32_t g)
+{
+    return !(gs__fun_unreachable(a) || gs__fun_unreachable(b) || g < 3 || g > GS_FUN_GRID_MAX ||
+             a->kind == GS_FUN_SAMPLED || b->kind == GS_FUN_SAMPLED || a->closed != b->closed);
+}
+
+static double grid_core(const gs__fun *a, const gs__fun *b, float *e, float mn, const float *ga, const float *gb,
+                        uint32_t g, const gs__fun_dip *da, const gs__fun_dip *db, double *u_at);
+
 double gs__fun_pair_min_grid(const gs__fun *a, const gs__fun *b, const float *ga, const float *gb, uint32_t g,
                             const gs__fun_dip *da, const gs__fun_dip *db, double *u_at)
 {
-    if (gs__fun_unreachable(a) || gs__fun_unreachable(b) || g < 3 || g > GS_FUN_GRID_MAX || a->kind == GS_FUN_SAMPLED ||
-        b->kind == GS_FUN_SAMPLED || a->closed != b->closed)
-        return gs__fun_pair_min(a, b, u_at);
+    if (!grid_ok(a, b, g)) return gs__fun_pair_min(a, b, u_at);
+    float e[GS_FUN_GRID_MAX + 8]; /* s = e + 1 with its ends' neighbours (grid_minima) */
+    float mn = grid_sum(ga, gb, g, e + 1);
+    return grid_core(a, b, e, mn, ga, gb, g, da, db, u_at);
+}
+
+double gs__fun_pair_min_grid_sum(const gs__fun *a, const gs__fun *b, float *e, float mn, uint32_t g,
+                                const gs__fun_dip *da, const gs__fun_dip *db, double *u_at)
+{
+    if (!grid_ok(a, b, g) || a->closed) return gs__fun_pair_min(a, b, u_at);
+    return grid_core(a, b, e, mn, NULL, NULL, g, da, db, u_at);
+}
+
+/* The grid minimiser on the sum s = e + 1 of the two functions' grid
+ * values (min mn); ga, gb: each function's own values (loops only). */
+static double grid_core(const gs__fun *a, const gs__fun *b, float *e, float mn, const float *ga, const float *gb,
+                        uint32_t g, const gs__fun_dip *da, const gs__fun_dip *db, double *u_at)
+{
     int closed = a->closed != 0;
-    float e[GS_FUN_GRID_MAX + 8], *s = e + 1; /* s with its ends' neighbours (grid_minima) */
-    float mn = grid_sum(ga, gb, g, s);
+    float *s = e + 1;
     if (!(mn <= FLT_MAX)) return gs__fun_pair_min(a, b, u_at); /* beyond float range (or NaN) */
     /* j1: the lowest grid value (a discrete local minimum); j2: the lowest
      * other discrete local minimum when the grid cannot tell it from j1 */
@@ -793,6 +817,22 @@ double gs__fun_pair_min_grid(const gs__fun *a, const gs__fun *b, const float *ga
             double den = sl - 2.0 * sc + sr;
             if (den > 0.0) {
                 double t = 0.5 * (sl - sr) / den;
+#ifndef NO_CUBIC
+                /* the cubic through a fourth point on t's side (paths) */
+                if (!closed && t != 0.0 && (t > 0.0 ? jb + 2 < g : jb >= 2)) {
+                    double dir = t > 0.0 ? 1.0 : -1.0, ym = t > 0.0 ? sl : sr, yp = t > 0.0 ? sr : sl;
+                    double y2 = s[t > 0.0 ? jb + 2 : jb - 2];
+                    double bq = 0.5 * (yp + ym) - sc, c3 = ((y2 - sc - 4.0 * bq) - (yp - ym)) / 6.0;
+                    double aq = 0.5 * (yp - ym) - c3, disc = bq * bq - 3.0 * aq * c3, x;
+                    if (fabs(c3) <= 1e-12 * fabs(bq)) x = -aq / (2.0 * bq);
+                    else if (disc >= 0.0) {
+                        double r = sqrt(disc), q = -(bq + (bq >= 0.0 ? r : -r));
+                        double x1 = q / (3.0 * c3), x2 = q != 0.0 ? aq / q : x1;
+                        x = 2.0 * bq + 6.0 * c3 * x1 > 0.0 ? x1 : x2;
+                    } else x = dir * t;
+                    if (x >= -1.0 && x <= 1.5) t = dir * x;
+                }
+#endif
                 u0 += (t < -1.0 ? -1.0 : (t > 1.0 ? 1.0 : t)) * h;
                 u0 = closed ? gs__fun_wrap(u0) : gs__fun_clamp1(u0);
             }

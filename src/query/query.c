@@ -15,6 +15,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 static double euclidean2(const gs_db *db, uint32_t x, uint32_t y)
 {
@@ -159,13 +162,48 @@ static const unsigned char *cursor_block(cursor *c, uint32_t k)
 
 /* A block as a function: coefficients decoded into coef (Chebyshev), the
  * dip (if stored), the minimum from the entry. Returns 0 if malformed. */
+#define COEF_N (GS_FUN_MAX_DEGREE + 1 + 15) /* room for whole SIMD vectors */
 typedef struct dfun {
     gs__fun f;
     gs__fun_dip dip;
     gs__db_fblock b;
-    double coef[GS_FUN_MAX_DEGREE + 1];
-    float cf[GS_FUN_MAX_DEGREE + 1]; /* coef rounded to float (the grid's) */
+    double coef[COEF_N];
+    float cf[COEF_N]; /* coef as floats (exactly: integers times 2^e) */
 } dfun;
+
+#ifdef __SSE2__
+/* An integer block's coefficients q_k 2^e as floats, eight at a time
+ * (exact: |q_k| < 2^15 and 2^e, e <= 100, stays in float range), then as
+ * doubles: the values of q_k * 2^e in double, bit for bit. */
+static void decode_int(const gs__db_fblock *b, double *c, float *cf)
+{
+    uint32_t n = b->degree + 1, w = b->wide;
+    unsigned char raw[2 * COEF_N + 16] = {0};
+    memcpy(raw, b->coef, n + w); /* w int16, then n - w int8 */
+    uint32_t bits = (uint32_t)(127 + b->e) << 23;
+    float sf;
+    memcpy(&sf, &bits, 4);
+    const __m128 sc = _mm_set1_ps(sf);
+    for (uint32_t k = 0; k < w; k += 8) {
+        __m128i q = _mm_loadu_si128((const __m128i *)(const void *)(raw + 2 * k));
+        __m128i lo = _mm_srai_epi32(_mm_unpacklo_epi16(q, q), 16), hi = _mm_srai_epi32(_mm_unpackhi_epi16(q, q), 16);
+        _mm_storeu_ps(cf + k, _mm_mul_ps(_mm_cvtepi32_ps(lo), sc));
+        _mm_storeu_ps(cf + k + 4, _mm_mul_ps(_mm_cvtepi32_ps(hi), sc));
+    }
+    for (uint32_t k = w; k < n; k += 8) {
+        __m128i q = _mm_loadl_epi64((const __m128i *)(const void *)(raw + w + k));
+        q = _mm_srai_epi16(_mm_unpacklo_epi8(q, q), 8);
+        __m128i lo = _mm_srai_epi32(_mm_unpacklo_epi16(q, q), 16), hi = _mm_srai_epi32(_mm_unpackhi_epi16(q, q), 16);
+        _mm_storeu_ps(cf + k, _mm_mul_ps(_mm_cvtepi32_ps(lo), sc));
+        _mm_storeu_ps(cf + k + 4, _mm_mul_ps(_mm_cvtepi32_ps(hi), sc));
+    }
+    for (uint32_t k = 0; k < n; k += 4) {
+        __m128 v = _mm_loadu_ps(cf + k);
+        _mm_storeu_pd(c + k, _mm_cvtps_pd(v));
+        _mm_storeu_pd(c + k + 2, _mm_cvtps_pd(_mm_movehl_ps(v, v)));
+    }
+}
+#endif
 
 /* The coefficients of a parsed Chebyshev block as doubles and floats
  * (gs__db_fblock_coef, without a call to ldexp); 0 if malformed. */
@@ -181,6 +219,12 @@ static int decode_coef(const gs__db_fblock *b, double *c, float *cf)
         return 1;
     }
     if (b->e < GS__FB_EXP_MIN || b->e > GS__FB_EXP_MAX) return 0;
+#ifdef __SSE2__
+    if (b->e <= 100) {
+        decode_int(b, c, cf);
+        return 1;
+    }
+#endif
     double s = gs__db_pow2(b->e);
     uint32_t w = b->wide;
     for (uint32_t k = 0; k < w; ++k) {
@@ -277,71 +321,112 @@ static double sampled_pair(const dfun *a, const dfun *b)
     return best;
 }
 
-/* x's function k kept for many targets (a source, below): decoded and
- * tabulated on its curve's grid once. state 0: not yet, 1: ready, -1:
+/* x's function k kept for many targets (a source, below): decoded once,
+ * and tabulated on the grid of g points its last pair used (a pair's grid
+ * depends on both degrees: pair_grid). state 0: not yet, 1: ready, -1:
  * malformed. */
 typedef struct xfun {
     dfun d;
     float grid[GS_FUN_GRID_MAX + 8];
+    uint32_t g; /* grid's size (0: none yet) */
     int state;
 } xfun;
 
+/* The grid of a pair of Chebyshev functions of degrees ma, mb on a curve
+ * whose highest degree is d1 - 1: gs__fun_grid_points of the pair's own
+ * higher degree (a pair of low degrees needs fewer points; the same for
+ * d(x, y) and d(y, x), and for a source kept for many targets). */
+static inline uint32_t pair_grid(uint32_t d1, uint32_t ma, uint32_t mb)
+{
+    uint32_t m = ma > mb ? ma : mb;
+    return gs__fun_grid_points(m < d1 ? m : d1 - 1);
+}
+
+/* The quick reject inside a pair of paths: once both are tabulated, the
+ * minimum of the sum lies within half a cell of a grid point, and a sum
+ * of two distance functions changes by at most twice the arc length, so
+ * it is at least the grid's minimum less the cell's arc length (curve
+ * length / (g - 1)); times this safety (fits are not exactly 1-Lipschitz).
+ * A pair whose bound is not below the best answer so far is not refined.
+ * Pairs with a sharp dip (the grid may step over it) are always refined. */
+#define LIPSCHITZ_SAFETY 1.5
+
 /* min over curve c of f_a + f_b (decoded; a is the lower vertex id's: the
- * order of the two functions makes d(x,y) == d(y,x) bit for bit). ga, gb:
- * the functions' values on the curve's grid when the caller has them, else
+ * order of the two functions makes d(x,y) == d(y,x) bit for bit), or some
+ * value >= best when it cannot be below best. ga, gb: the functions'
+ * values on the pair's grid (pair_grid) when the caller has them, else
  * NULL. */
 static double pair_min_dec(const gs_db *db, uint32_t c, const dfun *a, const float *ga, const dfun *b,
-                           const float *gb)
+                           const float *gb, double best)
 {
     if (a->b.sampled || b->b.sampled) return sampled_pair(a, b);
     uint32_t d1 = db->curves[c].degree1;
     if (!d1) return gs__fun_pair_min(&a->f, &b->f, NULL);
-    uint32_t g = gs__fun_grid_points(d1 - 1);
+    uint32_t g = pair_grid(d1, a->f.degree, b->f.degree);
+    if (!a->f.closed && !b->f.closed) { /* both paths: tabulated and summed in one pass */
+        float e[GS_FUN_GRID_MAX + 8];
+        float mn = gs__grid_pair_path(a->cf, a->f.degree, a->f.squared, ga, b->cf, b->f.degree, b->f.squared, gb, g,
+                                      e + 1);
+        double len = db->curves[c].length;
+        if (len >= 0.0 && !a->b.has_dip && !b->b.has_dip && mn - LIPSCHITZ_SAFETY * len / (g - 1) >= best)
+            return mn;
+        return gs__fun_pair_min_grid_sum(&a->f, &b->f, e, mn, g, &a->dip, &b->dip, NULL);
+    }
     float va[GS_FUN_GRID_MAX + 8], vb[GS_FUN_GRID_MAX + 8];
     if (!ga) grid_of(a, g, va), ga = va;
     if (!gb) grid_of(b, g, vb), gb = vb;
     return gs__fun_pair_min_grid(&a->f, &b->f, ga, gb, g, &a->dip, &b->dip, NULL);
 }
 
-/* x's function k (of curve c) from the source's cache, decoded and
- * tabulated on first use; NULL if malformed. */
-static const xfun *xfun_get(const gs_db *db, cursor *cx, xfun *cache, uint32_t k, uint32_t c)
+/* x's function k from the source's cache, decoded on first use; NULL if
+ * malformed. */
+static xfun *xfun_get(cursor *cx, xfun *cache, uint32_t k)
 {
     xfun *f = cache + k;
     if (f->state == 0) {
         f->state = -1;
         if (decode(cursor_block(cx, k), cx->end, gs__db_min_value(cx->ent[k]), &f->d)) {
-            uint32_t d1 = db->curves[c].degree1;
-            if (!f->d.b.sampled && d1) {
-                uint32_t g = gs__fun_grid_points(d1 - 1);
-                grid_of(&f->d, g, f->grid);
-                if (f->d.f.closed) { /* what the minimiser would find each time */
-                    f->d.dip.seam = gs__fun_seam_value(&f->d.f);
-                    f->d.dip.seam_cell = gs__fun_seam_cell(&f->d.f, g);
-                }
-            }
+            f->g = 0;
+            if (f->d.f.closed && !f->d.b.sampled) /* what the minimiser would find each time */
+                f->d.dip.seam = gs__fun_seam_value(&f->d.f);
             f->state = 1;
         }
     }
     return f->state == 1 ? f : NULL;
 }
 
-/* min over curve c of f_x + f_y (function k of both; x < y). With a cache
- * (x's functions kept by a source), cx is the source's cursor and
- * x_first says whether the source is the lower id. NaN: malformed. */
-static double pair_min(const gs_db *db, cursor *cx, cursor *cy, uint32_t k, uint32_t c, xfun *cache, int x_first)
+/* f's values on the grid of g points (kept until another g is asked). */
+static const float *xfun_grid(xfun *f, uint32_t g)
+{
+    if (f->g != g) {
+        grid_of(&f->d, g, f->grid);
+        if (f->d.f.closed) f->d.dip.seam_cell = gs__fun_seam_cell(&f->d.f, g);
+        f->g = g;
+    }
+    return f->grid;
+}
+
+/* min over curve c of f_x + f_y (function k of both; x < y), or a value
+ * >= best when it cannot be below best. With a cache (x's functions kept
+ * by a source), cx is the source's cursor and x_first says whether the
+ * source is the lower id. NaN: malformed. */
+static double pair_min(const gs_db *db, cursor *cx, cursor *cy, uint32_t k, uint32_t c, xfun *cache, int x_first,
+                       double best)
 {
     dfun a, b;
     if (cache) {
-        const xfun *s = xfun_get(db, cx, cache, k, c);
+        xfun *s = xfun_get(cx, cache, k);
         if (!s || !decode(cursor_block(cy, k), cy->end, gs__db_min_value(cy->ent[k]), &b)) return NAN;
-        const float *gs = s->d.b.sampled || !db->curves[c].degree1 ? NULL : s->grid;
-        return x_first ? pair_min_dec(db, c, &s->d, gs, &b, NULL) : pair_min_dec(db, c, &b, NULL, &s->d, gs);
+        uint32_t d1 = db->curves[c].degree1;
+        const float *gs = s->d.b.sampled || b.b.sampled || !d1 ? NULL
+                                                               : xfun_grid(s, pair_grid(d1, s->d.f.degree, b.f.degree));
+        return x_first ? pair_min_dec(db, c, &s->d, gs, &b, NULL, best)
+                       : pair_min_dec(db, c, &b, NULL, &s->d, gs, best);
     }
     if (!decode(cursor_block(cx, k), cx->end, gs__db_min_value(cx->ent[k]), &a) ||
         !decode(cursor_block(cy, k), cy->end, gs__db_min_value(cy->ent[k]), &b))
         return NAN;
-    return pair_min_dec(db, c, &a, NULL, &b, NULL);
+    return pair_min_dec(db, c, &a, NULL, &b, NULL, best);
 }
 
 /* The prefetch helpers are always inlined: GCC counts __builtin_prefetch
@@ -381,7 +466,7 @@ static double cross_cursors(const gs_db *db, cursor *cx, cursor *cy, uint32_t to
     double best = INFINITY;
     for (uint32_t i = 0; i < n; ++i) {
         if (c[i].bound >= best) break; /* sorted: all others rejected too (and unreachable) */
-        double d = pair_min(db, cx, cy, c[i].k, c[i].curve, cache, x_first);
+        double d = pair_min(db, cx, cy, c[i].k, c[i].curve, cache, x_first, best);
         if (d != d) return NAN;
         if (d < best) best = d;
     }
@@ -389,7 +474,7 @@ static double cross_cursors(const gs_db *db, cursor *cx, cursor *cy, uint32_t to
         uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
         for (uint32_t k = k0; k < k1; ++k) {
             if ((double)gs__db_min_value(cx->ent[k]) + (double)gs__db_min_value(cy->ent[k]) >= best) continue;
-            double d = pair_min(db, cx, cy, k, db->nodes[a].curve_start + (k - k0), cache, x_first);
+            double d = pair_min(db, cx, cy, k, db->nodes[a].curve_start + (k - k0), cache, x_first, best);
             if (d != d) return NAN;
             if (d < best) best = d;
         }
@@ -421,7 +506,7 @@ static double cross_source(const gs_db *db, cursor *cx, cursor *cy, uint32_t top
         for (uint32_t i = 1; i < left; ++i)
             if (c[i].bound < c[m].bound) m = i;
         if (c[m].bound >= best || c[m].bound > cut) break; /* all others rejected too (and unreachable) */
-        double d = pair_min(db, cx, cy, c[m].k, c[m].curve, cache, x_first);
+        double d = pair_min(db, cx, cy, c[m].k, c[m].curve, cache, x_first, best);
         if (d != d) return NAN;
         if (d < best) best = d;
         for (uint32_t i = m; i + 1 < left; ++i) c[i] = c[i + 1]; /* keeps the order of the rest */
