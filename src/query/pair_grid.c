@@ -365,23 +365,23 @@ void gs__grid_values_path(const float *cf, uint32_t m, int squared, uint32_t g, 
 __attribute__((target("avx2,fma"), always_inline)) static inline void fun_blocks(const float *tab, uint32_t st,
                                                                                 const float *cf, uint32_t m,
                                                                                 int squared, const float *v,
-                                                                                uint32_t j, __m256 *a, const int NB)
+                                                                                __m256 *a, const int NB)
 {
     if (v) {
-#pragma GCC unroll 4
-        for (int b = 0; b < NB; ++b) a[b] = _mm256_loadu_ps(v + j + 8 * b);
+#pragma GCC unroll 12
+        for (int b = 0; b < NB; ++b) a[b] = _mm256_loadu_ps(v + 8 * b);
         return;
     }
-#pragma GCC unroll 4
+#pragma GCC unroll 12
     for (int b = 0; b < NB; ++b) a[b] = _mm256_setzero_ps();
     for (uint32_t k = 0; k <= m; ++k) {
         __m256 ck = _mm256_set1_ps(cf[k]);
-        const float *r = tab + (size_t)k * st + j;
-#pragma GCC unroll 4
+        const float *r = tab + (size_t)k * st;
+#pragma GCC unroll 12
         for (int b = 0; b < NB; ++b) a[b] = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 8 * b), a[b]);
     }
     const __m256 z = _mm256_setzero_ps();
-#pragma GCC unroll 4
+#pragma GCC unroll 12
     for (int b = 0; b < NB; ++b) {
         __m256 x = _mm256_max_ps(a[b], z);
         a[b] = squared ? _mm256_sqrt_ps(x) : x;
@@ -390,47 +390,47 @@ __attribute__((target("avx2,fma"), always_inline)) static inline void fun_blocks
 
 static const int32_t lane_mask[16] = {-1, -1, -1, -1, -1, -1, -1, -1, 0, 0, 0, 0, 0, 0, 0, 0};
 
-__attribute__((target("avx2,fma"), always_inline)) static inline __m256 sum_blocks(
+/* The whole grid (NB = its vectors of 8 points) in one pass over each
+ * function's rows: a's values go to s, then b's are added to them. */
+__attribute__((target("avx2,fma"), always_inline)) static inline float pair_nb(
     const float *tab, uint32_t st, const float *ca, uint32_t ma, int sqa, const float *va, const float *cb,
-    uint32_t mb, int sqb, const float *vb, uint32_t g, uint32_t j, float *s, __m256 mn, const int NB)
+    uint32_t mb, int sqb, const float *vb, uint32_t g, float *s, const int NB)
 {
-    __m256 a[4], b[4];
-    fun_blocks(tab, st, ca, ma, sqa, va, j, a, NB);
-    fun_blocks(tab, st, cb, mb, sqb, vb, j, b, NB);
-#pragma GCC unroll 4
+    __m256 a[12];
+    fun_blocks(tab, st, ca, ma, sqa, va, a, NB);
+#pragma GCC unroll 12
+    for (int i = 0; i < NB; ++i) _mm256_storeu_ps(s + 8 * i, a[i]);
+    fun_blocks(tab, st, cb, mb, sqb, vb, a, NB);
+    __m256 mn = _mm256_set1_ps(INFINITY);
+#pragma GCC unroll 12
     for (int i = 0; i < NB; ++i) {
-        __m256 x = _mm256_add_ps(a[i], b[i]);
-        _mm256_storeu_ps(s + j + 8 * i, x);
-        uint32_t left = g - (j + 8 * i);
-        if (left < 8) /* the lanes beyond the grid: not a minimum */
-            x = _mm256_blendv_ps(_mm256_set1_ps(INFINITY), x,
-                                 _mm256_castsi256_ps(_mm256_loadu_si256((const __m256i *)(lane_mask + 8 - left))));
-        mn = _mm256_min_ps(mn, x);
+        __m256 x = _mm256_add_ps(_mm256_loadu_ps(s + 8 * i), a[i]);
+        _mm256_storeu_ps(s + 8 * i, x);
+        if (i < NB - 1) mn = _mm256_min_ps(mn, x);
+        else /* the lanes beyond the grid: not a minimum */
+            mn = _mm256_min_ps(mn, _mm256_blendv_ps(_mm256_set1_ps(INFINITY), x,
+                                                    _mm256_castsi256_ps(_mm256_loadu_si256(
+                                                        (const __m256i *)(lane_mask + 8 - (g - 8 * i))))));
     }
-    return mn;
+    __m128 m4 = _mm_min_ps(_mm256_castps256_ps128(mn), _mm256_extractf128_ps(mn, 1));
+    m4 = _mm_min_ps(m4, _mm_movehl_ps(m4, m4));
+    m4 = _mm_min_ss(m4, _mm_shuffle_ps(m4, m4, 1));
+    return _mm_cvtss_f32(m4);
 }
+
+#define PAIR_NB(n) \
+    case n: return pair_nb(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, s, n)
 
 __attribute__((target("avx2,fma"))) static float pair_path_avx2(const float *tab, uint32_t st, const float *ca,
                                                                  uint32_t ma, int sqa, const float *va,
                                                                  const float *cb, uint32_t mb, int sqb,
                                                                  const float *vb, uint32_t g, float *s)
 {
-    __m256 mn = _mm256_set1_ps(INFINITY);
-    uint32_t nb = (g + 7) / 8, j = 0;
-    while (nb) {
-        uint32_t b = nb <= 4 ? nb : (nb <= 6 ? 3 : 4);
-        switch (b) {
-        case 1: mn = sum_blocks(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, j, s, mn, 1); break;
-        case 2: mn = sum_blocks(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, j, s, mn, 2); break;
-        case 3: mn = sum_blocks(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, j, s, mn, 3); break;
-        default: b = 4; mn = sum_blocks(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, j, s, mn, 4); break;
-        }
-        nb -= b, j += 8 * b;
+    switch ((g + 7) / 8) { /* g <= GS_FUN_GRID_MAX = 96: at most 12 */
+        PAIR_NB(1); PAIR_NB(2); PAIR_NB(3); PAIR_NB(4); PAIR_NB(5); PAIR_NB(6);
+        PAIR_NB(7); PAIR_NB(8); PAIR_NB(9); PAIR_NB(10); PAIR_NB(11);
+    default: return pair_nb(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, s, 12);
     }
-    __m128 m4 = _mm_min_ps(_mm256_castps256_ps128(mn), _mm256_extractf128_ps(mn, 1));
-    m4 = _mm_min_ps(m4, _mm_movehl_ps(m4, m4));
-    m4 = _mm_min_ss(m4, _mm_shuffle_ps(m4, m4, 1));
-    return _mm_cvtss_f32(m4);
 }
 #endif
 

@@ -174,12 +174,20 @@ typedef struct dfun {
 #ifdef __SSE2__
 /* An integer block's coefficients q_k 2^e as floats, eight at a time
  * (exact: |q_k| < 2^15 and 2^e, e <= 100, stays in float range), then as
- * doubles: the values of q_k * 2^e in double, bit for bit. */
-static void decode_int(const gs__db_fblock *b, double *c, float *cf)
+ * doubles: the values of q_k * 2^e in double, bit for bit. The bytes are
+ * read in place when the record holds whole vectors from them on, else
+ * copied first (never read beyond the record's end); the lanes beyond the
+ * block are not used. */
+static void decode_int(const gs__db_fblock *b, const unsigned char *end, double *c, float *cf)
 {
     uint32_t n = b->degree + 1, w = b->wide;
-    unsigned char raw[2 * COEF_N + 16] = {0};
-    memcpy(raw, b->coef, n + w); /* w int16, then n - w int8 */
+    unsigned char buf[2 * COEF_N + 16];
+    const unsigned char *raw = b->coef; /* w int16, then n - w int8 */
+    if (end - raw < (ptrdiff_t)sizeof buf) { /* the record's last bytes: not read beyond its end */
+        memset(buf, 0, sizeof buf);
+        memcpy(buf, raw, n + w);
+        raw = buf;
+    }
     uint32_t bits = (uint32_t)(127 + b->e) << 23;
     float sf;
     memcpy(&sf, &bits, 4);
@@ -207,7 +215,7 @@ static void decode_int(const gs__db_fblock *b, double *c, float *cf)
 
 /* The coefficients of a parsed Chebyshev block as doubles and floats
  * (gs__db_fblock_coef, without a call to ldexp); 0 if malformed. */
-static int decode_coef(const gs__db_fblock *b, double *c, float *cf)
+static int decode_coef(const gs__db_fblock *b, const unsigned char *end, double *c, float *cf)
 {
     uint32_t n = b->degree + 1;
     if (b->f32) {
@@ -221,7 +229,7 @@ static int decode_coef(const gs__db_fblock *b, double *c, float *cf)
     if (b->e < GS__FB_EXP_MIN || b->e > GS__FB_EXP_MAX) return 0;
 #ifdef __SSE2__
     if (b->e <= 100) {
-        decode_int(b, c, cf);
+        decode_int(b, end, c, cf);
         return 1;
     }
 #endif
@@ -269,7 +277,7 @@ static int decode(const unsigned char *p, const unsigned char *end, float minval
         d->dip.hi = d->dip.u + b->dip[2];
         d->dip.slope = b->dip[3];
     }
-    return b->sampled || decode_coef(b, d->coef, d->cf);
+    return b->sampled || decode_coef(b, end, d->coef, d->cf);
 }
 
 /* A sampled block's value at u (piecewise linear, as gs__fun_value). */
@@ -333,13 +341,15 @@ typedef struct xfun {
 } xfun;
 
 /* The grid of a pair of Chebyshev functions of degrees ma, mb on a curve
- * whose highest degree is d1 - 1: gs__fun_grid_points of the pair's own
- * higher degree (a pair of low degrees needs fewer points; the same for
- * d(x, y) and d(y, x), and for a source kept for many targets). */
-static inline uint32_t pair_grid(uint32_t d1, uint32_t ma, uint32_t mb)
+ * whose highest degree is d1 - 1: for paths, gs__fun_grid_points of the
+ * pair's own higher degree (a pair of low degrees needs fewer points; the
+ * same for d(x, y) and d(y, x), and for a source kept for many targets);
+ * loops keep their curve's grid (a seam's windows are cells of it: on a
+ * coarser grid more pairs would go to the robust minimiser). */
+static inline uint32_t pair_grid(uint32_t d1, uint32_t ma, uint32_t mb, uint32_t closed)
 {
     uint32_t m = ma > mb ? ma : mb;
-    return gs__fun_grid_points(m < d1 ? m : d1 - 1);
+    return gs__fun_grid_points(closed || m >= d1 ? d1 - 1 : m);
 }
 
 /* The quick reject inside a pair of paths: once both are tabulated, the
@@ -362,7 +372,7 @@ static double pair_min_dec(const gs_db *db, uint32_t c, const dfun *a, const flo
     if (a->b.sampled || b->b.sampled) return sampled_pair(a, b);
     uint32_t d1 = db->curves[c].degree1;
     if (!d1) return gs__fun_pair_min(&a->f, &b->f, NULL);
-    uint32_t g = pair_grid(d1, a->f.degree, b->f.degree);
+    uint32_t g = pair_grid(d1, a->f.degree, b->f.degree, a->f.closed);
     if (!a->f.closed && !b->f.closed) { /* both paths: tabulated and summed in one pass */
         float e[GS_FUN_GRID_MAX + 8];
         float mn = gs__grid_pair_path(a->cf, a->f.degree, a->f.squared, ga, b->cf, b->f.degree, b->f.squared, gb, g,
@@ -419,7 +429,7 @@ static double pair_min(const gs_db *db, cursor *cx, cursor *cy, uint32_t k, uint
         if (!s || !decode(cursor_block(cy, k), cy->end, gs__db_min_value(cy->ent[k]), &b)) return NAN;
         uint32_t d1 = db->curves[c].degree1;
         const float *gs = s->d.b.sampled || b.b.sampled || !d1 ? NULL
-                                                               : xfun_grid(s, pair_grid(d1, s->d.f.degree, b.f.degree));
+                                                               : xfun_grid(s, pair_grid(d1, s->d.f.degree, b.f.degree, s->d.f.closed));
         return x_first ? pair_min_dec(db, c, &s->d, gs, &b, NULL, best)
                        : pair_min_dec(db, c, &b, NULL, &s->d, gs, best);
     }
