@@ -148,7 +148,7 @@ double gs__fun_pair_min_grid(const gs__fun *a, const gs__fun *b, const float *ga
 
 /* gs__fun_pair_min_grid of two paths given the sum of their grid values
  * instead: s = e + 1 holds s[j] = ga[j] + gb[j] for j < g (e readable and
- * writable from e[0] to e[g + 4]: the ends' neighbours go there), mn the
+ * writable from e[0] to e[g + 8]: the ends' neighbours go there), mn the
  * smallest s[j]. The same result, bit for bit (loops: gs__fun_pair_min). */
 double gs__fun_pair_min_grid_sum(const gs__fun *a, const gs__fun *b, float *e, float mn, uint32_t g,
                                 const gs__fun_dip *da, const gs__fun_dip *db, double *u_at);

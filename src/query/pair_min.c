@@ -675,6 +675,36 @@ static void grid_minima(const float *e, uint32_t g, float mn, float thr, uint32_
     *j1 = a, *j2 = b;
 }
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+/* grid_minima eight points at a time (AVX2 hosts; e readable to e[g + 8]):
+ * the same points, found in the same order. */
+__attribute__((target("avx2"))) static void grid_minima8(const float *e, uint32_t g, float mn, float thr,
+                                                         uint32_t *j1, uint32_t *j2)
+{
+    uint32_t a = GS_NONE_U32, b = GS_NONE_U32;
+    float bv = 0.0f;
+    __m256 t = _mm256_set1_ps(thr), m = _mm256_set1_ps(mn);
+    for (uint32_t j = 0; j < g; j += 8) {
+        __m256 c = _mm256_loadu_ps(e + j + 1);
+        unsigned le = (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(c, t, _CMP_LE_OQ));
+        if (g - j < 8) le &= (1u << (g - j)) - 1u;
+        if (!le) continue;
+        if (a == GS_NONE_U32) {
+            unsigned eq = le & (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(c, m, _CMP_EQ_OQ));
+            if (eq) a = j + (uint32_t)__builtin_ctz(eq);
+        }
+        unsigned lm = le & (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(c, _mm256_loadu_ps(e + j), _CMP_LE_OQ)) &
+                      (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(c, _mm256_loadu_ps(e + j + 2), _CMP_LE_OQ));
+        for (; lm; lm &= lm - 1) {
+            uint32_t i = j + (uint32_t)__builtin_ctz(lm);
+            if (i != a && (b == GS_NONE_U32 || e[i + 1] < bv)) b = i, bv = e[i + 1];
+        }
+    }
+    *j1 = a, *j2 = b;
+}
+#endif
+
 /* A loop's seam lies in (u_{j-1}, u_{j+1}] (closed grid, with a little
  * slack): there the fit may jump, and no parabola describes the sum. */
 static int seam_near(const gs__fun *f, uint32_t j, uint32_t g)
@@ -747,7 +777,8 @@ static int seam_windows(const gs__fun *f, const gs__fun *o, double h, double *be
 /* Whether the grid minimiser takes the pair (else gs__fun_pair_min). */
 static inline int grid_ok(const gs__fun *a, const gs__fun *b, uint32_t g)
 {
-    return !(gs__fun_unreachable(a) || gs__fun_unreachable(b) || g < 3 || g > GS_FUN_GRID_MAX ||
+    /* gs__fun_unreachable, inline */
+    return !(!a->coef || !(a->minval < INFINITY) || !b->coef || !(b->minval < INFINITY) || g < 3 || g > GS_FUN_GRID_MAX ||
              a->kind == GS_FUN_SAMPLED || b->kind == GS_FUN_SAMPLED || a->closed != b->closed);
 }
 
@@ -758,7 +789,7 @@ double gs__fun_pair_min_grid(const gs__fun *a, const gs__fun *b, const float *ga
                             const gs__fun_dip *da, const gs__fun_dip *db, double *u_at)
 {
     if (!grid_ok(a, b, g)) return gs__fun_pair_min(a, b, u_at);
-    float e[GS_FUN_GRID_MAX + 8]; /* s = e + 1 with its ends' neighbours (grid_minima) */
+    float e[GS_FUN_GRID_MAX + 16]; /* s = e + 1 with its ends' neighbours (grid_minima) */
     float mn = grid_sum(ga, gb, g, e + 1);
     return grid_core(a, b, e, mn, ga, gb, g, da, db, u_at);
 }
@@ -791,7 +822,13 @@ static double grid_core(const gs__fun *a, const gs__fun *b, float *e, float mn, 
     e[0] = closed ? s[g - 1] : INFINITY;
     e[g + 1] = closed ? s[0] : INFINITY;
     e[g + 2] = e[g + 3] = e[g + 4] = 0.0f;
-    grid_minima(e, g, mn, thr, &j1, &j2);
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (__builtin_cpu_supports("avx2")) {
+        for (uint32_t j = g + 2; j < g + 9; ++j) e[j] = 0.0f;
+        grid_minima8(e, g, mn, thr, &j1, &j2);
+    } else
+#endif
+        grid_minima(e, g, mn, thr, &j1, &j2);
     if (j1 == GS_NONE_U32) return gs__fun_pair_min(a, b, u_at); /* cannot happen */
     double h = closed ? 2.0 / g : 2.0 / (g - 1), best = INFINITY, bu = 0.0;
     /* loops whose pairs went to the robust minimiser before (a dip or a
@@ -841,8 +878,9 @@ static double grid_core(const gs__fun *a, const gs__fun *b, float *e, float mn, 
     }
     /* a vertex close to the curve gives its function a sharp dip, which the
      * grid may step over: the dip's own minimiser is a candidate too */
-    if (!dip_candidates(a, b, da, h, closed, &best, &bu, &exact) ||
-        !dip_candidates(b, a, db, h, closed, &best, &bu, &exact) || (sa && !seam_windows(a, b, h, &best, &bu, &exact)) ||
+    if ((da && da->u == da->u && !dip_candidates(a, b, da, h, closed, &best, &bu, &exact)) ||
+        (db && db->u == db->u && !dip_candidates(b, a, db, h, closed, &best, &bu, &exact)) ||
+        (sa && !seam_windows(a, b, h, &best, &bu, &exact)) ||
         (sb && !seam_windows(b, a, h, &best, &bu, &exact)))
         return gs__fun_pair_min(a, b, u_at);
     if (u_at) *u_at = bu;

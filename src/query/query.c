@@ -374,7 +374,7 @@ static double pair_min_dec(const gs_db *db, uint32_t c, const dfun *a, const flo
     if (!d1) return gs__fun_pair_min(&a->f, &b->f, NULL);
     uint32_t g = pair_grid(d1, a->f.degree, b->f.degree, a->f.closed);
     if (!a->f.closed && !b->f.closed) { /* both paths: tabulated and summed in one pass */
-        float e[GS_FUN_GRID_MAX + 8];
+        float e[GS_FUN_GRID_MAX + 16];
         float mn = gs__grid_pair_path(a->cf, a->f.degree, a->f.squared, ga, b->cf, b->f.degree, b->f.squared, gb, g,
                                       e + 1);
         double len = db->curves[c].length;
