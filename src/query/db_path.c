@@ -40,6 +40,7 @@
 #include "../db/db_internal.h"
 #include "../geodesic/geodesic_internal.h"
 #include "../mesh/mesh_internal.h"
+#include "query_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -145,6 +146,7 @@ typedef struct ctx {
     gs_error *err;
     /* the database distance to the descent's target vertex, cached */
     uint32_t target, origin;
+    gs__qsrc *src[2]; /* the target's and the origin's functions, decoded once (NULL until asked) */
     vmap dmap;
     double *dval;
     size_t nd, dcap;
@@ -159,6 +161,11 @@ typedef struct ctx {
     size_t uvcap;
     portal *fp;
     size_t fpcap;
+    /* each half-edge's third vertex, placed in the edge's frame (unfold):
+     * half-edge -> slot of pxy */
+    vmap pmap;
+    p2 *pxy;
+    size_t npxy, pxycap;
     apex *ap;
     size_t nap, apcap;
     /* output points */
@@ -179,6 +186,9 @@ static void ctx_free(ctx *c)
 {
     vmap_free(&c->dmap);
     vmap_free(&c->amap);
+    vmap_free(&c->pmap);
+    free(c->pxy);
+    gs__qsrc_free(c->src[0]), gs__qsrc_free(c->src[1]);
     free(c->dval), free(c->vp), free(c->sl), free(c->uv), free(c->fp), free(c->ap), free(c->q);
     free(c->ag), free(c->aparent), free(c->anode), free(c->aclosed), free(c->heapk), free(c->heapv);
 }
@@ -212,6 +222,20 @@ static int check_vertex(ctx *c, uint32_t v)
     return GS_OK;
 }
 
+/* d(target, v) (which = 0) or d(origin, v) (which = 1) from the database:
+ * gs_db_distance's answer, bit for bit, from the end's functions decoded
+ * once (gs__qsrc). */
+static int end_distance(ctx *c, int which, uint32_t v, double *out)
+{
+    uint32_t e = which ? c->origin : c->target;
+    if (!c->src[which] && !(c->src[which] = gs__qsrc_create(c->db, e))) return oom(c);
+    double d = gs__qsrc_distance(c->src[which], v);
+    if (d != d)
+        return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: the database answers NaN for vertices %u and %u", e, v);
+    *out = d;
+    return GS_OK;
+}
+
 /* d(target, v) from the database, cached (with d(origin, v), NaN until
  * asked). */
 static int dist_to_target(ctx *c, uint32_t v, double *out)
@@ -221,12 +245,10 @@ static int dist_to_target(ctx *c, uint32_t v, double *out)
         *out = c->dval[2 * s];
         return GS_OK;
     }
+    double d;
     int rc = check_vertex(c, v);
+    if (!rc) rc = end_distance(c, 0, v, &d);
     if (rc) return rc;
-    double d = gs_db_distance(c->db, c->target, v);
-    if (d != d)
-        return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: the database answers NaN for vertices %u and %u",
-                        c->target, v);
     if (gs__grow((void **)&c->dval, &c->dcap, 2 * c->nd + 2, sizeof *c->dval) || vmap_put(&c->dmap, v, (uint32_t)c->nd))
         return oom(c);
     c->dval[2 * c->nd] = d, c->dval[2 * c->nd + 1] = NAN;
@@ -236,13 +258,10 @@ static int dist_to_target(ctx *c, uint32_t v, double *out)
 }
 
 /* The distances to the target (which = 0) or to the origin (which = 1) of
- * the n vertices v[] into the cache: those not there yet in one batch
- * (gs_db_distances fetches their records from memory in parallel). */
+ * the n vertices v[] into the cache. */
 #define MAX_FAN 256
 static int fetch(ctx *c, const uint32_t *v, uint32_t n, int which)
 {
-    uint32_t pairs[2 * MAX_FAN], idx[MAX_FAN], m = 0;
-    double d[MAX_FAN];
     for (uint32_t j = 0; j < n; ++j) {
         uint32_t s = vmap_get(&c->dmap, v[j]);
         if (s != GS_NONE && c->dval[2 * s + which] == c->dval[2 * s + which]) continue;
@@ -255,17 +274,10 @@ static int fetch(ctx *c, const uint32_t *v, uint32_t n, int which)
             s = (uint32_t)c->nd++;
             c->dval[2 * s] = c->dval[2 * s + 1] = NAN;
         }
-        idx[m] = s;
-        pairs[2 * m] = which ? c->origin : c->target, pairs[2 * m + 1] = v[j];
-        m++;
-    }
-    if (!m) return GS_OK;
-    gs_db_distances(c->db, pairs, m, d, NULL); /* ids in range: cannot fail */
-    for (uint32_t j = 0; j < m; ++j) {
-        if (d[j] != d[j])
-            return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: the database answers NaN for vertices %u and %u",
-                            pairs[2 * j], pairs[2 * j + 1]);
-        c->dval[2 * idx[j] + which] = d[j];
+        double d;
+        int rc = end_distance(c, which, v[j], &d);
+        if (rc) return rc;
+        c->dval[2 * s + which] = d;
     }
     return GS_OK;
 }
@@ -276,10 +288,8 @@ static int dist_to_origin(ctx *c, uint32_t v, double *out)
     uint32_t s = vmap_get(&c->dmap, v);
     double d = c->dval[2 * s + 1];
     if (d != d) {
-        d = gs_db_distance(c->db, c->origin, v);
-        if (d != d)
-            return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: the database answers NaN for vertices %u and %u",
-                            c->origin, v);
+        int rc = end_distance(c, 1, v, &d);
+        if (rc) return rc;
         c->dval[2 * s + 1] = d;
     }
     *out = d;
@@ -629,10 +639,30 @@ static double tri_area(double a, double b, double c)
     return 0.25 * sqrt(p > 0 ? p : 0);
 }
 
+/* The third vertex of half-edge o's face in o's frame: (along o from its
+ * start, to the right of it), in units of o's length; computed once per
+ * call (a square root and divisions each). */
+static int placement(ctx *c, uint32_t o, p2 *out)
+{
+    uint32_t s = vmap_get(&c->pmap, o);
+    if (s == GS_NONE) {
+        const gs__topo *t = c->t;
+        double L = t->len[o], r = t->len[gs__next(o)], q = t->len[gs__prev(o)];
+        if (gs__grow((void **)&c->pxy, &c->pxycap, c->npxy + 1, sizeof *c->pxy) ||
+            vmap_put(&c->pmap, o, (uint32_t)c->npxy))
+            return oom(c);
+        s = (uint32_t)c->npxy++;
+        c->pxy[s] = (p2){(r * r - q * q + L * L) / (2 * L * L), 2 * tri_area(L, r, q) / (L * L)};
+    }
+    *out = c->pxy[s];
+    return GS_OK;
+}
+
 /* Unfold the sleeve into the plane (one chain: every face shares its edge's
  * two points with the previous one) and fill the funnel's portals
- * fp[1..m-1]; fp[0] and fp[m] are the ends. */
-static int unfold(ctx *c, const qpt *x, const qpt *y)
+ * fp[1..m-1]; fp[0] and fp[m] are the ends. Faces before `from` are where
+ * the last call put them (the sleeve unchanged up to there). */
+static int unfold(ctx *c, const qpt *x, const qpt *y, size_t from)
 {
     const gs__topo *t = c->t;
     size_t m = c->nsl;
@@ -641,11 +671,13 @@ static int unfold(ctx *c, const qpt *x, const qpt *y)
         return oom(c);
     uint32_t f = c->sl[0];
     p2 *u = c->uv;
-    double a = t->angle[3 * f], l = t->len[3 * f + 2];
-    u[0] = (p2){0, 0};
-    u[1] = (p2){t->len[3 * f], 0};
-    u[2] = (p2){l * cos(a), l * sin(a)};
-    for (size_t i = 0; i + 1 < m; ++i) {
+    if (from == 0) {
+        double a = t->angle[3 * f], l = t->len[3 * f + 2];
+        u[0] = (p2){0, 0};
+        u[1] = (p2){t->len[3 * f], 0};
+        u[2] = (p2){l * cos(a), l * sin(a)};
+    }
+    for (size_t i = from ? from - 1 : 0; i + 1 < m; ++i) {
         uint32_t g = c->sl[i + 1], h = GS_NONE;
         f = c->sl[i];
         for (uint32_t k = 3 * f; k < 3 * f + 3; ++k)
@@ -653,16 +685,14 @@ static int unfold(ctx *c, const qpt *x, const qpt *y)
         if (h == GS_NONE)
             return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: faces %u and %u of the strip share no edge", f, g);
         uint32_t o = t->opp[h];
-        p2 A = c->uv[3 * i + h % 3], B = c->uv[3 * i + gs__next(h) % 3];
+        p2 A = c->uv[3 * i + h % 3], B = c->uv[3 * i + gs__next(h) % 3], C = {0, 0};
         p2 *w = c->uv + 3 * (i + 1);
         w[o % 3] = B;
         w[gs__next(o) % 3] = A;
-        /* C to the right of A -> B: its foot x along AB, its height y */
-        double dx = B.x - A.x, dy = B.y - A.y, n = sqrt(dx * dx + dy * dy);
-        double L = t->len[o], r = t->len[gs__next(o)], q = t->len[gs__prev(o)];
-        double y = 2 * tri_area(L, r, q) / L, x = (r * r - q * q + L * L) / (2 * L);
-        dx /= n, dy /= n;
-        w[gs__prev(o) % 3] = (p2){A.x + x * dx + y * dy, A.y + x * dy - y * dx};
+        /* C to the right of A -> B: its foot along AB, its height (in units of |AB|) */
+        if (placement(c, o, &C)) return oom(c);
+        double dx = B.x - A.x, dy = B.y - A.y;
+        w[gs__prev(o) % 3] = (p2){A.x + C.x * dx + C.y * dy, A.y + C.x * dy - C.y * dx};
         c->fp[i + 1] = (portal){B, A, t->tri[gs__next(h)], t->tri[h]};
     }
     p2 s = point2(c, x, 0), e = point2(c, y, m - 1);
@@ -797,26 +827,33 @@ static int flip_at(ctx *c, size_t j, int force, uint32_t xv, uint32_t yv, size_t
     return GS_OK;
 }
 
-/* Undo the steps back (f, g, f) that changes may have made. */
-static void sleeve_tidy(ctx *c)
+/* Undo the steps back (f, g, f) that changes may have made; returns the
+ * first position changed (nsl if none). */
+static size_t sleeve_tidy(ctx *c)
 {
-    size_t n = c->nsl, k = 0;
+    size_t n = c->nsl, k = 0, first = n;
     for (size_t i = 0; i < n; ++i) {
         uint32_t f = c->sl[i];
-        if (k && c->sl[k - 1] == f) continue;
+        if (k && c->sl[k - 1] == f) {
+            if (k < first) first = k;
+            continue;
+        }
         if (k >= 2 && c->sl[k - 2] == f) {
             --k;
+            if (k < first) first = k;
             continue;
         }
         c->sl[k++] = f;
     }
     c->nsl = k;
+    return first;
 }
 
 /* One round of shortening: every bend vertex with less than pi on the far
  * side gets the sleeve round that side (back to front, runs that do not
- * overlap). *nflips: the number of changes. */
-static int shorten(ctx *c, uint32_t xv, uint32_t yv, uint32_t *nflips)
+ * overlap). *nflips: the number of changes; *first: the first sleeve
+ * position changed. */
+static int shorten(ctx *c, uint32_t xv, uint32_t yv, uint32_t *nflips, size_t *first)
 {
     size_t limit = c->nsl;
     *nflips = 0;
@@ -825,20 +862,24 @@ static int shorten(ctx *c, uint32_t xv, uint32_t yv, uint32_t *nflips)
         if (rc) return rc;
         *nflips += (uint32_t)done;
     }
-    if (*nflips) sleeve_tidy(c);
+    *first = limit;
+    if (*nflips) {
+        size_t f = sleeve_tidy(c);
+        if (f < *first) *first = f;
+    }
     return GS_OK;
 }
 
 /* Unfold, funnel and shorten until locally shortest; *len: the length. */
 static int converge(ctx *c, const qpt *x, const qpt *y, uint32_t xv, uint32_t yv, double *len)
 {
-    size_t max_rounds = 64 + 4 * c->nsl;
+    size_t max_rounds = 64 + 4 * c->nsl, from = 0;
     int rc;
     for (size_t round = 0;; ++round) {
         uint32_t nf;
-        if ((rc = unfold(c, x, y)) || (rc = funnel(c))) return rc;
+        if ((rc = unfold(c, x, y, from)) || (rc = funnel(c))) return rc;
         if (round >= max_rounds) break;
-        if ((rc = shorten(c, xv, yv, &nf))) return rc;
+        if ((rc = shorten(c, xv, yv, &nf, &from))) return rc;
         if (!nf) break;
     }
     double l = 0;
