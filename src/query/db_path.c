@@ -147,6 +147,8 @@ typedef struct ctx {
     /* the database distance to the descent's target vertex, cached */
     uint32_t target, origin;
     gs__qsrc *src[2]; /* the target's and the origin's functions, decoded once (NULL until asked) */
+    int src_borrowed[2];
+    const struct ctx *donor; /* a finished run between the same ends, or NULL: its distances are reused */
     vmap dmap;
     double *dval;
     size_t nd, dcap;
@@ -188,7 +190,8 @@ static void ctx_free(ctx *c)
     vmap_free(&c->amap);
     vmap_free(&c->pmap);
     free(c->pxy);
-    gs__qsrc_free(c->src[0]), gs__qsrc_free(c->src[1]);
+    for (int k = 0; k < 2; ++k)
+        if (!c->src_borrowed[k]) gs__qsrc_free(c->src[k]);
     free(c->dval), free(c->vp), free(c->sl), free(c->uv), free(c->fp), free(c->ap), free(c->q);
     free(c->ag), free(c->aparent), free(c->anode), free(c->aclosed), free(c->heapk), free(c->heapv);
 }
@@ -228,6 +231,16 @@ static int check_vertex(ctx *c, uint32_t v)
 static int end_distance(ctx *c, int which, uint32_t v, double *out)
 {
     uint32_t e = which ? c->origin : c->target;
+    const struct ctx *o = c->donor;
+    int w = o ? (o->target == e ? 0 : o->origin == e ? 1 : -1) : -1; /* the donor's column of e */
+    if (w >= 0) {
+        uint32_t s = vmap_get(&o->dmap, v);
+        if (s != GS_NONE && o->dval[2 * s + w] == o->dval[2 * s + w]) {
+            *out = o->dval[2 * s + w];
+            return GS_OK;
+        }
+        if (!c->src[which] && o->src[w]) c->src[which] = o->src[w], c->src_borrowed[which] = 1;
+    }
     if (!c->src[which] && !(c->src[which] = gs__qsrc_create(c->db, e))) return oom(c);
     double d = gs__qsrc_distance(c->src[which], v);
     if (d != d)
@@ -405,6 +418,62 @@ static int astar(ctx *c, uint32_t to, int *found_it)
     return GS_OK;
 }
 
+/* The descent is at a vertex v without a neighbour closer to the target
+ * (a dip of the fitted functions, dv = d(target, v)): append the edge
+ * path (Dijkstra from v, edge lengths) to the nearest vertex that is
+ * closer than v, found within ESCAPE_MAX vertices (*found: 0 if not). The
+ * descent goes on from there: it stays strictly closer than dv, so it
+ * never comes back to this dip. */
+#define ESCAPE_MAX 4096
+static int escape(ctx *c, double dv, int *found_it)
+{
+    const gs__topo *t = c->t;
+    uint32_t from = c->vp[c->nvp - 1], s;
+    c->na = 0, c->nheap = 0;
+    *found_it = 0;
+    if (c->amap.cap) memset(c->amap.key, 0xff, c->amap.cap * sizeof *c->amap.key), c->amap.n = 0;
+    if (anode(c, from, &s)) return oom(c);
+    c->ag[s] = 0;
+    if (heap_push(c, 0, s)) return oom(c);
+    uint32_t found = GS_NONE, pops = 0;
+    while (c->nheap && pops < ESCAPE_MAX) {
+        uint32_t a = heap_pop(c);
+        if (c->aclosed[a]) continue;
+        c->aclosed[a] = 1, ++pops;
+        uint32_t v = c->anode[a];
+        if (a != s) {
+            double d;
+            int rc = dist_to_target(c, v, &d);
+            if (rc) return rc;
+            if (d < dv) {
+                found = a;
+                break;
+            }
+        }
+        double g = c->ag[a];
+        for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1]; ++i) {
+            uint32_t h = t->vc[i];
+            uint32_t nb[2] = {t->tri[gs__next(h)], t->tri[gs__prev(h)]};
+            for (int k = 0; k < 2; ++k) {
+                uint32_t b;
+                if (anode(c, nb[k], &b)) return oom(c);
+                double ng = g + dist3(vpos(c, v), vpos(c, nb[k]));
+                if (c->aclosed[b] || ng >= c->ag[b]) continue;
+                c->ag[b] = ng, c->aparent[b] = a;
+                if (heap_push(c, ng, b)) return oom(c);
+            }
+        }
+    }
+    if (found == GS_NONE) return GS_OK;
+    size_t n0 = c->nvp, k = 0;
+    for (uint32_t a = found; a != s; a = c->aparent[a]) ++k;
+    if (gs__grow((void **)&c->vp, &c->vpcap, n0 + k, sizeof *c->vp)) return oom(c);
+    c->nvp = n0 + k;
+    for (uint32_t a = found; a != s; a = c->aparent[a]) c->vp[n0 + --k] = c->anode[a];
+    *found_it = 1;
+    return GS_OK;
+}
+
 /* ---- 1. descent ------------------------------------------------------- */
 
 /* Extend the vertex path (its first vertex in place) down the valley to a
@@ -451,6 +520,8 @@ static int descend(ctx *c, const uint32_t *targets, int nt)
         }
         if (bn == GS_NONE) {
             int found;
+            if ((rc = escape(c, dv, &found))) return rc;
+            if (found) continue;
             if ((rc = astar(c, c->target, &found))) return rc;
             if (!found)
                 return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: vertex %u is not connected to vertex %u", v,
@@ -459,6 +530,30 @@ static int descend(ctx *c, const uint32_t *targets, int nt)
         }
         if ((rc = push_vertex(c, bn))) return rc;
     }
+}
+
+/* Cut the loops out of the vertex path (an escape or A* may come back to a
+ * vertex it passed): each vertex once, in the order of its last visit's
+ * way out. */
+static int remove_loops(ctx *c)
+{
+    vmap seen = {0};
+    size_t k = 0;
+    for (size_t i = 0; i < c->nvp; ++i) {
+        uint32_t v = c->vp[i], at = vmap_get(&seen, v);
+        if (at != GS_NONE && at < k && c->vp[at] == v) {
+            k = at + 1; /* back to v's first visit: drop the loop */
+            continue;
+        }
+        if (vmap_put(&seen, v, (uint32_t)k)) {
+            vmap_free(&seen);
+            return oom(c);
+        }
+        c->vp[k++] = v;
+    }
+    c->nvp = k;
+    vmap_free(&seen);
+    return GS_OK;
 }
 
 /* ---- 2. the sleeve ------------------------------------------------------- */
@@ -1263,6 +1358,7 @@ static int run(ctx *c, const qpt *qx, const qpt *qy, double *len)
     c->origin = start;
     if (!rc) rc = push_vertex(c, start);
     if (!rc) rc = descend(c, targets, nt);
+    if (!rc) rc = remove_loops(c);
     if (rc) return rc;
     /* X first */
     for (size_t i = 0, j = c->nvp - 1; i < j; ++i, --j) {
@@ -1347,6 +1443,7 @@ int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const g
     rc = run(&c, &qx, &qy, &len);
     /* longer than the database's distance: also from the other end */
     if (!rc && len > d * (1 + (exact_db ? REVERSE_TOL_EXACT : REVERSE_TOL_APPROX))) {
+        c2.donor = &c;
         rc = run(&c2, &qy, &qx, &len2);
         if (!rc && len2 < len) best = &c2, len = len2, reverse_points(&c2);
     }
