@@ -140,6 +140,12 @@ typedef struct portal {
     uint32_t lv, rv;
 } portal;
 
+#define PC_SIZE 4096 /* a power of two */
+struct placed {
+    uint32_t h;
+    p2 xy;
+};
+
 typedef struct ctx {
     const gs_db *db;
     const gs__topo *t;
@@ -163,11 +169,9 @@ typedef struct ctx {
     size_t uvcap;
     portal *fp;
     size_t fpcap;
-    /* each half-edge's third vertex, placed in the edge's frame (unfold):
-     * half-edge -> slot of pxy */
-    vmap pmap;
-    p2 *pxy;
-    size_t npxy, pxycap;
+    /* half-edges' third vertices placed in the edge's frame (unfold), a
+     * direct-mapped cache by half-edge id */
+    struct placed *pc;
     apex *ap;
     size_t nap, apcap;
     /* output points */
@@ -188,8 +192,7 @@ static void ctx_free(ctx *c)
 {
     vmap_free(&c->dmap);
     vmap_free(&c->amap);
-    vmap_free(&c->pmap);
-    free(c->pxy);
+    free(c->pc);
     for (int k = 0; k < 2; ++k)
         if (!c->src_borrowed[k]) gs__qsrc_free(c->src[k]);
     free(c->dval), free(c->vp), free(c->sl), free(c->uv), free(c->fp), free(c->ap), free(c->q);
@@ -275,22 +278,35 @@ static int dist_to_target(ctx *c, uint32_t v, double *out)
 #define MAX_FAN 256
 static int fetch(ctx *c, const uint32_t *v, uint32_t n, int which)
 {
+    uint32_t miss[MAX_FAN], slot[MAX_FAN], m = 0;
+    const gs_db *db = c->db;
     for (uint32_t j = 0; j < n; ++j) {
         uint32_t s = vmap_get(&c->dmap, v[j]);
         if (s != GS_NONE && c->dval[2 * s + which] == c->dval[2 * s + which]) continue;
         if (s == GS_NONE) {
-            int rc = check_vertex(c, v[j]);
-            if (rc) return rc;
             if (gs__grow((void **)&c->dval, &c->dcap, 2 * c->nd + 2, sizeof *c->dval) ||
                 vmap_put(&c->dmap, v[j], (uint32_t)c->nd))
                 return oom(c);
             s = (uint32_t)c->nd++;
             c->dval[2 * s] = c->dval[2 * s + 1] = NAN;
         }
+        miss[m] = v[j], slot[m++] = s;
+        /* what the query and the check read first, requested together */
+        __builtin_prefetch(db->leaf + v[j]), __builtin_prefetch(db->index + v[j]);
+        __builtin_prefetch(db->xyz + 3 * (size_t)v[j]), __builtin_prefetch(c->t->xyz + 3 * (size_t)v[j]);
+    }
+    for (uint32_t j = 0; j < m; ++j) {
+        const unsigned char *end, *p = gs__db_record(db, miss[j], &end);
+        __builtin_prefetch(p), __builtin_prefetch(p + 64);
+    }
+    for (uint32_t j = 0; j < m; ++j) {
         double d;
-        int rc = end_distance(c, which, v[j], &d);
+        int rc = c->dval[2 * slot[j]] != c->dval[2 * slot[j]] && c->dval[2 * slot[j] + 1] != c->dval[2 * slot[j] + 1]
+                     ? check_vertex(c, miss[j])
+                     : GS_OK;
+        if (!rc) rc = end_distance(c, which, miss[j], &d);
         if (rc) return rc;
-        c->dval[2 * s + which] = d;
+        c->dval[2 * slot[j] + which] = d;
     }
     return GS_OK;
 }
@@ -735,21 +751,22 @@ static double tri_area(double a, double b, double c)
 }
 
 /* The third vertex of half-edge o's face in o's frame: (along o from its
- * start, to the right of it), in units of o's length; computed once per
- * call (a square root and divisions each). */
+ * start, to the right of it), in units of o's length (a square root and
+ * divisions: cached). */
 static int placement(ctx *c, uint32_t o, p2 *out)
 {
-    uint32_t s = vmap_get(&c->pmap, o);
-    if (s == GS_NONE) {
+    if (!c->pc) {
+        if (!(c->pc = gs__malloc(PC_SIZE, sizeof *c->pc))) return oom(c);
+        for (uint32_t i = 0; i < PC_SIZE; ++i) c->pc[i].h = GS_NONE;
+    }
+    struct placed *e = &c->pc[o & (PC_SIZE - 1)];
+    if (e->h != o) {
         const gs__topo *t = c->t;
         double L = t->len[o], r = t->len[gs__next(o)], q = t->len[gs__prev(o)];
-        if (gs__grow((void **)&c->pxy, &c->pxycap, c->npxy + 1, sizeof *c->pxy) ||
-            vmap_put(&c->pmap, o, (uint32_t)c->npxy))
-            return oom(c);
-        s = (uint32_t)c->npxy++;
-        c->pxy[s] = (p2){(r * r - q * q + L * L) / (2 * L * L), 2 * tri_area(L, r, q) / (L * L)};
+        e->h = o;
+        e->xy = (p2){(r * r - q * q + L * L) / (2 * L * L), 2 * tri_area(L, r, q) / (L * L)};
     }
-    *out = c->pxy[s];
+    *out = e->xy;
     return GS_OK;
 }
 
