@@ -527,6 +527,10 @@ static int descend(ctx *c, const uint32_t *targets, int nt)
             uint32_t closer[MAX_FAN], ncl = 0;
             for (uint32_t j = 0; j < nc; ++j)
                 if (c->dval[2 * vmap_get(&c->dmap, cand[j])] < dv) closer[ncl++] = cand[j];
+            if (ncl == 1) { /* the only way on: its d(., Y) is not needed */
+                bn = closer[0];
+                break;
+            }
             if ((rc = fetch(c, closer, ncl, 1))) return rc;
             for (uint32_t j = 0; j < ncl; ++j) {
                 uint32_t sl = vmap_get(&c->dmap, closer[j]);
