@@ -570,12 +570,16 @@ int gs__dgg_view(const void *whole, const gs__topo *t, const uint32_t *vmap, voi
     dgg_state *s;
     int rc = state_new(t, &s, err);
     if (rc) return rc;
-    rc = sub_graph(w->g, t, vmap, &s->own, err);
-    if (rc) {
-        dgg_destroy(s);
-        return rc;
+    if (!vmap && t->nv == w->g->nv) {
+        s->g = w->g; /* the whole patch again (a tree's root): shared */
+    } else {
+        rc = sub_graph(w->g, t, vmap, &s->own, err);
+        if (rc) {
+            dgg_destroy(s);
+            return rc;
+        }
+        s->g = s->own;
     }
-    s->g = s->own;
     s->view = 1;
     s->start = 0; /* builds: many fields per patch; the graph alone */
     *state = s;
