@@ -7,6 +7,7 @@
  * distances come from one exact field per source (gs_solver_solve; for the
  * point pairs gs_solver_path). Times are the calling thread's CPU time per
  * path (median, mean and 99th percentile over all pairs). */
+#include "bench_util.h"
 #include "geosep.h"
 
 #include <math.h>
@@ -14,19 +15,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : (x > y);
-}
 
 static double quantile(double *v, size_t n, double q)
 {
