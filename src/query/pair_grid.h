@@ -1,5 +1,5 @@
-/* pair_grid.h - a separator distance function tabulated on its curve's
- * uniform query grid, from its Chebyshev coefficients (paper sec. 4.3, made
+/* pair_grid.h - a separator distance function tabulated on a uniform query
+ * grid of its curve, from its Chebyshev coefficients (paper sec. 4.3, made
  * fast): table dot products with T_k at uniform points, a loop's shift
  * applied by linear interpolation between neighbouring table points.
  * Internal; the query hot path: no allocation. */

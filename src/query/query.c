@@ -3,8 +3,9 @@
  * minimum over the curves of the common ancestors, with the quick reject on
  * the stored minima. Reads the file's records in place (format version 5):
  * each vertex's minima, then its functions' blocks, decoded as needed; the
- * two functions of a curve are tabulated on the curve's grid and their sum
- * minimised (pair_min.c gs__fun_pair_min_grid). Every read stays inside
+ * two functions of a curve are tabulated on the pair's grid (pair_grid)
+ * and their sum minimised (pair_min.c gs__fun_pair_min_grid_sum, or
+ * gs__fun_pair_min_grid for loops). Every read stays inside
  * the vertex's record (a malformed block gives NaN). The hot path: no
  * allocation, no locks. */
 #include "../db/db_internal.h"
@@ -248,8 +249,8 @@ static int decode_coef(const gs__db_fblock *b, const unsigned char *end, double 
     return 1;
 }
 
-/* f's values on the curve's grid of g points: the fused path kernel for
- * paths (pair_grid.h), bit for bit gs__grid_values. */
+/* f's values on a grid of g points: the path kernel for paths
+ * (pair_grid.h), bit for bit gs__grid_values. */
 static void grid_of(const dfun *d, uint32_t g, float *v)
 {
     if (d->f.closed) gs__grid_values(&d->f, g, v);
@@ -375,7 +376,9 @@ static inline uint32_t pair_grid(uint32_t d1, uint32_t ma, uint32_t mb, uint32_t
  * length / (g - 1)); times this safety (fits are not exactly 1-Lipschitz).
  * A pair whose bound is not below the best answer so far is not refined.
  * Pairs with a sharp dip (the grid may step over it) are always refined. */
+#ifndef LIPSCHITZ_SAFETY
 #define LIPSCHITZ_SAFETY 1.5
+#endif
 
 /* min over curve c of f_a + f_b (decoded; a is the lower vertex id's: the
  * order of the two functions makes d(x,y) == d(y,x) bit for bit), or some
