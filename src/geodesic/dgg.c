@@ -57,36 +57,41 @@
 #endif
 
 /* Fields are exact within this many R of each source (dgg_solve): one
- * bounded exact run per source; most of the largest relative errors of
- * graph paths are at one to two R (two hops) and go with it. */
-#define DGG_START 3.0
+ * bounded exact run per source; the largest relative errors of graph paths
+ * are within a few hops of the source and go with it (6 R is about 28 mean
+ * edge lengths at the default eps). */
+#define DGG_START 6.0
 
 #ifndef DGG_DIRECT
 #define DGG_DIRECT 1
 #endif
 
-/* The pruned graph of a patch (ids of that patch). */
+/* The pruned graph of a patch, on internal ids 0..nv-1 numbered in
+ * breadth-first order (bfs_order: neighbours get near ids, so that the
+ * Dijkstra's accesses stay in the cache); perm and inv translate to and
+ * from the patch's vertex ids. A view's graph is the same for a sub-patch. */
 typedef struct dgg_graph {
     uint32_t nv;
-    uint64_t *start; /* nv + 1: CSR offsets     */
-    uint32_t *to;    /* kept edges: target      */
-    double *w;       /*             length      */
-    uint64_t n_cand; /* candidate edges         */
-    double radius;   /* R, absolute              */
+    uint64_t *start; /* nv + 1: CSR offsets (internal ids) */
+    uint32_t *to;    /* kept edges: target (internal id)    */
+    double *w;       /*             length                  */
+    uint32_t *perm;  /* nv: internal -> patch vertex        */
+    uint32_t *inv;   /* nv: patch vertex -> internal        */
+    uint64_t n_cand; /* candidate edges                     */
+    double radius;   /* R, absolute                          */
     double eps;
-    double seconds;  /* construction, wall      */
+    double seconds;  /* construction, wall                  */
 } dgg_graph;
 
 typedef struct dgg_state {
     const gs__topo *t;     /* the solver's patch (local ids)                  */
-    const dgg_graph *g;    /* the graph (of this patch, or of a larger one)   */
+    const dgg_graph *g;    /* the graph of this patch (its own or a view's)   */
     dgg_graph *own;        /* g, when this state owns it                      */
-    const uint32_t *p2m;   /* local -> graph vertex; NULL: the same ids       */
-    uint32_t *m2p;         /* graph vertex -> local or GS_NONE; NULL: bsearch */
-    int own_m2p;
+    int view;              /* g is a sub-graph of a larger patch's graph      */
     double start;          /* exact start radius of vertex sources, in R:   */
                            /*   <= 1: none (the graph is exact within R)    */
-    gs__iheap heap;
+    gs__iheap heap;        /* over internal ids                               */
+    double *id;            /* nv: distances by internal id (scratch)          */
     void *ex;              /* exact solver for surface-point sources (lazy)   */
     double *exd;           /* its nv scratch distances, all +INFINITY         */
 } dgg_state;
@@ -94,7 +99,7 @@ typedef struct dgg_state {
 double gs_dgg_radius(double eps)
 {
     if (!(eps > 0)) eps = GS_DGG_EPS_MIN;
-    double r = 0.3 / sqrt(eps);
+    double r = 0.15 / sqrt(eps);
     if (r < 2) r = 2;
     if (r > 100) r = 100;
     return r;
@@ -106,6 +111,8 @@ static void graph_free(dgg_graph *g)
     free(g->start);
     free(g->to);
     free(g->w);
+    free(g->perm);
+    free(g->inv);
     free(g);
 }
 
@@ -114,8 +121,8 @@ static void dgg_destroy(void *state)
     dgg_state *s = state;
     if (!s) return;
     graph_free(s->own);
-    if (s->own_m2p) free(s->m2p);
     gs__iheap_free(&s->heap);
+    free(s->id);
     if (s->ex) gs__exact_ops.destroy(s->ex);
     free(s->exd);
     free(s);
@@ -221,6 +228,29 @@ static int prune_vertex(const gs__topo *t, uint32_t v, double rv, double eps, ca
     return GS_OK;
 }
 
+/* The vertices in breadth-first order over the mesh edges (each component
+ * from its lowest vertex): consecutive local runs then cover overlapping
+ * balls and find their half-edge data in the cache (in the meshes' own
+ * order most of a run's time was cache misses). Into order (nv). */
+static void bfs_order(const gs__topo *t, uint32_t *order, uint8_t *seen)
+{
+    uint32_t nv = t->nv, head = 0, tail = 0;
+    for (uint32_t r = 0; r < nv; ++r) {
+        if (seen[r]) continue;
+        seen[r] = 1;
+        order[tail++] = r;
+        while (head < tail) {
+            uint32_t v = order[head++];
+            for (uint32_t k = t->vc_start[v]; k < t->vc_start[v + 1]; ++k) {
+                uint32_t h = t->vc[k];
+                uint32_t a = t->tri[gs__next(h)], b = t->tri[gs__prev(h)];
+                if (!seen[a]) seen[a] = 1, order[tail++] = a;
+                if (!seen[b]) seen[b] = 1, order[tail++] = b;
+            }
+        }
+    }
+}
+
 /* Progress: phase 1 (local runs) is 90% of the work, phase 2 (pruning) 10%. */
 static void report(const gs__dgg_progress *p, double frac)
 {
@@ -247,11 +277,15 @@ int gs__dgg_build(const gs__topo *t, double eps, int prune, uint32_t nthreads, c
     uint32_t *cnt = gs__calloc(nv ? nv : 1, sizeof *cnt);
     cand **kept = gs__calloc(nv ? nv : 1, sizeof *kept);
     uint32_t *kcnt = gs__calloc(nv ? nv : 1, sizeof *kcnt);
-    if (!g->start || !lists || !cnt || !kept || !kcnt) {
-        free(lists), free(cnt), free(kept), free(kcnt);
+    uint32_t *order = gs__malloc(nv ? nv : 1, sizeof *order);
+    uint8_t *seen = gs__calloc(nv ? nv : 1, 1);
+    if (!g->start || !lists || !cnt || !kept || !kcnt || !order || !seen) {
+        free(lists), free(cnt), free(kept), free(kcnt), free(order), free(seen);
         graph_free(g);
         return gs__fail(err, GS_ENOMEM, "out of memory creating a dgg graph");
     }
+    bfs_order(t, order, seen);
+    free(seen);
     int status = GS_OK;
     uint32_t bad_v = GS_NONE;
     gs_error first = {0};
@@ -291,7 +325,7 @@ int gs__dgg_build(const gs__topo *t, double eps, int prune, uint32_t nthreads, c
         /* phase 1: candidates */
 #pragma omp for schedule(dynamic, 64)
         for (int64_t iv = 0; iv < (int64_t)nv; ++iv) {
-            uint32_t v = (uint32_t)iv;
+            uint32_t v = order[iv];
             if (!rc && t->vc_start[v] < t->vc_start[v + 1]) {
                 double rv = dgg_vertex_radius(t, g->radius, hbar, v);
                 gs_source s = gs_source_vertex(v);
@@ -309,7 +343,7 @@ int gs__dgg_build(const gs__topo *t, double eps, int prune, uint32_t nthreads, c
                     }
                 }
             }
-            if ((v & 63) == 63) {
+            if ((iv & 63) == 63) {
                 uint64_t d;
 #pragma omp atomic capture
                 d = done += 64;
@@ -339,7 +373,7 @@ int gs__dgg_build(const gs__topo *t, double eps, int prune, uint32_t nthreads, c
         }
 #pragma omp for schedule(dynamic, 64)
         for (int64_t iv = 0; iv < (int64_t)nv; ++iv) {
-            uint32_t v = (uint32_t)iv;
+            uint32_t v = order[iv];
             if (rc || !prune) continue;
             double rv = dgg_vertex_radius(t, g->radius, hbar, v);
             if (prune_vertex(t, v, rv, eps, lists, cnt, best, nbr, touched, &kept[v], &kcnt[v])) {
@@ -351,7 +385,7 @@ int gs__dgg_build(const gs__topo *t, double eps, int prune, uint32_t nthreads, c
                     bad_v = 0;
                 }
             }
-            if (tid == 0 && (v & 1023) == 0) report(progress, 0.9 + 0.1 * (double)v / (nv ? nv : 1));
+            if (tid == 0 && (iv & 1023) == 0) report(progress, 0.9 + 0.1 * (double)iv / (nv ? nv : 1));
         }
         free(best);
         free(nbr);
@@ -360,8 +394,17 @@ int gs__dgg_build(const gs__topo *t, double eps, int prune, uint32_t nthreads, c
     cand **fin = prune ? kept : lists;
     uint32_t *fcnt = prune ? kcnt : cnt;
     if (status == GS_OK) {
-        for (uint32_t v = 0; v < nv; ++v) {
-            g->start[v + 1] = g->start[v] + fcnt[v];
+        /* internal id i is vertex order[i] */
+        g->perm = order;
+        order = NULL;
+        g->inv = gs__malloc(nv ? nv : 1, sizeof *g->inv);
+        if (!g->inv) status = gs__fail(&first, GS_ENOMEM, "out of memory storing the dgg graph");
+    }
+    if (status == GS_OK) {
+        for (uint32_t i = 0; i < nv; ++i) {
+            uint32_t v = g->perm[i];
+            g->inv[v] = i;
+            g->start[i + 1] = g->start[i] + fcnt[v];
             g->n_cand += cnt[v];
         }
         uint64_t ne = g->start[nv];
@@ -371,14 +414,16 @@ int gs__dgg_build(const gs__topo *t, double eps, int prune, uint32_t nthreads, c
             status = gs__fail(&first, GS_ENOMEM, "out of memory storing the dgg graph (%llu edges)",
                               (unsigned long long)ne);
         else
-            for (uint32_t v = 0; v < nv; ++v)
+            for (uint32_t i = 0; i < nv; ++i) {
+                uint32_t v = g->perm[i];
                 for (uint32_t k = 0; k < fcnt[v]; ++k) {
-                    g->to[g->start[v] + k] = fin[v][k].to;
-                    g->w[g->start[v] + k] = fin[v][k].w;
+                    g->to[g->start[i] + k] = g->inv[fin[v][k].to];
+                    g->w[g->start[i] + k] = fin[v][k].w;
                 }
+            }
     }
     for (uint32_t v = 0; v < nv; ++v) free(lists[v]), free(kept[v]);
-    free(lists), free(cnt), free(kept), free(kcnt);
+    free(lists), free(cnt), free(kept), free(kcnt), free(order);
     if (status) {
         graph_free(g);
         if (err) *err = first;
@@ -398,8 +443,8 @@ void gs__dgg_free(void *graph)
 static int state_new(const gs__topo *t, dgg_state **out, gs_error *err)
 {
     dgg_state *s = gs__calloc(1, sizeof *s);
-    if (!s || gs__iheap_init(&s->heap, t->nv)) {
-        if (s) gs__iheap_free(&s->heap);
+    if (!s || gs__iheap_init(&s->heap, t->nv) || !(s->id = gs__malloc(t->nv ? t->nv : 1, sizeof *s->id))) {
+        if (s) gs__iheap_free(&s->heap), free(s->id);
         free(s);
         return gs__fail(err, GS_ENOMEM, "out of memory creating a dgg solver");
     }
@@ -430,56 +475,122 @@ static int dgg_create(const gs__topo *t, const gs_solver_options *opt, void **st
     return gs__dgg_state_from_graph(t, g, state, err);
 }
 
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The sub-graph of g on the vertices of patch t (t's vertex v is g's patch
+ * vertex vmap[v], NULL: the same), its internal order g's restricted to
+ * them; edges leaving t are dropped. Built once per view: its fields are
+ * then Dijkstras on a graph of the patch's own size. */
+static int sub_graph(const dgg_graph *g, const gs__topo *t, const uint32_t *vmap, dgg_graph **out, gs_error *err)
+{
+    uint32_t n = t->nv;
+    dgg_graph *h = gs__calloc(1, sizeof *h);
+    uint64_t *key = gs__malloc(n ? n : 1, sizeof *key);
+    if (!h || !key) goto oom;
+    h->nv = n;
+    h->radius = g->radius;
+    h->eps = g->eps;
+    h->n_cand = 0;
+    for (uint32_t v = 0; v < n; ++v) {
+        uint32_t m = vmap ? vmap[v] : v;
+        if (m >= g->nv) {
+            free(key), graph_free(h);
+            return gs__fail(err, GS_EINTERNAL, "gs__dgg_view: patch vertex %u is not in the graph", v);
+        }
+        key[v] = (uint64_t)g->inv[m] << 32 | v; /* g's internal id, then v */
+    }
+    qsort(key, n, sizeof *key, cmp_u64);
+    h->perm = gs__malloc(n ? n : 1, sizeof *h->perm);
+    h->inv = gs__malloc(n ? n : 1, sizeof *h->inv);
+    h->start = gs__calloc((size_t)n + 1, sizeof *h->start);
+    if (!h->perm || !h->inv || !h->start) goto oom;
+    for (uint32_t j = 0; j < n; ++j) {
+        h->perm[j] = (uint32_t)key[j];
+        h->inv[h->perm[j]] = j;
+    }
+    /* g's internal id -> the view's: a direct map for patches that are not
+     * tiny next to g, a binary search in key (increasing) otherwise */
+    uint32_t *map = NULL;
+    if ((uint64_t)n * 64 >= g->nv) {
+        map = gs__malloc(g->nv ? g->nv : 1, sizeof *map);
+        if (!map) goto oom;
+        memset(map, 0xff, (size_t)g->nv * sizeof *map);
+        for (uint32_t j = 0; j < n; ++j) map[key[j] >> 32] = j;
+    }
+    for (int pass = 0; pass < 2; ++pass) {
+        uint64_t ne = 0;
+        for (uint32_t j = 0; j < n; ++j) {
+            uint32_t gi = (uint32_t)(key[j] >> 32);
+            for (uint64_t k = g->start[gi]; k < g->start[gi + 1]; ++k) {
+                uint32_t gt = g->to[k], lj;
+                if (map) {
+                    lj = map[gt];
+                } else {
+                    uint32_t lo = 0, hi = n;
+                    while (lo < hi) {
+                        uint32_t mid = lo + (hi - lo) / 2;
+                        if ((key[mid] >> 32) < gt) lo = mid + 1;
+                        else hi = mid;
+                    }
+                    lj = lo < n && (key[lo] >> 32) == gt ? lo : GS_NONE;
+                }
+                if (lj == GS_NONE) continue;
+                if (pass) h->to[ne] = lj, h->w[ne] = g->w[k];
+                ++ne;
+            }
+            if (!pass) h->start[j + 1] = ne;
+        }
+        if (!pass) {
+            h->to = gs__malloc(ne ? ne : 1, sizeof *h->to);
+            h->w = gs__malloc(ne ? ne : 1, sizeof *h->w);
+            if (!h->to || !h->w) {
+                free(map);
+                goto oom;
+            }
+        }
+    }
+    free(map);
+    free(key);
+    *out = h;
+    return GS_OK;
+oom:
+    free(key);
+    graph_free(h);
+    return gs__fail(err, GS_ENOMEM, "out of memory creating a dgg view");
+}
+
 int gs__dgg_view(const void *whole, const gs__topo *t, const uint32_t *vmap, void **state, gs_error *err)
 {
     const dgg_state *w = whole;
-    const dgg_graph *g = w->g;
-    if (w->p2m) return gs__fail(err, GS_EINTERNAL, "gs__dgg_view: the graph's solver is itself a view");
+    if (w->view) return gs__fail(err, GS_EINTERNAL, "gs__dgg_view: the graph's solver is itself a view");
     dgg_state *s;
     int rc = state_new(t, &s, err);
     if (rc) return rc;
-    s->g = g;
-    s->p2m = vmap;
-    s->start = 0; /* builds: many fields per patch; the graph alone */
-    /* a direct map for patches that are not tiny next to the graph; a
-     * binary search in vmap (increasing) otherwise */
-    if (vmap && (uint64_t)t->nv * 64 >= g->nv) {
-        s->m2p = gs__malloc(g->nv ? g->nv : 1, sizeof *s->m2p);
-        if (!s->m2p) {
+    if (!vmap && t->nv == w->g->nv) {
+        s->g = w->g; /* the whole patch again (a tree's root): shared */
+    } else {
+        rc = sub_graph(w->g, t, vmap, &s->own, err);
+        if (rc) {
             dgg_destroy(s);
-            return gs__fail(err, GS_ENOMEM, "out of memory creating a dgg view");
+            return rc;
         }
-        s->own_m2p = 1;
-        memset(s->m2p, 0xff, (size_t)g->nv * sizeof *s->m2p);
-        for (uint32_t v = 0; v < t->nv; ++v) s->m2p[vmap[v]] = v;
+        s->g = s->own;
     }
-    for (uint32_t v = 0; v < t->nv; ++v)
-        if ((vmap ? vmap[v] : v) >= g->nv) {
-            dgg_destroy(s);
-            return gs__fail(err, GS_EINTERNAL, "gs__dgg_view: patch vertex %u is not in the graph", v);
-        }
+    s->view = 1;
+    s->start = 0; /* builds: many fields per patch; the graph alone */
     *state = s;
     return GS_OK;
 }
 
-static inline uint32_t to_local(const dgg_state *s, uint32_t m)
+static inline void relax(dgg_state *s, double *id, uint32_t i, double d, double max_d)
 {
-    if (!s->p2m) return m;
-    if (s->m2p) return s->m2p[m];
-    uint32_t lo = 0, hi = s->t->nv;
-    while (lo < hi) {
-        uint32_t mid = lo + (hi - lo) / 2;
-        if (s->p2m[mid] < m) lo = mid + 1;
-        else hi = mid;
-    }
-    return lo < s->t->nv && s->p2m[lo] == m ? lo : GS_NONE;
-}
-
-static inline void relax(dgg_state *s, double *dist, uint32_t v, double d, double max_d)
-{
-    if (d < dist[v] && d <= max_d) {
-        dist[v] = d;
-        gs__iheap_push_or_decrease(&s->heap, v, d);
+    if (d < id[i] && d <= max_d) {
+        id[i] = d;
+        gs__iheap_push_or_decrease(&s->heap, i, d);
     }
 }
 
@@ -489,11 +600,12 @@ static int dgg_solve(void *state, const gs_source *src, uint32_t n_src, double m
     dgg_state *s = state;
     const gs__topo *t = s->t;
     const dgg_graph *g = s->g;
-    for (uint32_t v = 0; v < t->nv; ++v) dist[v] = INFINITY;
+    double *id = s->id;
+    for (uint32_t i = 0; i < g->nv; ++i) id[i] = INFINITY;
     gs__iheap_clear(&s->heap);
     for (uint32_t i = 0; i < n_src; ++i) {
         if (src[i].face == GS_NONE && s->start <= 1) {
-            relax(s, dist, src[i].vertex, 0, max_d);
+            relax(s, id, g->inv[src[i].vertex], 0, max_d);
             continue;
         }
         if (!s->ex) {
@@ -527,21 +639,21 @@ static int dgg_solve(void *state, const gs_source *src, uint32_t n_src, double m
         /* every touched vertex holds a real path length (exact within r) */
         for (uint32_t k = 0; k < ntv; ++k) {
             uint32_t u = tv[k];
-            relax(s, dist, u, s->exd[u], max_d);
+            relax(s, id, g->inv[u], s->exd[u], max_d);
             s->exd[u] = INFINITY;
         }
     }
     uint64_t pops = 0;
+    const uint64_t *start = g->start;
+    const uint32_t *to = g->to;
+    const double *w = g->w;
     while (s->heap.n) {
         double d;
         uint32_t v = gs__iheap_pop(&s->heap, &d);
         ++pops;
-        uint32_t m = s->p2m ? s->p2m[v] : v;
-        for (uint64_t k = g->start[m]; k < g->start[m + 1]; ++k) {
-            uint32_t u = to_local(s, g->to[k]);
-            if (u != GS_NONE) relax(s, dist, u, d + g->w[k], max_d);
-        }
+        for (uint64_t k = start[v]; k < start[v + 1]; ++k) relax(s, id, to[k], d + w[k], max_d);
     }
+    for (uint32_t i = 0; i < g->nv; ++i) dist[g->perm[i]] = id[i];
     stats->windows_propagated = pops;
     return GS_OK;
 }
@@ -555,8 +667,9 @@ void gs__dgg_info(const void *state, gs__dgg_stats *st)
     st->edges = g->start[g->nv];
     st->candidates = g->n_cand;
     st->radius = g->radius;
-    st->bytes = g->start[g->nv] * (sizeof *g->to + sizeof *g->w) + ((uint64_t)g->nv + 1) * sizeof *g->start;
-    st->solve_bytes = (uint64_t)s->t->nv * (2 * sizeof(uint32_t) + sizeof(double));
+    st->bytes = g->start[g->nv] * (sizeof *g->to + sizeof *g->w) + ((uint64_t)g->nv + 1) * sizeof *g->start +
+                2 * (uint64_t)g->nv * sizeof *g->perm;
+    st->solve_bytes = (uint64_t)s->t->nv * (2 * sizeof(uint32_t) + 2 * sizeof(double));
 }
 
 /* Another thread's solver: the graph and maps are shared read-only (src
@@ -568,8 +681,7 @@ static int dgg_clone(const void *state, void **out, gs_error *err)
     int rc = state_new(src->t, &s, err);
     if (rc) return rc;
     s->g = src->g;
-    s->p2m = src->p2m;
-    s->m2p = src->m2p;
+    s->view = src->view;
     s->start = src->start;
     *out = s;
     return GS_OK;

@@ -517,8 +517,9 @@ static void ex_process_face(ex_state *s, uint32_t f)
                 double ex = w->sx - cx, ey = w->sy - cy; /* C -> source */
                 double val = w->sigma + sqrt(ex * ex + ey * ey);
                 if (val < d[C]) {
-                    /* direction back to the source, from the edge C -> A */
-                    double a = s->pseudo[C] ? atan2(cy * ex - cx * ey, -cx * ex - cy * ey) : 0;
+                    /* direction back to the source, from the edge C -> A (for
+                     * firing C as a pseudo-source: never in direct-only runs) */
+                    double a = s->pseudo[C] && !s->direct_only ? atan2(cy * ex - cx * ey, -cx * ex - cy * ey) : 0;
                     ex_update_vertex(s, C, val, hp, a, GS_EXTR_WINDOW, h, w->sx, w->sy, w->tag);
                 }
             }
