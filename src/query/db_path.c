@@ -16,8 +16,11 @@
  *    edge of the shortest path where following the slope of d(X, .) alone
  *    drifts with the fitted functions' slope errors (on bunny-5k 1% of the
  *    paths then ended 1-2% long, on another local geodesic). A vertex
- *    without a closer neighbour (a fitted function's dip) hands over to
- *    A* on the edge graph (Euclidean heuristic) for the rest.
+ *    without a closer neighbour (a fitted function's dip) escapes to the
+ *    nearest vertex that is closer (Dijkstra on the edges, a few thousand
+ *    vertices at most; else A* to X, Euclidean heuristic, for the rest).
+ *    The distances come from the two ends' kept query sources (gs__qsrc:
+ *    each end's functions decoded once), bit for bit gs_db_distance's.
  * 2. Sleeve. The vertex path becomes a strip of faces ("sleeve"): around
  *    each vertex, the faces on the side of the smaller angle between the
  *    edges it arrives and leaves by.
