@@ -27,34 +27,6 @@ static double max_ratio = MAX_RATIO; /* the upper bound check_path applies */
 static gs_method build_method = GS_METHOD_EXACT; /* of the databases env_open builds */
 static const char *method_name = "";              /* printed after the mesh */
 
-static double dist3(const double *a, const double *b)
-{
-    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
-}
-
-/* Is x in face f (least-squares barycentric weights >= -tol, on its plane)? */
-static int in_face(const gs_mesh *m, uint32_t f, const double *x, double tol)
-{
-    const double *P = gs_mesh_positions(m);
-    const uint32_t *T = gs_mesh_faces(m) + 3 * (size_t)f;
-    const double *a = P + 3 * T[0], *b = P + 3 * T[1], *c = P + 3 * T[2];
-    double e1[3], e2[3], r[3];
-    for (int k = 0; k < 3; ++k) e1[k] = b[k] - a[k], e2[k] = c[k] - a[k], r[k] = x[k] - a[k];
-    double d11 = 0, d12 = 0, d22 = 0, r1 = 0, r2 = 0;
-    for (int k = 0; k < 3; ++k) {
-        d11 += e1[k] * e1[k], d12 += e1[k] * e2[k], d22 += e2[k] * e2[k];
-        r1 += r[k] * e1[k], r2 += r[k] * e2[k];
-    }
-    double det = d11 * d22 - d12 * d12;
-    double u = (d22 * r1 - d12 * r2) / det, v = (d11 * r2 - d12 * r1) / det;
-    double off = 0, scale = sqrt(fmax(d11, d22));
-    for (int k = 0; k < 3; ++k) {
-        double q = a[k] + u * e1[k] + v * e2[k];
-        off += (q - x[k]) * (q - x[k]);
-    }
-    return u >= -tol && v >= -tol && u + v <= 1 + tol && sqrt(off) <= tol * scale;
-}
-
 static void position(const gs_mesh *m, const gs_source *s, double *o)
 {
     const double *P = gs_mesh_positions(m);
@@ -88,11 +60,11 @@ static double check_path(const gs_mesh *m, const gs_path *p, const gs_source *a,
         double q[3] = {0, 0, 0};
         for (int k = 0; k < 3; ++k)
             for (int j = 0; j < 3; ++j) q[k] += w[j] * P[3 * T[3 * f[i] + j] + k];
-        CHECK_MSG(dist3(q, x + 3 * i) <= 1e-15 * (1 + fabs(q[0]) + fabs(q[1]) + fabs(q[2])),
+        CHECK_MSG(gs__test_dist3(q, x + 3 * i) <= 1e-15 * (1 + fabs(q[0]) + fabs(q[1]) + fabs(q[2])),
                   "%s: point %u xyz is not its face point", what, i);
         if (i) {
-            len += dist3(x + 3 * i - 3, x + 3 * i);
-            CHECK_MSG(in_face(m, f[i - 1], x + 3 * i, 1e-9), "%s: point %u is not in face %u of point %u", what, i,
+            len += gs__test_dist3(x + 3 * i - 3, x + 3 * i);
+            CHECK_MSG(gs__test_in_face(m, f[i - 1], x + 3 * i, 1e-9), "%s: point %u is not in face %u of point %u", what, i,
                       f[i - 1], i - 1);
         }
     }
@@ -100,8 +72,8 @@ static double check_path(const gs_mesh *m, const gs_path *p, const gs_source *a,
     double pa[3], pb[3];
     position(m, a, pa);
     position(m, b, pb);
-    CHECK_MSG(dist3(x, pa) <= 1e-12 * (1 + fabs(pa[0]) + fabs(pa[1]) + fabs(pa[2])), "%s: starts elsewhere", what);
-    CHECK_MSG(dist3(x + 3 * (n - 1), pb) <= 1e-12 * (1 + fabs(pb[0]) + fabs(pb[1]) + fabs(pb[2])),
+    CHECK_MSG(gs__test_dist3(x, pa) <= 1e-12 * (1 + fabs(pa[0]) + fabs(pa[1]) + fabs(pa[2])), "%s: starts elsewhere", what);
+    CHECK_MSG(gs__test_dist3(x + 3 * (n - 1), pb) <= 1e-12 * (1 + fabs(pb[0]) + fabs(pb[1]) + fabs(pb[2])),
               "%s: ends elsewhere", what);
     double r = exact > 0 ? gs_path_length(p) / exact : 1.0;
     if (exact > 0) {
@@ -236,7 +208,7 @@ static void test_plane(void)
             gs_error err;
             snprintf(what, sizeof what, "plane %u -> %u", x, y);
             CHECK(gs_db_path(e.db, e.m, &a, &b, &p, &err) == GS_OK);
-            double want = dist3(P + 3 * x, P + 3 * y);
+            double want = gs__test_dist3(P + 3 * x, P + 3 * y);
             if (x == y) want = 0;
             check_path(e.m, p, &a, &b, want, what);
             CHECK_MSG(fabs(gs_path_length(p) - want) <= 1e-12 * (1 + want), "%s: length %.17g, straight %.17g", what,
@@ -253,8 +225,8 @@ static void test_plane(void)
         gs_error err;
         CHECK(gs_db_path(e.db, e.m, &a, &b, &p, &err) == GS_OK);
         snprintf(what, sizeof what, "plane point pair %d", i);
-        check_path(e.m, p, &a, &b, dist3(pa, pb), what);
-        CHECK_NEAR(gs_path_length(p), dist3(pa, pb), 1e-12);
+        check_path(e.m, p, &a, &b, gs__test_dist3(pa, pb), what);
+        CHECK_NEAR(gs_path_length(p), gs__test_dist3(pa, pb), 1e-12);
         gs_path_free(p);
     }
     env_close(&e);

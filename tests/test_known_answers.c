@@ -97,12 +97,6 @@ static void known(const gs_patch *p, const gs_source *src, uint32_t n_src, const
     free(got);
 }
 
-static double dist3(const double *p, const double *q)
-{
-    return sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
-                (p[2] - q[2]) * (p[2] - q[2]));
-}
-
 static const double *pos(const gs_mesh *m, uint32_t v) { return gs_mesh_positions(m) + 3 * (size_t)v; }
 
 /* Mesh vertex closest to (x, y, z). */
@@ -111,8 +105,8 @@ static uint32_t nearest(const gs_mesh *m, double x, double y, double z)
     double q[3] = {x, y, z}, best = INFINITY;
     uint32_t arg = 0;
     for (uint32_t v = 0; v < gs_mesh_num_vertices(m); ++v)
-        if (dist3(pos(m, v), q) < best) {
-            best = dist3(pos(m, v), q);
+        if (gs__test_dist3(pos(m, v), q) < best) {
+            best = gs__test_dist3(pos(m, v), q);
             arg = v;
         }
     return arg;
@@ -145,7 +139,7 @@ static void test_grid(void)
     for (int s = 0; s < 3; ++s) {
         double q[3];
         point_of(m, &src[s], q);
-        for (uint32_t v = 0; v < n; ++v) want[v] = dist3(pos(m, v), q);
+        for (uint32_t v = 0; v < n; ++v) want[v] = gs__test_dist3(pos(m, v), q);
         known(p, &src[s], 1, want, n, 1e-12 * size, 0, names[s]);
     }
     /* several sources: the pointwise minimum */
@@ -153,7 +147,7 @@ static void test_grid(void)
         double q[3], d = INFINITY;
         for (int s = 0; s < 3; ++s) {
             point_of(m, &src[s], q);
-            d = fmin(d, dist3(pos(m, v), q));
+            d = fmin(d, gs__test_dist3(pos(m, v), q));
         }
         want[v] = d;
     }
@@ -164,7 +158,7 @@ static void test_grid(void)
     if (!solve(p, GS_METHOD_EXACT, &src[1], 1, bound, got, "grid: max_distance 0.7")) {
         uint32_t beyond_bad = 0;
         for (uint32_t v = 0; v < n; ++v) {
-            want[v] = dist3(pos(m, v), q);
+            want[v] = gs__test_dist3(pos(m, v), q);
             if (want[v] > bound) {
                 if (!(got[v] > bound) && want[v] > bound + 1e-12 * size) {
                     printf("  vertex %u: distance %.17g beyond the bound, got %.17g\n", v, want[v], got[v]);
@@ -421,15 +415,15 @@ static void test_cone(void)
     gs_patch *p = m ? whole(m) : NULL;
     if (!p) goto done;
     uint32_t n = gs_mesh_num_vertices(m);
-    double L = dist3(pos(m, 0), apex), alpha = 2 * asin(R * sin(M_PI / NU) / L);
+    double L = gs__test_dist3(pos(m, 0), apex), alpha = 2 * asin(R * sin(M_PI / NU) / L);
     double rho_top = L / 4, total = NU * alpha;
     double *got = malloc(n * sizeof *got), *want = malloc(n * sizeof *want);
     const uint32_t sources[3] = {0, 3 * NU + 5, 6 * NU + 20};
     for (int s = 0; s < 3; ++s) {
         uint32_t sv = sources[s], skipped = 0;
-        double rs = dist3(pos(m, sv), apex);
+        double rs = gs__test_dist3(pos(m, sv), apex);
         for (uint32_t v = 0; v < n; ++v) {
-            double rt = dist3(pos(m, v), apex), dphi = ((double)(v % NU) - (double)(sv % NU)) * alpha;
+            double rt = gs__test_dist3(pos(m, v), apex), dphi = ((double)(v % NU) - (double)(sv % NU)) * alpha;
             double valid = INFINITY, lower = INFINITY;
             for (int k = -3; k <= 3; ++k) {
                 double a = fabs(dphi + k * total);
@@ -503,13 +497,13 @@ static void test_cube(void)
             int b, thi;
             want[v] = NAN;
             if (q[a] == c[a]) { /* same face */
-                want[v] = dist3(q, c);
+                want[v] = gs__test_dist3(q, c);
                 same++;
             } else if (face_of(q, S, a, &b, &thi)) {
                 double u[3] = {q[0], q[1], q[2]}, t = thi ? S : 0, off = fabs(q[a] - c[a]);
                 u[a] = c[a];
                 u[b] = thi ? t + off : t - off;
-                want[v] = dist3(u, c);
+                want[v] = gs__test_dist3(u, c);
                 adjacent++;
             }
         }
@@ -537,7 +531,7 @@ static void test_two(void)
     for (int comp = 0; comp < 2; ++comp) {
         uint32_t sv = comp * 81 + 40; /* the centre of grid comp */
         for (uint32_t v = 0; v < n; ++v)
-            want[v] = (v / 81 == (uint32_t)comp) ? dist3(pos(m, v), pos(m, sv)) : INFINITY;
+            want[v] = (v / 81 == (uint32_t)comp) ? gs__test_dist3(pos(m, v), pos(m, sv)) : INFINITY;
         char what[64];
         snprintf(what, sizeof what, "two: from vertex %u (other component inf)", sv);
         known(p, &(gs_source){sv, GS_NONE, {0, 0, 0}}, 1, want, n, 1e-12, 0, what);
@@ -674,11 +668,11 @@ static void check_fields(const gs_mesh *m, const uint32_t *sv, double **d, doubl
         }
         for (uint32_t v = 0; v < n; ++v) {
             c->graph += d[i][v] > g[i][v] + tol;
-            c->eucl += d[i][v] < dist3(pos(m, v), pos(m, sv[i])) - tol;
+            c->eucl += d[i][v] < gs__test_dist3(pos(m, v), pos(m, sv[i])) - tol;
         }
         for (uint32_t h = 0; h < 3 * nf; ++h) {
             uint32_t a = t[h], b = t[h % 3 == 2 ? h - 2 : h + 1];
-            c->lip += fabs(d[i][a] - d[i][b]) > dist3(pos(m, a), pos(m, b)) + tol;
+            c->lip += fabs(d[i][a] - d[i][b]) > gs__test_dist3(pos(m, a), pos(m, b)) + tol;
         }
     }
 }
@@ -691,7 +685,7 @@ static void test_invariants(const char *spec)
     uint32_t n = gs_mesh_num_vertices(m), sv[N_SRC];
     gs_mesh_report r;
     gs_mesh_get_report(m, &r, NULL);
-    double diag = dist3(r.bbox_min, r.bbox_max), tol = 1e-12 * diag;
+    double diag = gs__test_dist3(r.bbox_min, r.bbox_max), tol = 1e-12 * diag;
     double *d[N_SRC], *g[N_SRC];
     int failed = 0;
     for (int i = 0; i < N_SRC; ++i) {

@@ -21,35 +21,6 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-static double dist3(const double *a, const double *b)
-{
-    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
-}
-
-/* Is x in face f of the mesh (barycentric weights by least squares >= -tol,
- * and on the face's plane)? */
-static int in_face(const gs_mesh *m, uint32_t f, const double *x, double tol)
-{
-    const double *P = gs_mesh_positions(m);
-    const uint32_t *T = gs_mesh_faces(m) + 3 * (size_t)f;
-    const double *a = P + 3 * T[0], *b = P + 3 * T[1], *c = P + 3 * T[2];
-    double e1[3], e2[3], r[3];
-    for (int k = 0; k < 3; ++k) e1[k] = b[k] - a[k], e2[k] = c[k] - a[k], r[k] = x[k] - a[k];
-    double d11 = 0, d12 = 0, d22 = 0, r1 = 0, r2 = 0;
-    for (int k = 0; k < 3; ++k) {
-        d11 += e1[k] * e1[k], d12 += e1[k] * e2[k], d22 += e2[k] * e2[k];
-        r1 += r[k] * e1[k], r2 += r[k] * e2[k];
-    }
-    double det = d11 * d22 - d12 * d12;
-    double u = (d22 * r1 - d12 * r2) / det, v = (d11 * r2 - d12 * r1) / det;
-    double off = 0, scale = sqrt(fmax(d11, d22));
-    for (int k = 0; k < 3; ++k) {
-        double q = a[k] + u * e1[k] + v * e2[k];
-        off += (q - x[k]) * (q - x[k]);
-    }
-    return u >= -tol && v >= -tol && u + v <= 1 + tol && sqrt(off) <= tol * scale;
-}
-
 /* Every invariant of a path whose exact length is want (from src to dst
  * positions, when given). */
 static void check_path(const gs_mesh *m, const gs_path *p, double want, const double *src, const double *dst,
@@ -70,19 +41,19 @@ static void check_path(const gs_mesh *m, const gs_path *p, double want, const do
         double q[3] = {0, 0, 0};
         for (int k = 0; k < 3; ++k)
             for (int j = 0; j < 3; ++j) q[k] += b[3 * i + j] * P[3 * T[3 * f[i] + j] + k];
-        CHECK_MSG(dist3(q, x + 3 * i) <= 1e-12 * (1 + fabs(x[3 * i]) + fabs(x[3 * i + 1]) + fabs(x[3 * i + 2])),
+        CHECK_MSG(gs__test_dist3(q, x + 3 * i) <= 1e-12 * (1 + fabs(x[3 * i]) + fabs(x[3 * i + 1]) + fabs(x[3 * i + 2])),
                   "%s: point %u xyz is not its face point", what, i);
         if (i) {
-            len += dist3(x + 3 * i - 3, x + 3 * i);
-            CHECK_MSG(in_face(m, f[i - 1], x + 3 * i, 1e-9), "%s: point %u is not in face %u of point %u", what,
+            len += gs__test_dist3(x + 3 * i - 3, x + 3 * i);
+            CHECK_MSG(gs__test_in_face(m, f[i - 1], x + 3 * i, 1e-9), "%s: point %u is not in face %u of point %u", what,
                       i, f[i - 1], i - 1);
         }
     }
     CHECK_NEAR(len, gs_path_length(p), 1e-12 * (1 + len));
     CHECK_MSG(fabs(gs_path_length(p) - want) <= REL * want + 1e-14, "%s: length %.17g, distance %.17g (rel %g)", what,
               gs_path_length(p), want, fabs(gs_path_length(p) - want) / want);
-    if (src) CHECK_MSG(dist3(x, src) <= 1e-12 * (1 + fabs(src[0]) + fabs(src[1]) + fabs(src[2])), "%s: starts elsewhere", what);
-    if (dst) CHECK_MSG(dist3(x + 3 * (n - 1), dst) <= 1e-12 * (1 + fabs(dst[0]) + fabs(dst[1]) + fabs(dst[2])), "%s: ends elsewhere", what);
+    if (src) CHECK_MSG(gs__test_dist3(x, src) <= 1e-12 * (1 + fabs(src[0]) + fabs(src[1]) + fabs(src[2])), "%s: starts elsewhere", what);
+    if (dst) CHECK_MSG(gs__test_dist3(x + 3 * (n - 1), dst) <= 1e-12 * (1 + fabs(dst[0]) + fabs(dst[1]) + fabs(dst[2])), "%s: ends elsewhere", what);
 }
 
 /* On a flat mesh: the path is straight except at points that are vertices. */
@@ -111,7 +82,7 @@ static uint32_t nearest_vertex(const gs_mesh *m, double x, double y, double z)
     uint32_t best = 0;
     double bd = INFINITY, q[3] = {x, y, z};
     for (uint32_t v = 0; v < gs_mesh_num_vertices(m); ++v) {
-        double d = dist3(P + 3 * v, q);
+        double d = gs__test_dist3(P + 3 * v, q);
         if (d < bd) bd = d, best = v;
     }
     return best;
@@ -203,7 +174,7 @@ static void test_plane(void)
     if (open_ctx(&c, "grid:11,7,2,1", NULL)) return;
     const double *P = gs_mesh_positions(c.m);
     uint32_t a = 0, b = gs_mesh_num_vertices(c.m) - 1;
-    path_checked(&c, gs_source_vertex(a), gs_source_vertex(b), dist3(P + 3 * a, P + 3 * b), "plane corners");
+    path_checked(&c, gs_source_vertex(a), gs_source_vertex(b), gs__test_dist3(P + 3 * a, P + 3 * b), "plane corners");
     /* a point to a vertex and point to point: straight segments */
     gs_source pa = gs_source_point(3, 0.2, 0.3, 0.5), pb = gs_source_point(100, 0.6, 0.1, 0.3);
     gs_error err;
@@ -212,7 +183,7 @@ static void test_plane(void)
     if (p) {
         const double *x = gs_path_xyz(p);
         uint32_t n = gs_path_num_points(p);
-        double L = dist3(x, x + 3 * (n - 1));
+        double L = gs__test_dist3(x, x + 3 * (n - 1));
         check_path(c.m, p, L, NULL, NULL, "plane points");
         int bends;
         CHECK(flat_bends_at_vertices(p, &bends) && bends == 0);
@@ -348,7 +319,7 @@ static void test_plate(void)
         CHECK(gs_solver_path(c.s, &sa, &sb, &p, &err) == GS_OK);
         int bends;
         CHECK_MSG(flat_bends_at_vertices(p, &bends), "plate %u -> %u bends off a vertex", a, b);
-        if (len > dist3(P + 3 * a, P + 3 * b) * (1 + 1e-6)) {
+        if (len > gs__test_dist3(P + 3 * a, P + 3 * b) * (1 + 1e-6)) {
             CHECK(bends > 0);
             ++bent;
         } else {

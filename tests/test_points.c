@@ -122,11 +122,6 @@ static rpoint random_point(const gs_mesh *m)
     return r;
 }
 
-static double dist3(const double *a, const double *b)
-{
-    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
-}
-
 static int same_bits(double a, double b)
 {
     return memcmp(&a, &b, sizeof a) == 0;
@@ -224,14 +219,14 @@ static void test_flat(void)
     double vmax = 0;
     for (uint32_t x = 0; x < n; ++x)
         for (uint32_t y = x + 1; y < n; ++y) {
-            double e = dist3(xyz + 3 * (size_t)x, xyz + 3 * (size_t)y);
+            double e = gs__test_dist3(xyz + 3 * (size_t)x, xyz + 3 * (size_t)y);
             vmax = fmax(vmax, fabs(gs_db_distance(db, x, y) - e) / e);
         }
     double pmax = 0, psum = 0, face_max = 0;
     int np = 20000;
     for (int k = 0; k < np; ++k) {
         rpoint a = random_point(m), b = random_point(m);
-        double e = dist3(a.x, b.x), d = gs_db_point_distance(db, &a.p, &b.p);
+        double e = gs__test_dist3(a.x, b.x), d = gs_db_point_distance(db, &a.p, &b.p);
         if (e == 0) continue;
         double r = fabs(d - e) / e;
         psum += r, pmax = fmax(pmax, r);
@@ -242,7 +237,7 @@ static void test_flat(void)
         double cx[3] = {0, 0, 0};
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) cx[j] += w[i] * xyz[3 * (size_t)a.p.corner[i] + j];
-        double ec = dist3(a.x, cx);
+        double ec = gs__test_dist3(a.x, cx);
         face_max = fmax(face_max, fabs(gs_db_point_distance(db, &a.p, &c) - ec));
     }
     printf("  grid:20,20: vertex pairs max rel. error %.3g; %d point pairs mean %.3g max %.3g; same face max abs. error %.3g\n",
@@ -620,17 +615,17 @@ static void test_far(void)
     double ev[3] = {0, 0, 0}, ep[3] = {0, 0, 0}, ef[3] = {0, 0, 0};
     for (uint32_t x = 0; x < n; ++x)
         for (uint32_t y = x + 1; y < n; ++y) {
-            double e = dist3(xyz + 3 * (size_t)x, xyz + 3 * (size_t)y);
+            double e = gs__test_dist3(xyz + 3 * (size_t)x, xyz + 3 * (size_t)y);
             for (int i = 0; i < 3; ++i) ev[i] = fmax(ev[i], fabs(gs_db_distance(db[i], x, y) - e) / e);
         }
     for (int k = 0; k < 4000; ++k) {
         rpoint a = random_point(m), b = random_point(m);
-        double w[3], cx[3] = {0, 0, 0}, e = dist3(a.x, b.x);
+        double w[3], cx[3] = {0, 0, 0}, e = gs__test_dist3(a.x, b.x);
         rand_bary(w);
         gs_surface_point c = gs_surface_point_make(a.p.corner[0], a.p.corner[1], a.p.corner[2], w[0], w[1], w[2]);
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) cx[j] += w[i] * xyz[3 * (size_t)a.p.corner[i] + j];
-        double ec = dist3(a.x, cx);
+        double ec = gs__test_dist3(a.x, cx);
         for (int i = 0; i < 3; ++i) {
             if (e > 0) ep[i] = fmax(ep[i], fabs(gs_db_point_distance(db[i], &a.p, &b.p) - e) / e);
             if (ec > 0) ef[i] = fmax(ef[i], fabs(gs_db_point_distance(db[i], &a.p, &c) - ec) / ec);

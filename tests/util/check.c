@@ -109,3 +109,31 @@ gs__test_errs gs__test_db_errors(const gs_db *db, const uint32_t *src, uint32_t 
     free(d);
     return e;
 }
+
+double gs__test_dist3(const double *a, const double *b)
+{
+    double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    return sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+int gs__test_in_face(const gs_mesh *m, uint32_t f, const double *x, double tol)
+{
+    const double *P = gs_mesh_positions(m);
+    const uint32_t *T = gs_mesh_faces(m) + 3 * (size_t)f;
+    const double *a = P + 3 * T[0], *b = P + 3 * T[1], *c = P + 3 * T[2];
+    double e1[3], e2[3], r[3];
+    for (int k = 0; k < 3; ++k) e1[k] = b[k] - a[k], e2[k] = c[k] - a[k], r[k] = x[k] - a[k];
+    double d11 = 0, d12 = 0, d22 = 0, r1 = 0, r2 = 0;
+    for (int k = 0; k < 3; ++k) {
+        d11 += e1[k] * e1[k], d12 += e1[k] * e2[k], d22 += e2[k] * e2[k];
+        r1 += r[k] * e1[k], r2 += r[k] * e2[k];
+    }
+    double det = d11 * d22 - d12 * d12;
+    double u = (d22 * r1 - d12 * r2) / det, v = (d11 * r2 - d12 * r1) / det;
+    double off = 0, scale = sqrt(fmax(d11, d22));
+    for (int k = 0; k < 3; ++k) {
+        double q = a[k] + u * e1[k] + v * e2[k];
+        off += (q - x[k]) * (q - x[k]);
+    }
+    return u >= -tol && v >= -tol && u + v <= 1 + tol && sqrt(off) <= tol * scale;
+}

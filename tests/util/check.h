@@ -71,4 +71,12 @@ struct gs_db;
 gs__test_errs gs__test_db_errors(const struct gs_db *db, const uint32_t *src, uint32_t k, const double *want,
                                uint32_t n);
 
+/* Euclidean distance of two points (x, y, z). */
+double gs__test_dist3(const double *a, const double *b);
+
+/* Is x in face f of the mesh: its least-squares barycentric weights >= -tol
+ * and its distance from the face's plane <= tol times the face's size? */
+struct gs_mesh;
+int gs__test_in_face(const struct gs_mesh *m, uint32_t f, const double *x, double tol);
+
 #endif
