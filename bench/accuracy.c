@@ -12,6 +12,7 @@
  *                  [--tol F] [--threads N] [MESH|SPEC ...]
  * Default meshes: knot:120,12, cylinder:48,30, and spot, bunny-5k, homer,
  * fandisk from ../shared when present. */
+#include "bench_util.h"
 #include "geosep.h"
 
 #include <math.h>
@@ -20,13 +21,6 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 static int exists(const char *p) { return access(p, R_OK) == 0; }
 

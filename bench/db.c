@@ -5,6 +5,7 @@
  * batches). Public API only (gs_db_open, gs_db_get_info, gs_db_distance,
  * gs_db_distances), so that the same program compiles against an older
  * library for a comparison (tools/bench_db_compare.sh). */
+#include "bench_util.h"
 #include "geosep.h"
 
 #include <stdio.h>
@@ -15,19 +16,6 @@
 #define N_PAIRS 1000000u
 #define BATCH 1000u
 #define N_OPENS 21
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 /* VmRSS, RssAnon and RssFile in kB (-1: unknown). */
 static void rss(long *vm, long *anon, long *file)

@@ -9,6 +9,7 @@
  *        (default: 64 fields, eps 1e-3, homer-60k; MESH: a name of
  *        ../shared/meshes without .obj, or a path). Run niced on a busy machine. */
 #include "../src/geodesic/geodesic_internal.h"
+#include "bench_util.h"
 #include "geosep.h"
 
 #include <math.h>
@@ -25,13 +26,6 @@
 static double cpu(void)
 {
     return (double)clock() / CLOCKS_PER_SEC;
-}
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 int main(int argc, char **argv)

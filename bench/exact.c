@@ -3,6 +3,7 @@
  * reference times (Qin et al. 2016, on this machine class).
  * Usage: bench_exact [N_SOURCES=9] [SHARED_DIR]. Times are the solve only
  * (the solver is created once per mesh), median over N random vertices. */
+#include "bench_util.h"
 #include "geosep.h"
 
 #include <math.h>
@@ -25,18 +26,6 @@ static const bench_mesh MESHES[] = {
     {"stanford-bunny", 0.22, 0.31},
     {"homer-60k", 0.9, 0.9},
 };
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : (x > y);
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 /* Median seconds and windows per field of `method` over the sources. */
 static int run(const gs_patch *patch, gs_method method, const uint32_t *src, int n,

@@ -6,6 +6,7 @@
  * Usage: bench_fields [--method fmm|heat|dgg] [--heat-time M] [--fmm-start R] [--dgg-eps E]
  *                     [--heat-refine N|auto] [MESH ...]   (default: heat, every shared mesh)
  * MESH is a name of ../shared/meshes (without .obj). */
+#include "bench_util.h"
 #include "geosep.h"
 
 #include <math.h>
@@ -21,13 +22,6 @@
 
 static const char *MESHES[] = {"spot",      "bunny-5k",  "homer",          "fandisk",  "rocker-arm",
                                "bunny-10k", "bunny-20k", "stanford-bunny", "homer-60k"};
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static int run(const char *name, gs_method method, const gs_solver_options *opt)
 {

@@ -6,6 +6,7 @@
  * giving d^2 fits) to a wavy planar path or an ellipse-like loop.
  * With GS_BENCH_BELOW defined at compile time (the default) it also times
  * gs__fun_pair_min_below in a query-like sequence. */
+#include "bench_util.h"
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -32,25 +33,6 @@ static double rnd(void)
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
     return (double)((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-}
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double median(double *v)
-{
-    qsort(v, RUNS, sizeof *v, cmp);
-    return v[RUNS / 2];
 }
 
 static void curve_at(int closed, double u, double *x, double *y)
@@ -112,7 +94,7 @@ static double time_pairs(const gs__fit_result *r, const uint32_t *ia, const uint
                 g_sink += gs__fun_pair_min(&r[ia[k]].fun, &r[ib[k]].fun, NULL);
         t[run] = (now() - t0) / ((double)reps * n) * 1e9;
     }
-    return median(t);
+    return median(t, RUNS);
 }
 
 #if GS_BENCH_BELOW
@@ -150,7 +132,7 @@ static void time_below(const gs__fit_result *r, const uint32_t *ia, const uint32
             }
         tb[run] = (now() - t0) / (5.0 * (n / 3) * 3) * 1e9;
     }
-    *t_full = median(tf), *t_below = median(tb);
+    *t_full = median(tf, RUNS), *t_below = median(tb, RUNS);
     *frac_cut = calls ? (double)cut / calls : 0.0;
 }
 #endif
@@ -185,7 +167,7 @@ static void bench_funs(int closed, uint32_t m)
         tk[kind] = time_pairs(r, ka[kind], kb[kind], nk[kind]);
     printf("%-4s m=%-2u %3u/%u d^2 | value %5.1f | pair_min all %6.1f  d+d %6.1f  d+d2 %6.1f  "
            "d2+d2 %6.1f ns",
-           closed ? "loop" : "path", m, nsq, NF, median(tv), tall, tk[0], tk[1], tk[2]);
+           closed ? "loop" : "path", m, nsq, NF, median(tv, RUNS), tall, tk[0], tk[1], tk[2]);
 #if GS_BENCH_BELOW
     double tf, tb, fc;
     time_below(r, ia, ib, NP, &tf, &tb, &fc);
@@ -212,7 +194,7 @@ static void bench_fit(uint32_t n, int closed)
         t[run] = (now() - t0) / reps * 1e6;
     }
     printf("fit n=%-4u %s m_max 12: %8.1f us per fit (mean degree %.1f, incl. sampling)\n", n,
-           closed ? "loop" : "path", median(t), deg / (RUNS * reps));
+           closed ? "loop" : "path", median(t, RUNS), deg / (RUNS * reps));
     gs__fit_work_free(w);
     free(u), free(d);
 }

@@ -8,6 +8,7 @@
  * the near radius (geosep build MESH -o A; geosep build MESH -o B
  * --near-radius 0): their records are the same, so the difference is the
  * section's. Usage: bench_near WITH.gsdb WITHOUT.gsdb MESH */
+#include "bench_util.h"
 #include "geosep.h"
 
 #include <stdio.h>
@@ -18,35 +19,11 @@
 #define BLOCK 50000u
 #define ROUNDS 10u
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
 static uint64_t rng_state = 0x853C49E6748FEA9Bull;
 static uint32_t rng(uint32_t n)
 {
     rng_state ^= rng_state << 13, rng_state ^= rng_state >> 7, rng_state ^= rng_state << 17;
     return (uint32_t)((rng_state >> 11) % n);
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double timer_overhead(void)
-{
-    double t[1000];
-    for (int i = 0; i < 1000; ++i) {
-        double a = now();
-        t[i] = now() - a;
-    }
-    qsort(t, 1000, sizeof *t, cmp_double);
-    return t[500];
 }
 
 /* Vertex adjacency (CSR) of the mesh's faces. */

@@ -6,6 +6,7 @@
  * sources (random vertices, seed 12345). Times are the calling thread's CPU
  * time (everything here runs on it), which a loaded machine disturbs far
  * less than wall-clock time. */
+#include "bench_util.h"
 #include "geosep.h"
 
 #include <math.h>
@@ -21,25 +22,6 @@
 #define N_TARGETS 1000
 
 static const char *const MESHES[] = {"bunny-5k", "stanford-bunny", "homer-60k"};
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : (x > y);
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 int main(int argc, char **argv)
 {

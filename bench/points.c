@@ -12,6 +12,7 @@
  * Relative error |d^ - d| / d over pairs with exact d > 0 and finite:
  * mean, 99th percentile, max. Also the point pairs' query time.
  * Usage: bench_points MESH DB [--points N] [--seed S]   (N 200, S 1) */
+#include "bench_util.h"
 #include "geosep.h"
 
 #include <math.h>
@@ -25,19 +26,6 @@ static double urand(void)
 {
     rng_state ^= rng_state << 13, rng_state ^= rng_state >> 7, rng_state ^= rng_state << 17;
     return (double)(rng_state >> 11) / 9007199254740992.0;
-}
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
 }
 
 static double dist2(const double *a, const double *b)

@@ -3,6 +3,7 @@
  * (one thread), queries per second, full distance fields, open time, size;
  * with the mesh, surface-point queries (gs_db_point_distance: random points
  * of random faces) beside the vertex queries. */
+#include "bench_util.h"
 #include "geosep.h"
 
 #include <stdio.h>
@@ -15,36 +16,11 @@
 #define N_FIELDS 20u
 #define N_POINT_PAIRS 200000u
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
 static uint64_t rng_state = 0x853C49E6748FEA9Bull;
 static uint32_t rng(uint32_t n)
 {
     rng_state ^= rng_state << 13, rng_state ^= rng_state >> 7, rng_state ^= rng_state << 17;
     return (uint32_t)((rng_state >> 11) % n);
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Median cost of reading the clock twice, subtracted from single timings. */
-static double timer_overhead(void)
-{
-    double t_empty[1000];
-    for (int i = 0; i < 1000; ++i) {
-        double a = now();
-        t_empty[i] = now() - a;
-    }
-    qsort(t_empty, 1000, sizeof *t_empty, cmp_double);
-    return t_empty[500];
 }
 
 /* Single queries, timed individually (timer overhead subtracted) and in

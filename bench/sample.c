@@ -5,6 +5,7 @@
  * Usage: bench_sample [K] [MESH ...]   (MESH: a generator spec such as
  * sphere:5, or a name of ../shared/meshes without .obj; default: sphere:5
  * and bunny-5k) */
+#include "bench_util.h"
 #include "geosep.h"
 
 #include <stdint.h>
@@ -17,13 +18,6 @@
 #ifndef GEOSEP_SHARED_DIR
 #define GEOSEP_SHARED_DIR "../shared"
 #endif
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static int run(const char *name, uint32_t k)
 {

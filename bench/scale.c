@@ -15,6 +15,7 @@
  * Heat fields are solved on each mesh as it is (--heat-refine 0) unless
  * asked otherwise. */
 #define _DEFAULT_SOURCE /* wait4: the peak memory of each child build */
+#include "bench_util.h"
 #include "geosep.h"
 
 #include <math.h>
@@ -26,19 +27,6 @@
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : (x > y);
-}
 
 /* "name" = a shared mesh, "name*4" / "name*16" = subdivided once / twice,
  * "spec:..." = a generated mesh. */
@@ -139,13 +127,6 @@ static void huge_pages(double *huge, double *rss)
         else if (sscanf(line, "Rss: %lf kB", &kb) == 1) *rss = kb / 1024;
     }
     fclose(f);
-}
-
-/* The median of v[0..n) (sorts v). */
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return 0.5 * (v[(n - 1) / 2] + v[n / 2]);
 }
 
 /* The child: build, measure, print one line "n tree fields fits total bpv

@@ -3,6 +3,7 @@
  * million random pairs, one thread), queries per second, and a full field
  * through queries. Usage: bench_sep [MESH|SPEC ...] (default: bunny-5k from
  * ../shared, else generated Peaks 50x50); --threads N for the build. */
+#include "bench_util.h"
 #include "geosep.h"
 
 #include <math.h>
@@ -11,19 +12,6 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : (x > y);
-}
 
 static int load(const char *what, gs_mesh **m)
 {

@@ -9,6 +9,7 @@
  * computes the neighbourhood bounds); gs_db_nearest among random
  * candidates; and gs_db_radius_matrix's throughput on 1 and 2 threads.
  * usage: bench_within DB [SOURCES] */
+#include "bench_util.h"
 #include "geosep.h"
 
 #include <math.h>
@@ -17,30 +18,11 @@
 #include <string.h>
 #include <time.h>
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
 static uint64_t rng_state = 0x853C49E6748FEA9Bull;
 static uint32_t rng(uint32_t n)
 {
     rng_state ^= rng_state << 13, rng_state ^= rng_state >> 7, rng_state ^= rng_state << 17;
     return (uint32_t)((rng_state >> 11) % n);
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 #define N_FRAC 3

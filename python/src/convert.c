@@ -46,17 +46,22 @@ PyArrayObject *gspy_int_array(PyObject *obj, const char *what)
     return r;
 }
 
-int gspy_check_ids(const int64_t *ids, npy_intp n, uint32_t limit, const char *what, uint32_t *out)
+int gspy_check_ids(const int64_t *ids, npy_intp n, uint32_t limit, const char *kind, const char *name, uint32_t *out)
 {
     for (npy_intp i = 0; i < n; i++) {
         if (ids[i] < 0 || (uint64_t)ids[i] >= limit) {
-            PyErr_Format(PyExc_IndexError, "%s %lld (at index %zd) is out of range [0, %u)", what,
-                         (long long)ids[i], (Py_ssize_t)i, limit);
+            PyErr_Format(PyExc_IndexError, "%s %lld (%s, flat index %zd) is out of range [0, %u)", kind,
+                         (long long)ids[i], name, (Py_ssize_t)i, limit);
             return -1;
         }
         if (out) out[i] = (uint32_t)ids[i];
     }
     return 0;
+}
+
+int gspy_check_array_ids(PyArrayObject *a, uint32_t limit, const char *kind, const char *name)
+{
+    return gspy_check_ids(PyArray_DATA(a), PyArray_SIZE(a), limit, kind, name, NULL);
 }
 
 PyObject *gspy_path(PyObject *obj)
@@ -173,7 +178,7 @@ gs_source *gspy_sources(PyObject *obj, uint32_t n_vertices, uint32_t *n_out)
         PyErr_NoMemory();
     } else {
         const int64_t *ids = PyArray_DATA(a);
-        if (gspy_check_ids(ids, n, n_vertices, "source vertex", NULL) < 0) {
+        if (gspy_check_ids(ids, n, n_vertices, "source vertex", "sources", NULL) < 0) {
             PyMem_Free(s);
             s = NULL;
         } else {

@@ -5,8 +5,6 @@
  * checked before any call into the library; batches run without the GIL. */
 #include "geosep_py.h"
 
-#define CHUNK 65536 /* pairs per call of gs_db_input_distances */
-
 const char gspy_db_input_distance_doc[] =
     "input_distance($self, x, y, /)\n--\n\n"
     "Distance between input vertices x and y: the ids of the mesh before\n"
@@ -18,75 +16,11 @@ const char gspy_db_input_distance_doc[] =
     "give a float; arrays broadcast as numpy does (a float64 array). IndexError\n"
     "for an id >= n_input_vertices. Batches run without the GIL.";
 
-static int check_ids(PyArrayObject *a, uint32_t limit, const char *name)
-{
-    const int64_t *ids = PyArray_DATA(a);
-    npy_intp n = PyArray_SIZE(a);
-    for (npy_intp i = 0; i < n; i++)
-        if (ids[i] < 0 || (uint64_t)ids[i] >= limit) {
-            PyErr_Format(PyExc_IndexError, "input vertex id %lld (%s, flat index %zd) is out of range [0, %u)",
-                         (long long)ids[i], name, (Py_ssize_t)i, limit);
-            return -1;
-        }
-    return 0;
-}
-
 PyObject *gspy_db_input_distance(PyObject *self_obj, PyObject *args)
 {
-    gspy_Database *self = (gspy_Database *)self_obj;
     PyObject *x, *y;
     if (!PyArg_UnpackTuple(args, "input_distance", 2, 2, &x, &y)) return NULL;
-    uint32_t n = gs_db_num_input_vertices(self->db), a, b;
-    if (gspy_is_int_scalar(x) && gspy_is_int_scalar(y)) {
-        if (gspy_index(x, n, "input vertex id", &a) < 0 || gspy_index(y, n, "input vertex id", &b) < 0) return NULL;
-        return PyFloat_FromDouble(gs_db_input_distance(self->db, a, b));
-    }
-    PyObject *result = NULL, *out = NULL;
-    PyArrayMultiIterObject *it = NULL;
-    uint32_t *pairs = NULL;
-    PyArrayObject *ax = gspy_int_array(x, "x"), *ay = ax ? gspy_int_array(y, "y") : NULL;
-    if (!ay || check_ids(ax, n, "x") < 0 || check_ids(ay, n, "y") < 0) goto done;
-    it = (PyArrayMultiIterObject *)PyArray_MultiIterNew(2, (PyObject *)ax, (PyObject *)ay);
-    if (!it) goto done; /* ValueError: shapes that do not broadcast */
-    out = PyArray_SimpleNew(it->nd, it->dimensions, NPY_DOUBLE);
-    pairs = PyMem_New(uint32_t, 2 * CHUNK);
-    if (!out || !pairs) {
-        if (out) PyErr_NoMemory();
-        goto done;
-    }
-    double *d = PyArray_DATA((PyArrayObject *)out);
-    npy_intp size = it->size, done = 0;
-    while (done < size) {
-        npy_intp k = 0;
-        for (; k < CHUNK && PyArray_MultiIter_NOTDONE(it); k++) {
-            pairs[2 * k] = (uint32_t) * (const int64_t *)PyArray_MultiIter_DATA(it, 0);
-            pairs[2 * k + 1] = (uint32_t) * (const int64_t *)PyArray_MultiIter_DATA(it, 1);
-            PyArray_MultiIter_NEXT(it);
-        }
-        gs_error err = {0};
-        int rc;
-        Py_BEGIN_ALLOW_THREADS
-        rc = gs_db_input_distances(self->db, pairs, (size_t)k, d + done, &err);
-        Py_END_ALLOW_THREADS
-        if (rc) {
-            gspy_raise(rc, &err, GSPY_CTX_OTHER, NULL, 0);
-            goto done;
-        }
-        done += k;
-    }
-    if (it->nd == 0) {
-        result = PyFloat_FromDouble(d[0]);
-    } else {
-        result = out;
-        out = NULL;
-    }
-done:
-    PyMem_Free(pairs);
-    Py_XDECREF(out);
-    Py_XDECREF((PyObject *)it);
-    Py_XDECREF(ax);
-    Py_XDECREF(ay);
-    return result;
+    return gspy_db_pairs((gspy_Database *)self_obj, x, y, 1);
 }
 
 const char gspy_db_input_field_doc[] =

@@ -19,31 +19,6 @@ const char gspy_db_path_doc[] =
     "or face id out of range raises IndexError, bad weights ValueError. Runs\n"
     "without the GIL (any number of threads at once).";
 
-/* The mesh that names the faces: given, or the one the database was built
- * from; it must be the database's (gs_db_check_mesh, once per Mesh). */
-static const gs_mesh *path_mesh(gspy_Database *self, PyObject *mesh_obj)
-{
-    if (mesh_obj == Py_None) mesh_obj = self->mesh;
-    if (!mesh_obj) {
-        PyErr_SetString(PyExc_TypeError, "path needs mesh=: the Mesh the database was built from (a database "
-                                         "stores positions, not faces)");
-        return NULL;
-    }
-    if (!PyObject_TypeCheck(mesh_obj, &gspy_MeshType)) {
-        PyErr_Format(PyExc_TypeError, "mesh must be a geosep.Mesh, got %s", Py_TYPE(mesh_obj)->tp_name);
-        return NULL;
-    }
-    const gs_mesh *m = ((gspy_Mesh *)mesh_obj)->mesh;
-    if (mesh_obj == self->mesh || mesh_obj == self->checked) return m;
-    gs_error err = {0};
-    if (gs_db_check_mesh(self->db, m, &err)) {
-        PyErr_SetString(PyExc_ValueError, err.message);
-        return NULL;
-    }
-    Py_XSETREF(self->checked, Py_NewRef(mesh_obj)); /* immutable: no need to compare it again */
-    return m;
-}
-
 PyObject *gspy_db_path(PyObject *self_obj, PyObject *args, PyObject *kwargs)
 {
     gspy_Database *self = (gspy_Database *)self_obj;
@@ -51,7 +26,7 @@ PyObject *gspy_db_path(PyObject *self_obj, PyObject *args, PyObject *kwargs)
     PyObject *xo, *yo, *mesh_obj = Py_None;
     int with_faces = 0;
     if (!PyArg_ParseTupleAndKeywords(args, kwargs, "OO|$Op:path", kw, &xo, &yo, &mesh_obj, &with_faces)) return NULL;
-    const gs_mesh *m = path_mesh(self, mesh_obj);
+    const gs_mesh *m = gspy_db_mesh(self, mesh_obj, "path");
     if (!m) return NULL;
     gs_source x, y;
     if (gspy_path_end(xo, m, "x", &x) < 0 || gspy_path_end(yo, m, "y", &y) < 0) return NULL;

@@ -8,26 +8,14 @@
 
 #define CHUNK 65536 /* pairs per call of gs_db_distances */
 
-static int check_array_ids(PyArrayObject *a, uint32_t limit, const char *kind, const char *name)
-{
-    const int64_t *ids = PyArray_DATA(a);
-    npy_intp n = PyArray_SIZE(a);
-    for (npy_intp i = 0; i < n; i++)
-        if (ids[i] < 0 || (uint64_t)ids[i] >= limit) {
-            PyErr_Format(PyExc_IndexError, "%s %lld (%s, flat index %zd) is out of range [0, %u)", kind,
-                         (long long)ids[i], name, (Py_ssize_t)i, limit);
-            return -1;
-        }
-    return 0;
-}
-
-/* n pairs from pairs[] into out[], without the GIL. */
-static int query_pairs(const gs_db *db, const uint32_t *pairs, size_t n, double *out)
+/* n pairs from pairs[] into out[], without the GIL: vertex ids, or input
+ * vertex ids (gs_db_input_distances). */
+static int query_pairs(const gs_db *db, int input, const uint32_t *pairs, size_t n, double *out)
 {
     gs_error err = {0};
     int rc;
     Py_BEGIN_ALLOW_THREADS
-    rc = gs_db_distances(db, pairs, n, out, &err);
+    rc = input ? gs_db_input_distances(db, pairs, n, out, &err) : gs_db_distances(db, pairs, n, out, &err);
     Py_END_ALLOW_THREADS
     if (rc) gspy_raise(rc, &err, GSPY_CTX_OTHER, NULL, 0);
     return rc ? -1 : 0;
@@ -42,24 +30,19 @@ const char gspy_db_distance_doc[] =
     "non-integer ids or shapes that do not broadcast. Batches run without the\n"
     "GIL.";
 
-PyObject *gspy_db_distance(PyObject *self_obj, PyObject *args)
+PyObject *gspy_db_pairs(gspy_Database *self, PyObject *x, PyObject *y, int input)
 {
-    gspy_Database *self = (gspy_Database *)self_obj;
-    PyObject *x, *y;
-    if (!PyArg_UnpackTuple(args, "distance", 2, 2, &x, &y)) return NULL;
-    uint32_t a, b;
+    uint32_t a, b, limit = input ? gs_db_num_input_vertices(self->db) : self->n_vertices;
+    const char *kind = input ? "input vertex id" : "vertex id";
     if (gspy_is_int_scalar(x) && gspy_is_int_scalar(y)) { /* the fast path: one pair */
-        if (gspy_index(x, self->n_vertices, "vertex id", &a) < 0 || gspy_index(y, self->n_vertices, "vertex id", &b) < 0)
-            return NULL;
-        return PyFloat_FromDouble(gs_db_distance(self->db, a, b));
+        if (gspy_index(x, limit, kind, &a) < 0 || gspy_index(y, limit, kind, &b) < 0) return NULL;
+        return PyFloat_FromDouble(input ? gs_db_input_distance(self->db, a, b) : gs_db_distance(self->db, a, b));
     }
     PyObject *result = NULL, *out = NULL;
     PyArrayMultiIterObject *it = NULL;
     uint32_t *pairs = NULL;
     PyArrayObject *ax = gspy_int_array(x, "x"), *ay = ax ? gspy_int_array(y, "y") : NULL;
-    if (!ay || check_array_ids(ax, self->n_vertices, "vertex id", "x") < 0 ||
-        check_array_ids(ay, self->n_vertices, "vertex id", "y") < 0)
-        goto done;
+    if (!ay || gspy_check_array_ids(ax, limit, kind, "x") < 0 || gspy_check_array_ids(ay, limit, kind, "y") < 0) goto done;
     it = (PyArrayMultiIterObject *)PyArray_MultiIterNew(2, (PyObject *)ax, (PyObject *)ay);
     if (!it) goto done; /* ValueError: shapes that do not broadcast */
     out = PyArray_SimpleNew(it->nd, it->dimensions, NPY_DOUBLE);
@@ -77,7 +60,7 @@ PyObject *gspy_db_distance(PyObject *self_obj, PyObject *args)
             pairs[2 * k + 1] = (uint32_t) * (const int64_t *)PyArray_MultiIter_DATA(it, 1);
             PyArray_MultiIter_NEXT(it);
         }
-        if (query_pairs(self->db, pairs, (size_t)k, d + done) < 0) goto done;
+        if (query_pairs(self->db, input, pairs, (size_t)k, d + done) < 0) goto done;
         done += k;
     }
     if (it->nd == 0) { /* two 0-d arrays: a float, as numpy's ufuncs answer */
@@ -95,6 +78,13 @@ done:
     return result;
 }
 
+PyObject *gspy_db_distance(PyObject *self_obj, PyObject *args)
+{
+    PyObject *x, *y;
+    if (!PyArg_UnpackTuple(args, "distance", 2, 2, &x, &y)) return NULL;
+    return gspy_db_pairs((gspy_Database *)self_obj, x, y, 0);
+}
+
 /* A 1-D array of ids as uint32, checked; *n receives the count. */
 static uint32_t *id_list(PyObject *obj, uint32_t limit, const char *name, npy_intp *n)
 {
@@ -104,7 +94,7 @@ static uint32_t *id_list(PyObject *obj, uint32_t limit, const char *name, npy_in
     if (PyArray_NDIM(a) != 1) {
         PyErr_Format(PyExc_ValueError, "%s must be a 1-D sequence of vertex ids, got %d dimensions", name,
                      PyArray_NDIM(a));
-    } else if (check_array_ids(a, limit, "vertex id", name) == 0) {
+    } else if (gspy_check_array_ids(a, limit, "vertex id", name) == 0) {
         *n = PyArray_SIZE(a);
         ids = PyMem_New(uint32_t, (size_t)*n + 1);
         if (!ids) PyErr_NoMemory();
@@ -200,14 +190,12 @@ PyObject *gspy_db_field(PyObject *self_obj, PyObject *arg)
 
 /* ---- surface points ------------------------------------------------------ */
 
-/* The mesh that names the faces: given, or the one the database was built
- * from; it must be the database's (same positions). */
-static const gs_mesh *point_mesh(gspy_Database *self, PyObject *mesh_obj)
+const gs_mesh *gspy_db_mesh(gspy_Database *self, PyObject *mesh_obj, const char *method)
 {
     if (mesh_obj == Py_None) mesh_obj = self->mesh;
     if (!mesh_obj) {
-        PyErr_SetString(PyExc_TypeError, "point_distance needs mesh=: the Mesh the database was built from "
-                                         "(a database stores positions, not faces)");
+        PyErr_Format(PyExc_TypeError, "%s needs mesh=: the Mesh the database was built from (a database stores "
+                                      "positions, not faces)", method);
         return NULL;
     }
     if (!PyObject_TypeCheck(mesh_obj, &gspy_MeshType)) {
@@ -216,13 +204,9 @@ static const gs_mesh *point_mesh(gspy_Database *self, PyObject *mesh_obj)
     }
     const gs_mesh *m = ((gspy_Mesh *)mesh_obj)->mesh;
     if (mesh_obj == self->mesh || mesh_obj == self->checked) return m;
-    uint32_t n = gs_mesh_num_vertices(m);
-    if (n != self->n_vertices ||
-        memcmp(gs_mesh_positions(m), gs_db_positions(self->db), (size_t)n * 3 * sizeof(double)) != 0) {
-        PyErr_Format(PyExc_ValueError,
-                     "mesh is not the database's: its %u vertices are not the %u positions the database was "
-                     "built from",
-                     n, self->n_vertices);
+    gs_error err = {0};
+    if (gs_db_check_mesh(self->db, m, &err)) {
+        PyErr_SetString(PyExc_ValueError, err.message);
         return NULL;
     }
     Py_XSETREF(self->checked, Py_NewRef(mesh_obj)); /* immutable: no need to compare it again */
@@ -265,7 +249,7 @@ static int point_set_get(PyObject *face_obj, PyObject *bary_obj, uint32_t n_face
     Py_DECREF(b);
     if (!ps->bary) return -1;
     ps->k = single ? -1 : PyArray_DIM(ps->faces, 0);
-    return check_array_ids(ps->faces, n_faces, "face id", fname);
+    return gspy_check_array_ids(ps->faces, n_faces, "face id", fname);
 }
 
 const char gspy_db_point_distance_doc[] =
@@ -288,7 +272,7 @@ PyObject *gspy_db_point_distance(PyObject *self_obj, PyObject *args, PyObject *k
     PyObject *fa, *ba, *fb, *bb, *mesh_obj = Py_None;
     if (!PyArg_ParseTupleAndKeywords(args, kwargs, "OOOO|$O:point_distance", kw, &fa, &ba, &fb, &bb, &mesh_obj))
         return NULL;
-    const gs_mesh *m = point_mesh(self, mesh_obj);
+    const gs_mesh *m = gspy_db_mesh(self, mesh_obj, "point_distance");
     if (!m) return NULL;
     uint32_t n_faces = gs_mesh_num_faces(m);
     point_set A = {0}, B = {0};

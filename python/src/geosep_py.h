@@ -45,8 +45,11 @@ int gspy_is_int_scalar(PyObject *obj);
 PyArrayObject *gspy_int_array(PyObject *obj, const char *what);
 
 /* Check n int64 ids against [0, limit) and copy them to out as uint32 (out
- * may be NULL: check only). -1 with IndexError naming the first bad id. */
-int gspy_check_ids(const int64_t *ids, npy_intp n, uint32_t limit, const char *what, uint32_t *out);
+ * may be NULL: check only). -1 with IndexError naming the first bad id, its
+ * kind ("vertex id"), the argument's name and the flat index. */
+int gspy_check_ids(const int64_t *ids, npy_intp n, uint32_t limit, const char *kind, const char *name, uint32_t *out);
+/* gspy_check_ids of an int64 array (gspy_int_array's), checking only. */
+int gspy_check_array_ids(PyArrayObject *a, uint32_t limit, const char *kind, const char *name);
 
 /* A path (str, bytes or os.PathLike) as a new bytes object; NULL on error. */
 PyObject *gspy_path(PyObject *obj);
@@ -134,6 +137,15 @@ extern const char gspy_render_doc[];
 int gspy_database_init_type(PyObject *module);
 
 /* dbquery.c: the queries, methods of Database */
+/* d(x, y) for ints (a float) or arrays broadcast as numpy does (a float64
+ * array), by vertex id or (input) by input vertex id; batches without the
+ * GIL. New reference, or NULL with IndexError / ValueError set. */
+PyObject *gspy_db_pairs(gspy_Database *self, PyObject *x, PyObject *y, int input);
+/* The Mesh that names faces for the Database method `method`: mesh_obj, or
+ * the one the database was built from (None); it must be the database's
+ * (gs_db_check_mesh, remembered per Mesh object). Borrowed; NULL with
+ * TypeError / ValueError set. */
+const gs_mesh *gspy_db_mesh(gspy_Database *self, PyObject *mesh_obj, const char *method);
 PyObject *gspy_db_distance(PyObject *self, PyObject *args);
 PyObject *gspy_db_pairwise(PyObject *self, PyObject *args, PyObject *kwargs);
 PyObject *gspy_db_field(PyObject *self, PyObject *arg);

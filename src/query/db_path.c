@@ -40,6 +40,7 @@
 #include "../db/db_internal.h"
 #include "../geodesic/geodesic_internal.h"
 #include "../mesh/mesh_internal.h"
+#include "query_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -139,12 +140,21 @@ typedef struct portal {
     uint32_t lv, rv;
 } portal;
 
+#define PC_SIZE 4096 /* a power of two */
+struct placed {
+    uint32_t h;
+    p2 xy;
+};
+
 typedef struct ctx {
     const gs_db *db;
     const gs__topo *t;
     gs_error *err;
     /* the database distance to the descent's target vertex, cached */
     uint32_t target, origin;
+    gs__qsrc *src[2]; /* the target's and the origin's functions, decoded once (NULL until asked) */
+    int src_borrowed[2];
+    const struct ctx *donor; /* a finished run between the same ends, or NULL: its distances are reused */
     vmap dmap;
     double *dval;
     size_t nd, dcap;
@@ -159,6 +169,9 @@ typedef struct ctx {
     size_t uvcap;
     portal *fp;
     size_t fpcap;
+    /* half-edges' third vertices placed in the edge's frame (unfold), a
+     * direct-mapped cache by half-edge id */
+    struct placed *pc;
     apex *ap;
     size_t nap, apcap;
     /* output points */
@@ -179,6 +192,9 @@ static void ctx_free(ctx *c)
 {
     vmap_free(&c->dmap);
     vmap_free(&c->amap);
+    free(c->pc);
+    for (int k = 0; k < 2; ++k)
+        if (!c->src_borrowed[k]) gs__qsrc_free(c->src[k]);
     free(c->dval), free(c->vp), free(c->sl), free(c->uv), free(c->fp), free(c->ap), free(c->q);
     free(c->ag), free(c->aparent), free(c->anode), free(c->aclosed), free(c->heapk), free(c->heapv);
 }
@@ -212,6 +228,30 @@ static int check_vertex(ctx *c, uint32_t v)
     return GS_OK;
 }
 
+/* d(target, v) (which = 0) or d(origin, v) (which = 1) from the database:
+ * gs_db_distance's answer, bit for bit, from the end's functions decoded
+ * once (gs__qsrc). */
+static int end_distance(ctx *c, int which, uint32_t v, double *out)
+{
+    uint32_t e = which ? c->origin : c->target;
+    const struct ctx *o = c->donor;
+    int w = o ? (o->target == e ? 0 : o->origin == e ? 1 : -1) : -1; /* the donor's column of e */
+    if (w >= 0) {
+        uint32_t s = vmap_get(&o->dmap, v);
+        if (s != GS_NONE && o->dval[2 * s + w] == o->dval[2 * s + w]) {
+            *out = o->dval[2 * s + w];
+            return GS_OK;
+        }
+        if (!c->src[which] && o->src[w]) c->src[which] = o->src[w], c->src_borrowed[which] = 1;
+    }
+    if (!c->src[which] && !(c->src[which] = gs__qsrc_create(c->db, e))) return oom(c);
+    double d = gs__qsrc_distance(c->src[which], v);
+    if (d != d)
+        return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: the database answers NaN for vertices %u and %u", e, v);
+    *out = d;
+    return GS_OK;
+}
+
 /* d(target, v) from the database, cached (with d(origin, v), NaN until
  * asked). */
 static int dist_to_target(ctx *c, uint32_t v, double *out)
@@ -221,12 +261,10 @@ static int dist_to_target(ctx *c, uint32_t v, double *out)
         *out = c->dval[2 * s];
         return GS_OK;
     }
+    double d;
     int rc = check_vertex(c, v);
+    if (!rc) rc = end_distance(c, 0, v, &d);
     if (rc) return rc;
-    double d = gs_db_distance(c->db, c->target, v);
-    if (d != d)
-        return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: the database answers NaN for vertices %u and %u",
-                        c->target, v);
     if (gs__grow((void **)&c->dval, &c->dcap, 2 * c->nd + 2, sizeof *c->dval) || vmap_put(&c->dmap, v, (uint32_t)c->nd))
         return oom(c);
     c->dval[2 * c->nd] = d, c->dval[2 * c->nd + 1] = NAN;
@@ -236,36 +274,39 @@ static int dist_to_target(ctx *c, uint32_t v, double *out)
 }
 
 /* The distances to the target (which = 0) or to the origin (which = 1) of
- * the n vertices v[] into the cache: those not there yet in one batch
- * (gs_db_distances fetches their records from memory in parallel). */
+ * the n vertices v[] into the cache. */
 #define MAX_FAN 256
 static int fetch(ctx *c, const uint32_t *v, uint32_t n, int which)
 {
-    uint32_t pairs[2 * MAX_FAN], idx[MAX_FAN], m = 0;
-    double d[MAX_FAN];
+    uint32_t miss[MAX_FAN], slot[MAX_FAN], m = 0;
+    const gs_db *db = c->db;
     for (uint32_t j = 0; j < n; ++j) {
         uint32_t s = vmap_get(&c->dmap, v[j]);
         if (s != GS_NONE && c->dval[2 * s + which] == c->dval[2 * s + which]) continue;
         if (s == GS_NONE) {
-            int rc = check_vertex(c, v[j]);
-            if (rc) return rc;
             if (gs__grow((void **)&c->dval, &c->dcap, 2 * c->nd + 2, sizeof *c->dval) ||
                 vmap_put(&c->dmap, v[j], (uint32_t)c->nd))
                 return oom(c);
             s = (uint32_t)c->nd++;
             c->dval[2 * s] = c->dval[2 * s + 1] = NAN;
         }
-        idx[m] = s;
-        pairs[2 * m] = which ? c->origin : c->target, pairs[2 * m + 1] = v[j];
-        m++;
+        miss[m] = v[j], slot[m++] = s;
+        /* what the query and the check read first, requested together */
+        __builtin_prefetch(db->leaf + v[j]), __builtin_prefetch(db->index + v[j]);
+        __builtin_prefetch(db->xyz + 3 * (size_t)v[j]), __builtin_prefetch(c->t->xyz + 3 * (size_t)v[j]);
     }
-    if (!m) return GS_OK;
-    gs_db_distances(c->db, pairs, m, d, NULL); /* ids in range: cannot fail */
     for (uint32_t j = 0; j < m; ++j) {
-        if (d[j] != d[j])
-            return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: the database answers NaN for vertices %u and %u",
-                            pairs[2 * j], pairs[2 * j + 1]);
-        c->dval[2 * idx[j] + which] = d[j];
+        const unsigned char *end, *p = gs__db_record(db, miss[j], &end);
+        __builtin_prefetch(p), __builtin_prefetch(p + 64);
+    }
+    for (uint32_t j = 0; j < m; ++j) {
+        double d;
+        int rc = c->dval[2 * slot[j]] != c->dval[2 * slot[j]] && c->dval[2 * slot[j] + 1] != c->dval[2 * slot[j] + 1]
+                     ? check_vertex(c, miss[j])
+                     : GS_OK;
+        if (!rc) rc = end_distance(c, which, miss[j], &d);
+        if (rc) return rc;
+        c->dval[2 * slot[j] + which] = d;
     }
     return GS_OK;
 }
@@ -276,10 +317,8 @@ static int dist_to_origin(ctx *c, uint32_t v, double *out)
     uint32_t s = vmap_get(&c->dmap, v);
     double d = c->dval[2 * s + 1];
     if (d != d) {
-        d = gs_db_distance(c->db, c->origin, v);
-        if (d != d)
-            return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: the database answers NaN for vertices %u and %u",
-                            c->origin, v);
+        int rc = end_distance(c, 1, v, &d);
+        if (rc) return rc;
         c->dval[2 * s + 1] = d;
     }
     *out = d;
@@ -395,6 +434,62 @@ static int astar(ctx *c, uint32_t to, int *found_it)
     return GS_OK;
 }
 
+/* The descent is at a vertex v without a neighbour closer to the target
+ * (a dip of the fitted functions, dv = d(target, v)): append the edge
+ * path (Dijkstra from v, edge lengths) to the nearest vertex that is
+ * closer than v, found within ESCAPE_MAX vertices (*found: 0 if not). The
+ * descent goes on from there: it stays strictly closer than dv, so it
+ * never comes back to this dip. */
+#define ESCAPE_MAX 4096
+static int escape(ctx *c, double dv, int *found_it)
+{
+    const gs__topo *t = c->t;
+    uint32_t from = c->vp[c->nvp - 1], s;
+    c->na = 0, c->nheap = 0;
+    *found_it = 0;
+    if (c->amap.cap) memset(c->amap.key, 0xff, c->amap.cap * sizeof *c->amap.key), c->amap.n = 0;
+    if (anode(c, from, &s)) return oom(c);
+    c->ag[s] = 0;
+    if (heap_push(c, 0, s)) return oom(c);
+    uint32_t found = GS_NONE, pops = 0;
+    while (c->nheap && pops < ESCAPE_MAX) {
+        uint32_t a = heap_pop(c);
+        if (c->aclosed[a]) continue;
+        c->aclosed[a] = 1, ++pops;
+        uint32_t v = c->anode[a];
+        if (a != s) {
+            double d;
+            int rc = dist_to_target(c, v, &d);
+            if (rc) return rc;
+            if (d < dv) {
+                found = a;
+                break;
+            }
+        }
+        double g = c->ag[a];
+        for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1]; ++i) {
+            uint32_t h = t->vc[i];
+            uint32_t nb[2] = {t->tri[gs__next(h)], t->tri[gs__prev(h)]};
+            for (int k = 0; k < 2; ++k) {
+                uint32_t b;
+                if (anode(c, nb[k], &b)) return oom(c);
+                double ng = g + dist3(vpos(c, v), vpos(c, nb[k]));
+                if (c->aclosed[b] || ng >= c->ag[b]) continue;
+                c->ag[b] = ng, c->aparent[b] = a;
+                if (heap_push(c, ng, b)) return oom(c);
+            }
+        }
+    }
+    if (found == GS_NONE) return GS_OK;
+    size_t n0 = c->nvp, k = 0;
+    for (uint32_t a = found; a != s; a = c->aparent[a]) ++k;
+    if (gs__grow((void **)&c->vp, &c->vpcap, n0 + k, sizeof *c->vp)) return oom(c);
+    c->nvp = n0 + k;
+    for (uint32_t a = found; a != s; a = c->aparent[a]) c->vp[n0 + --k] = c->anode[a];
+    *found_it = 1;
+    return GS_OK;
+}
+
 /* ---- 1. descent ------------------------------------------------------- */
 
 /* Extend the vertex path (its first vertex in place) down the valley to a
@@ -432,6 +527,10 @@ static int descend(ctx *c, const uint32_t *targets, int nt)
             uint32_t closer[MAX_FAN], ncl = 0;
             for (uint32_t j = 0; j < nc; ++j)
                 if (c->dval[2 * vmap_get(&c->dmap, cand[j])] < dv) closer[ncl++] = cand[j];
+            if (ncl == 1) { /* the only way on: its d(., Y) is not needed */
+                bn = closer[0];
+                break;
+            }
             if ((rc = fetch(c, closer, ncl, 1))) return rc;
             for (uint32_t j = 0; j < ncl; ++j) {
                 uint32_t sl = vmap_get(&c->dmap, closer[j]);
@@ -441,6 +540,8 @@ static int descend(ctx *c, const uint32_t *targets, int nt)
         }
         if (bn == GS_NONE) {
             int found;
+            if ((rc = escape(c, dv, &found))) return rc;
+            if (found) continue;
             if ((rc = astar(c, c->target, &found))) return rc;
             if (!found)
                 return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: vertex %u is not connected to vertex %u", v,
@@ -449,6 +550,30 @@ static int descend(ctx *c, const uint32_t *targets, int nt)
         }
         if ((rc = push_vertex(c, bn))) return rc;
     }
+}
+
+/* Cut the loops out of the vertex path (an escape or A* may come back to a
+ * vertex it passed): each vertex once, in the order of its last visit's
+ * way out. */
+static int remove_loops(ctx *c)
+{
+    vmap seen = {0};
+    size_t k = 0;
+    for (size_t i = 0; i < c->nvp; ++i) {
+        uint32_t v = c->vp[i], at = vmap_get(&seen, v);
+        if (at != GS_NONE && at < k && c->vp[at] == v) {
+            k = at + 1; /* back to v's first visit: drop the loop */
+            continue;
+        }
+        if (vmap_put(&seen, v, (uint32_t)k)) {
+            vmap_free(&seen);
+            return oom(c);
+        }
+        c->vp[k++] = v;
+    }
+    c->nvp = k;
+    vmap_free(&seen);
+    return GS_OK;
 }
 
 /* ---- 2. the sleeve ------------------------------------------------------- */
@@ -629,10 +754,31 @@ static double tri_area(double a, double b, double c)
     return 0.25 * sqrt(p > 0 ? p : 0);
 }
 
+/* The third vertex of half-edge o's face in o's frame: (along o from its
+ * start, to the right of it), in units of o's length (a square root and
+ * divisions: cached). */
+static int placement(ctx *c, uint32_t o, p2 *out)
+{
+    if (!c->pc) {
+        if (!(c->pc = gs__malloc(PC_SIZE, sizeof *c->pc))) return oom(c);
+        for (uint32_t i = 0; i < PC_SIZE; ++i) c->pc[i].h = GS_NONE;
+    }
+    struct placed *e = &c->pc[o & (PC_SIZE - 1)];
+    if (e->h != o) {
+        const gs__topo *t = c->t;
+        double L = t->len[o], r = t->len[gs__next(o)], q = t->len[gs__prev(o)];
+        e->h = o;
+        e->xy = (p2){(r * r - q * q + L * L) / (2 * L * L), 2 * tri_area(L, r, q) / (L * L)};
+    }
+    *out = e->xy;
+    return GS_OK;
+}
+
 /* Unfold the sleeve into the plane (one chain: every face shares its edge's
  * two points with the previous one) and fill the funnel's portals
- * fp[1..m-1]; fp[0] and fp[m] are the ends. */
-static int unfold(ctx *c, const qpt *x, const qpt *y)
+ * fp[1..m-1]; fp[0] and fp[m] are the ends. Faces before `from` are where
+ * the last call put them (the sleeve unchanged up to there). */
+static int unfold(ctx *c, const qpt *x, const qpt *y, size_t from)
 {
     const gs__topo *t = c->t;
     size_t m = c->nsl;
@@ -641,11 +787,13 @@ static int unfold(ctx *c, const qpt *x, const qpt *y)
         return oom(c);
     uint32_t f = c->sl[0];
     p2 *u = c->uv;
-    double a = t->angle[3 * f], l = t->len[3 * f + 2];
-    u[0] = (p2){0, 0};
-    u[1] = (p2){t->len[3 * f], 0};
-    u[2] = (p2){l * cos(a), l * sin(a)};
-    for (size_t i = 0; i + 1 < m; ++i) {
+    if (from == 0) {
+        double a = t->angle[3 * f], l = t->len[3 * f + 2];
+        u[0] = (p2){0, 0};
+        u[1] = (p2){t->len[3 * f], 0};
+        u[2] = (p2){l * cos(a), l * sin(a)};
+    }
+    for (size_t i = from ? from - 1 : 0; i + 1 < m; ++i) {
         uint32_t g = c->sl[i + 1], h = GS_NONE;
         f = c->sl[i];
         for (uint32_t k = 3 * f; k < 3 * f + 3; ++k)
@@ -653,16 +801,14 @@ static int unfold(ctx *c, const qpt *x, const qpt *y)
         if (h == GS_NONE)
             return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: faces %u and %u of the strip share no edge", f, g);
         uint32_t o = t->opp[h];
-        p2 A = c->uv[3 * i + h % 3], B = c->uv[3 * i + gs__next(h) % 3];
+        p2 A = c->uv[3 * i + h % 3], B = c->uv[3 * i + gs__next(h) % 3], C = {0, 0};
         p2 *w = c->uv + 3 * (i + 1);
         w[o % 3] = B;
         w[gs__next(o) % 3] = A;
-        /* C to the right of A -> B: its foot x along AB, its height y */
-        double dx = B.x - A.x, dy = B.y - A.y, n = sqrt(dx * dx + dy * dy);
-        double L = t->len[o], r = t->len[gs__next(o)], q = t->len[gs__prev(o)];
-        double y = 2 * tri_area(L, r, q) / L, x = (r * r - q * q + L * L) / (2 * L);
-        dx /= n, dy /= n;
-        w[gs__prev(o) % 3] = (p2){A.x + x * dx + y * dy, A.y + x * dy - y * dx};
+        /* C to the right of A -> B: its foot along AB, its height (in units of |AB|) */
+        if (placement(c, o, &C)) return oom(c);
+        double dx = B.x - A.x, dy = B.y - A.y;
+        w[gs__prev(o) % 3] = (p2){A.x + C.x * dx + C.y * dy, A.y + C.x * dy - C.y * dx};
         c->fp[i + 1] = (portal){B, A, t->tri[gs__next(h)], t->tri[h]};
     }
     p2 s = point2(c, x, 0), e = point2(c, y, m - 1);
@@ -797,26 +943,33 @@ static int flip_at(ctx *c, size_t j, int force, uint32_t xv, uint32_t yv, size_t
     return GS_OK;
 }
 
-/* Undo the steps back (f, g, f) that changes may have made. */
-static void sleeve_tidy(ctx *c)
+/* Undo the steps back (f, g, f) that changes may have made; returns the
+ * first position changed (nsl if none). */
+static size_t sleeve_tidy(ctx *c)
 {
-    size_t n = c->nsl, k = 0;
+    size_t n = c->nsl, k = 0, first = n;
     for (size_t i = 0; i < n; ++i) {
         uint32_t f = c->sl[i];
-        if (k && c->sl[k - 1] == f) continue;
+        if (k && c->sl[k - 1] == f) {
+            if (k < first) first = k;
+            continue;
+        }
         if (k >= 2 && c->sl[k - 2] == f) {
             --k;
+            if (k < first) first = k;
             continue;
         }
         c->sl[k++] = f;
     }
     c->nsl = k;
+    return first;
 }
 
 /* One round of shortening: every bend vertex with less than pi on the far
  * side gets the sleeve round that side (back to front, runs that do not
- * overlap). *nflips: the number of changes. */
-static int shorten(ctx *c, uint32_t xv, uint32_t yv, uint32_t *nflips)
+ * overlap). *nflips: the number of changes; *first: the first sleeve
+ * position changed. */
+static int shorten(ctx *c, uint32_t xv, uint32_t yv, uint32_t *nflips, size_t *first)
 {
     size_t limit = c->nsl;
     *nflips = 0;
@@ -825,20 +978,24 @@ static int shorten(ctx *c, uint32_t xv, uint32_t yv, uint32_t *nflips)
         if (rc) return rc;
         *nflips += (uint32_t)done;
     }
-    if (*nflips) sleeve_tidy(c);
+    *first = limit;
+    if (*nflips) {
+        size_t f = sleeve_tidy(c);
+        if (f < *first) *first = f;
+    }
     return GS_OK;
 }
 
 /* Unfold, funnel and shorten until locally shortest; *len: the length. */
 static int converge(ctx *c, const qpt *x, const qpt *y, uint32_t xv, uint32_t yv, double *len)
 {
-    size_t max_rounds = 64 + 4 * c->nsl;
+    size_t max_rounds = 64 + 4 * c->nsl, from = 0;
     int rc;
     for (size_t round = 0;; ++round) {
         uint32_t nf;
-        if ((rc = unfold(c, x, y)) || (rc = funnel(c))) return rc;
+        if ((rc = unfold(c, x, y, from)) || (rc = funnel(c))) return rc;
         if (round >= max_rounds) break;
-        if ((rc = shorten(c, xv, yv, &nf))) return rc;
+        if ((rc = shorten(c, xv, yv, &nf, &from))) return rc;
         if (!nf) break;
     }
     double l = 0;
@@ -1222,6 +1379,7 @@ static int run(ctx *c, const qpt *qx, const qpt *qy, double *len)
     c->origin = start;
     if (!rc) rc = push_vertex(c, start);
     if (!rc) rc = descend(c, targets, nt);
+    if (!rc) rc = remove_loops(c);
     if (rc) return rc;
     /* X first */
     for (size_t i = 0, j = c->nvp - 1; i < j; ++i, --j) {
@@ -1306,6 +1464,7 @@ int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const g
     rc = run(&c, &qx, &qy, &len);
     /* longer than the database's distance: also from the other end */
     if (!rc && len > d * (1 + (exact_db ? REVERSE_TOL_EXACT : REVERSE_TOL_APPROX))) {
+        c2.donor = &c;
         rc = run(&c2, &qy, &qx, &len2);
         if (!rc && len2 < len) best = &c2, len = len2, reverse_points(&c2);
     }
