@@ -429,7 +429,7 @@ typedef struct gs_solver_options {
  * that build a dgg graph for target error eps: every pair of vertices
  * within R (inside the patch) is joined by a graph path of at most
  * (1 + eps) times its geodesic length, and a solver's fields are exact
- * within 3 R of each source. Pure function, thread-safe. */
+ * within 6 R of each source. Pure function, thread-safe. */
 GS_API double gs_dgg_radius(double eps);
 
 /* Range of gs_solver_options.heat_time. Values below the default 1 only

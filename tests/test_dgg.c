@@ -265,7 +265,7 @@ static void test_options_threads(void)
 
 /* Pruning: the pruned graph's fields lie within 1 + eps of the unpruned
  * graph's (and never below them: it is a subgraph, the same start), with
- * fewer edges; both are exact within the start radius (3 R) and upper
+ * fewer edges; both are exact within the start radius (6 R) and upper
  * bounds of the exact distances. Threads: the same graph and fields for 1
  * and 3 construction threads. */
 static void test_prune(const char *spec, double eps)
