@@ -1,7 +1,7 @@
 /* db_path.c - geodesic paths from a database (doc/paths.md, "From a
  * database"): a path between two vertices or surface points of the mesh the
  * database was built from, without solving a field.
- * One file (about 1,300 lines) on purpose: the four stages below share one
+ * One file (about 1,500 lines) on purpose: the four stages below share one
  * path context (the descent's distance cache, the sleeve, the unfolding)
  * and each hands the next its half-built state; split, every part would
  * export that context.
@@ -390,10 +390,13 @@ static int anode(ctx *c, uint32_t v, uint32_t *slot)
     return GS_OK;
 }
 
-/* Append the vertices of a shortest edge path from the vertex path's last
- * vertex to `to` (Euclidean heuristic: admissible and consistent). *found:
- * 0 if they are not connected. */
-static int astar(ctx *c, uint32_t to, int *found_it)
+/* One edge search from the vertex path's last vertex, appending the
+ * vertices of the path it finds (*found: 0 if it finds none). to !=
+ * GS_NONE: A* to `to` (Euclidean heuristic: admissible and consistent).
+ * to == GS_NONE: Dijkstra to the nearest vertex whose distance to the
+ * target is below dv, within ESCAPE_MAX vertices (escape, below). */
+#define ESCAPE_MAX 4096
+static int edge_search(ctx *c, uint32_t to, double dv, int *found_it)
 {
     const gs__topo *t = c->t;
     uint32_t from = c->vp[c->nvp - 1], s;
@@ -402,65 +405,18 @@ static int astar(ctx *c, uint32_t to, int *found_it)
     if (c->amap.cap) memset(c->amap.key, 0xff, c->amap.cap * sizeof *c->amap.key), c->amap.n = 0;
     if (anode(c, from, &s)) return oom(c);
     c->ag[s] = 0;
-    if (heap_push(c, dist3(vpos(c, from), vpos(c, to)), s)) return oom(c);
-    uint32_t found = GS_NONE;
-    while (c->nheap) {
+    if (heap_push(c, to == GS_NONE ? 0 : dist3(vpos(c, from), vpos(c, to)), s)) return oom(c);
+    uint32_t found = GS_NONE, pops = 0;
+    while (c->nheap && (to != GS_NONE || pops < ESCAPE_MAX)) {
         uint32_t a = heap_pop(c);
         if (c->aclosed[a]) continue;
-        c->aclosed[a] = 1;
+        c->aclosed[a] = 1, ++pops;
         uint32_t v = c->anode[a];
         if (v == to) {
             found = a;
             break;
         }
-        double g = c->ag[a];
-        for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1]; ++i) {
-            uint32_t h = t->vc[i];
-            uint32_t nb[2] = {t->tri[gs__next(h)], t->tri[gs__prev(h)]};
-            for (int k = 0; k < 2; ++k) {
-                uint32_t b;
-                if (anode(c, nb[k], &b)) return oom(c);
-                double ng = g + dist3(vpos(c, v), vpos(c, nb[k]));
-                if (c->aclosed[b] || ng >= c->ag[b]) continue;
-                c->ag[b] = ng, c->aparent[b] = a;
-                if (heap_push(c, ng + dist3(vpos(c, nb[k]), vpos(c, to)), b)) return oom(c);
-            }
-        }
-    }
-    if (found == GS_NONE) return GS_OK;
-    size_t n0 = c->nvp, k = 0;
-    for (uint32_t a = found; a != s; a = c->aparent[a]) ++k;
-    if (gs__grow((void **)&c->vp, &c->vpcap, n0 + k, sizeof *c->vp)) return oom(c);
-    c->nvp = n0 + k;
-    for (uint32_t a = found; a != s; a = c->aparent[a]) c->vp[n0 + --k] = c->anode[a];
-    *found_it = 1;
-    return GS_OK;
-}
-
-/* The descent is at a vertex v without a neighbour closer to the target
- * (a dip of the fitted functions, dv = d(target, v)): append the edge
- * path (Dijkstra from v, edge lengths) to the nearest vertex that is
- * closer than v, found within ESCAPE_MAX vertices (*found: 0 if not). The
- * descent goes on from there: it stays strictly closer than dv, so it
- * never comes back to this dip. */
-#define ESCAPE_MAX 4096
-static int escape(ctx *c, double dv, int *found_it)
-{
-    const gs__topo *t = c->t;
-    uint32_t from = c->vp[c->nvp - 1], s;
-    c->na = 0, c->nheap = 0;
-    *found_it = 0;
-    if (c->amap.cap) memset(c->amap.key, 0xff, c->amap.cap * sizeof *c->amap.key), c->amap.n = 0;
-    if (anode(c, from, &s)) return oom(c);
-    c->ag[s] = 0;
-    if (heap_push(c, 0, s)) return oom(c);
-    uint32_t found = GS_NONE, pops = 0;
-    while (c->nheap && pops < ESCAPE_MAX) {
-        uint32_t a = heap_pop(c);
-        if (c->aclosed[a]) continue;
-        c->aclosed[a] = 1, ++pops;
-        uint32_t v = c->anode[a];
-        if (a != s) {
+        if (to == GS_NONE && a != s) {
             double d;
             int rc = dist_to_target(c, v, &d);
             if (rc) return rc;
@@ -479,7 +435,7 @@ static int escape(ctx *c, double dv, int *found_it)
                 double ng = g + dist3(vpos(c, v), vpos(c, nb[k]));
                 if (c->aclosed[b] || ng >= c->ag[b]) continue;
                 c->ag[b] = ng, c->aparent[b] = a;
-                if (heap_push(c, ng, b)) return oom(c);
+                if (heap_push(c, to == GS_NONE ? ng : ng + dist3(vpos(c, nb[k]), vpos(c, to)), b)) return oom(c);
             }
         }
     }
@@ -491,6 +447,23 @@ static int escape(ctx *c, double dv, int *found_it)
     for (uint32_t a = found; a != s; a = c->aparent[a]) c->vp[n0 + --k] = c->anode[a];
     *found_it = 1;
     return GS_OK;
+}
+
+/* Append a shortest edge path from the vertex path's last vertex to `to`;
+ * *found: 0 if they are not connected. */
+static int astar(ctx *c, uint32_t to, int *found_it)
+{
+    return edge_search(c, to, 0.0, found_it);
+}
+
+/* The descent is at a vertex v without a neighbour closer to the target
+ * (a dip of the fitted functions, dv = d(target, v)): append the edge
+ * path to the nearest vertex that is closer than v (*found: 0 if none
+ * within ESCAPE_MAX vertices). The descent goes on from there: it stays
+ * strictly closer than dv, so it never comes back to this dip. */
+static int escape(ctx *c, double dv, int *found_it)
+{
+    return edge_search(c, GS_NONE, dv, found_it);
 }
 
 /* ---- 1. descent ------------------------------------------------------- */

@@ -223,31 +223,47 @@ __attribute__((target("avx2,fma"))) static void to_values_avx2(float *p, uint32_
 #endif
 
 #ifdef HAVE_AVX2_PATH
-/* NB vectors of 8 grid points (NB a constant at each call) from j on, in
- * one pass over the rows: independent sums in registers (their
+/* One function's values on NB vectors of 8 points from tab's first column
+ * on, in one pass over the rows: independent sums in registers (their
  * multiply-adds overlap), then max(p, 0) and the square root of a squared
- * series, stored to v. The same operations per point as dot_avx2 and
- * to_values_avx2. */
+ * series (the same operations per point as dot_avx2 and to_values_avx2);
+ * or loaded when cached (v). */
+__attribute__((target("avx2,fma"), always_inline)) static inline void fun_blocks(const float *tab, uint32_t st,
+                                                                                const float *cf, uint32_t m,
+                                                                                int squared, const float *v,
+                                                                                __m256 *a, const int NB)
+{
+    if (v) {
+#pragma GCC unroll 12
+        for (int b = 0; b < NB; ++b) a[b] = _mm256_loadu_ps(v + 8 * b);
+        return;
+    }
+#pragma GCC unroll 12
+    for (int b = 0; b < NB; ++b) a[b] = _mm256_setzero_ps();
+    for (uint32_t k = 0; k <= m; ++k) {
+        __m256 ck = _mm256_set1_ps(cf[k]);
+        const float *r = tab + (size_t)k * st;
+#pragma GCC unroll 12
+        for (int b = 0; b < NB; ++b) a[b] = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 8 * b), a[b]);
+    }
+    const __m256 z = _mm256_setzero_ps();
+#pragma GCC unroll 12
+    for (int b = 0; b < NB; ++b) {
+        __m256 x = _mm256_max_ps(a[b], z);
+        a[b] = squared ? _mm256_sqrt_ps(x) : x;
+    }
+}
+
+/* fun_blocks of the NB vectors from point j on, stored to v. */
 __attribute__((target("avx2,fma"), always_inline)) static inline void path_blocks(const float *tab, uint32_t s,
                                                                                  const float *cf, uint32_t m,
                                                                                  int squared, uint32_t j, float *v,
                                                                                  const int NB)
 {
     __m256 a[6];
+    fun_blocks(tab + j, s, cf, m, squared, NULL, a, NB);
 #pragma GCC unroll 6
-    for (int b = 0; b < NB; ++b) a[b] = _mm256_setzero_ps();
-    for (uint32_t k = 0; k <= m; ++k) {
-        __m256 ck = _mm256_set1_ps(cf[k]);
-        const float *r = tab + (size_t)k * s + j;
-#pragma GCC unroll 6
-        for (int b = 0; b < NB; ++b) a[b] = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 8 * b), a[b]);
-    }
-    const __m256 z = _mm256_setzero_ps();
-#pragma GCC unroll 6
-    for (int b = 0; b < NB; ++b) {
-        __m256 x = _mm256_max_ps(a[b], z);
-        _mm256_storeu_ps(v + j + 8 * b, squared ? _mm256_sqrt_ps(x) : x);
-    }
+    for (int b = 0; b < NB; ++b) _mm256_storeu_ps(v + j + 8 * b, a[b]);
 }
 
 __attribute__((target("avx2,fma"))) static void path_avx2(const float *tab, uint32_t s, const float *cf, uint32_t m,
@@ -360,34 +376,6 @@ void gs__grid_values_path(const float *cf, uint32_t m, int squared, uint32_t g, 
 /* ---- both functions of a path pair at once -------------------------------- */
 
 #ifdef HAVE_AVX2_PATH
-/* One function's values on NB vectors of 8 points from j: the operations
- * of path_blocks, kept in registers (or loaded when cached: v). */
-__attribute__((target("avx2,fma"), always_inline)) static inline void fun_blocks(const float *tab, uint32_t st,
-                                                                                const float *cf, uint32_t m,
-                                                                                int squared, const float *v,
-                                                                                __m256 *a, const int NB)
-{
-    if (v) {
-#pragma GCC unroll 12
-        for (int b = 0; b < NB; ++b) a[b] = _mm256_loadu_ps(v + 8 * b);
-        return;
-    }
-#pragma GCC unroll 12
-    for (int b = 0; b < NB; ++b) a[b] = _mm256_setzero_ps();
-    for (uint32_t k = 0; k <= m; ++k) {
-        __m256 ck = _mm256_set1_ps(cf[k]);
-        const float *r = tab + (size_t)k * st;
-#pragma GCC unroll 12
-        for (int b = 0; b < NB; ++b) a[b] = _mm256_fmadd_ps(ck, _mm256_loadu_ps(r + 8 * b), a[b]);
-    }
-    const __m256 z = _mm256_setzero_ps();
-#pragma GCC unroll 12
-    for (int b = 0; b < NB; ++b) {
-        __m256 x = _mm256_max_ps(a[b], z);
-        a[b] = squared ? _mm256_sqrt_ps(x) : x;
-    }
-}
-
 static const int32_t lane_mask[16] = {-1, -1, -1, -1, -1, -1, -1, -1, 0, 0, 0, 0, 0, 0, 0, 0};
 
 /* The whole grid (NB = its vectors of 8 points) in one pass over each
