@@ -241,6 +241,17 @@ static inline int gs__db_fblock_parse(const unsigned char *p, uint64_t avail, gs
     uint32_t meta = p[0];
     int e = (int)(signed char)p[1];
     uint32_t code = meta & GS__FB_DEG_MASK, n = 2;
+    /* the common block first, an integer path's (the query's hot path):
+     * the same checks and fields as the general case below */
+    if (avail >= 3 && code <= 24 && !(meta & GS__FB_CLOSED) && e != GS__FB_F32 && p[2] <= code + 1) {
+        uint32_t w = p[2], h = meta & GS__FB_DIP ? 19 : 3, cb = code + 1 + w;
+        if (avail < h + cb) return 0;
+        b->degree = code, b->sampled = 0, b->squared = (meta & GS__FB_SQUARED) != 0, b->closed = 0;
+        b->f32 = 0, b->wide = w, b->e = e, b->shift = 0.0, b->has_dip = (meta & GS__FB_DIP) != 0;
+        if (b->has_dip) memcpy(b->dip, p + 3, 16);
+        b->coef = p + h, b->bytes = h + cb;
+        return 1;
+    }
     b->sampled = code == GS__FB_SAMPLED;
     b->squared = (meta & GS__FB_SQUARED) != 0;
     b->closed = (meta & GS__FB_CLOSED) != 0;

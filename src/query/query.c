@@ -259,24 +259,8 @@ static void grid_of(const dfun *d, uint32_t g, float *v)
 
 static int decode(const unsigned char *p, const unsigned char *end, float minval, dfun *d)
 {
-    if (!p) return 0;
-    gs__db_fblock *b = &d->b;
-    uint64_t avail = (uint64_t)(end - p);
-    uint32_t meta, code, w;
-    int e;
-    /* the common block, an integer path's, parsed here with the checks of
-     * gs__db_fblock_parse (which parses the others) */
-    if (avail >= 3 && (code = (meta = p[0]) & GS__FB_DEG_MASK) <= 24 && !(meta & GS__FB_CLOSED) &&
-        (e = (signed char)p[1]) != GS__FB_F32 && (w = p[2]) <= code + 1) {
-        uint32_t n = meta & GS__FB_DIP ? 19 : 3, cb = code + 1 + w;
-        if (avail < n + cb) return 0;
-        b->degree = code, b->sampled = 0, b->squared = (meta & GS__FB_SQUARED) != 0, b->closed = 0;
-        b->f32 = 0, b->wide = w, b->e = e, b->shift = 0.0, b->has_dip = (meta & GS__FB_DIP) != 0;
-        if (b->has_dip) memcpy(b->dip, p + 3, 16);
-        b->coef = p + n, b->bytes = n + cb;
-    } else if (!gs__db_fblock_parse(p, avail, b)) {
-        return 0;
-    }
+    if (!p || !gs__db_fblock_parse(p, (uint64_t)(end - p), &d->b)) return 0;
+    const gs__db_fblock *b = &d->b;
     d->f.kind = b->sampled ? GS_FUN_SAMPLED : GS_FUN_CHEBYSHEV;
     d->f.degree = b->degree;
     d->f.squared = b->squared;
