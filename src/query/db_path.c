@@ -695,18 +695,17 @@ static int build_sleeve(ctx *c, endspec xin, endspec yout)
         }
         if (in.type == ES_NONE || out.type == ES_NONE) continue; /* the next or previous run holds v */
         uint32_t val = t->vc_start[v + 1] - t->vc_start[v], cap = val + 1 < 512 ? val + 1 : 512;
+        /* the side of v that the chord over a few vertices passes, else the
+         * side of the smaller angle (the other way round v only if needed) */
         double a0 = INFINITY, a1 = INFINITY;
-        uint32_t n0 = rotate_run(t, v, in, out, 0, buf[0], cap, &a0);
-        uint32_t n1 = rotate_run(t, v, in, out, 1, buf[1], cap, &a1);
+        uint32_t n0 = rotate_run(t, v, in, out, 0, buf[0], cap, &a0), n1 = 0;
+        int side = n0 ? chord_side(c, i, buf[0], n0) : 0;
+        if (side <= 0) n1 = rotate_run(t, v, in, out, 1, buf[1], cap, &a1);
         if (!n0) a0 = INFINITY;
         if (!n1) a1 = INFINITY;
         if (!n0 && !n1)
             return gs__fail(c->err, GS_EINTERNAL, "gs_db_path: no faces around vertex %u join the path's edges", v);
-        int k = a0 <= a1 ? 0 : 1;
-        if (n0 && n1) { /* the side of v that the chord over a few vertices passes */
-            int side = chord_side(c, i, buf[0], n0);
-            if (side) k = side > 0 ? 0 : 1;
-        }
+        int k = side > 0 || !n1 ? 0 : !n0 || side < 0 ? 1 : a0 <= a1 ? 0 : 1;
         uint32_t n = k ? n1 : n0;
         for (uint32_t j = 0; j < n; ++j) {
             int rc = sleeve_push(c, buf[k][j]);
