@@ -34,7 +34,7 @@
  *    until no such vertex is left: the path is then locally shortest (a
  *    geodesic: straight in every face and across every edge, bending only
  *    at saddle or boundary vertices, with at least pi on each side); or
- *    until it has settled (8 rounds gain less than 1e-4 of its length:
+ *    until it has settled (8 rounds gain less than 2e-4 of its length:
  *    a walk far off the geodesic over a nearly flat stretch would slide
  *    across it one vertex per round for a hundred rounds).
  *
@@ -1059,7 +1059,7 @@ static double funnel_length(const ctx *c)
  * hundred rounds on homer-60k's longest paths, and gains about 1e-5 of
  * its length per round there); *len: the length. */
 #define SETTLE_ROUNDS 8
-#define SETTLE_GAIN 1e-4
+#define SETTLE_GAIN 2e-4
 static int converge(ctx *c, const qpt *x, const qpt *y, uint32_t xv, uint32_t yv, double *len)
 {
     size_t max_rounds = 64 + 4 * c->nsl, from = 0;
