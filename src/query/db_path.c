@@ -34,9 +34,10 @@
  *    until no such vertex is left: the path is then locally shortest (a
  *    geodesic: straight in every face and across every edge, bending only
  *    at saddle or boundary vertices, with at least pi on each side); or
- *    until it has settled (8 rounds gain less than 2e-4 of its length:
- *    a walk far off the geodesic over a nearly flat stretch would slide
- *    across it one vertex per round for a hundred rounds).
+ *    until it has settled (after 16 rounds, 8 rounds gain less than 5e-4
+ *    of its length: a walk far off the geodesic over a nearly flat
+ *    stretch would slide across it one vertex per round for a hundred
+ *    rounds).
  *
  * The result is a real path on the surface, so it is never shorter than
  * the exact distance; the descent puts it in the shortest path's
@@ -1053,13 +1054,14 @@ static double funnel_length(const ctx *c)
 }
 
 /* Unfold, funnel and shorten until locally shortest, or until it has
- * settled: SETTLE_ROUNDS rounds together shortened it by less than
- * SETTLE_GAIN of its length (a path that far off the geodesic over a
- * nearly flat stretch slides across it one vertex per round, for a
- * hundred rounds on homer-60k's longest paths, and gains about 1e-5 of
- * its length per round there); *len: the length. */
+ * settled: from round SETTLE_FROM on, once the last SETTLE_ROUNDS rounds
+ * together shortened it by less than SETTLE_GAIN of its length (a path
+ * far off the geodesic over a nearly flat stretch slides across it one
+ * vertex per bend and round, for a hundred rounds on homer-60k's longest
+ * paths, gaining about 1e-5 of its length per round); *len: the length. */
+#define SETTLE_FROM 16
 #define SETTLE_ROUNDS 8
-#define SETTLE_GAIN 2e-4
+#define SETTLE_GAIN 5e-4
 static int converge(ctx *c, const qpt *x, const qpt *y, uint32_t xv, uint32_t yv, double *len)
 {
     size_t max_rounds = 64 + 4 * c->nsl, from = 0;
@@ -1070,7 +1072,7 @@ static int converge(ctx *c, const qpt *x, const qpt *y, uint32_t xv, uint32_t yv
         if ((rc = unfold(c, x, y, from)) || (rc = funnel(c))) return rc;
         if (round >= max_rounds) break;
         double l = funnel_length(c);
-        if (round >= SETTLE_ROUNDS && hist[round % SETTLE_ROUNDS] - l < SETTLE_GAIN * l) break;
+        if (round >= SETTLE_FROM && hist[round % SETTLE_ROUNDS] - l < SETTLE_GAIN * l) break;
         hist[round % SETTLE_ROUNDS] = l;
         if ((rc = shorten(c, xv, yv, &nf, &from))) return rc;
         if (!nf) break;
