@@ -25,7 +25,7 @@ static const bounds targets = {0.0030, 0.0060, 0.02, 0.05, 0.005};
 static void gate(const char *name, const gs_error_stats *st, const bounds *b, double bytes_per_vertex,
                  double cost)
 {
-    printf("%-16s ME %.3f%%  RMSE %.3f%%  p99 %.3f%%  p99.9 %.3f%%  max %.2f%%  near-pair ME %.3f%%  "
+    printf("%-18s ME %.3f%%  RMSE %.3f%%  p99 %.3f%%  p99.9 %.3f%%  max %.2f%%  near-pair ME %.3f%%  "
            "(%llu pairs; %.1f numbers, %.0f bytes per vertex)\n",
            name, 100 * st->me, 100 * st->rmse, 100 * st->p99, 100 * st->p999, 100 * st->max, 100 * st->near_me,
            (unsigned long long)st->n_used, cost, bytes_per_vertex);
@@ -34,8 +34,9 @@ static void gate(const char *name, const gs_error_stats *st, const bounds *b, do
     CHECK_MSG(st->rmse <= b->rmse, "%s: RMSE %.4f%% > %.4f%%", name, 100 * st->rmse, 100 * b->rmse);
     CHECK_MSG(st->p999 <= b->p999, "%s: p99.9 %.4f%% > %.4f%%", name, 100 * st->p999, 100 * b->p999);
     CHECK_MSG(st->max <= b->max, "%s: max %.3f%% > %.3f%%", name, 100 * st->max, 100 * b->max);
-    CHECK_MSG(st->near_me <= b->near_me, "%s: near-pair ME %.4f%% > %.4f%%", name, 100 * st->near_me,
-              100 * b->near_me);
+    /* a coarse mesh may have no pair below 10% of the median (no near pair) */
+    CHECK_MSG(st->n_near == 0 || st->near_me <= b->near_me, "%s: near-pair ME %.4f%% > %.4f%%", name,
+              100 * st->near_me, 100 * b->near_me);
 }
 
 /* Build the default database of m and measure it against k exact fields
@@ -119,6 +120,13 @@ int main(void)
     generated("knot:120,12", &targets);
     generated("cylinder:48,30", &targets);
     generated("cone:48,30", &targets);
+    /* meshes of other character, never tuned for (doc/accuracy.md, "Meshes
+     * nobody tuned for"; tools/unseen.sh runs the whole sweep): a coarse
+     * torus (288 vertices, 2-3 edges across the tube), a cube's sharp edges
+     * and corners, a thin knot with hexagonal rings */
+    generated("torus:24,12,1,0.35", &targets);
+    generated("cube:12", &targets);
+    generated("knot:160,6,0.12", &targets);
     if (getenv("GEOSEP_QUICK")) return gs__test_finish("test_accuracy");
     if (!gs__test_shared_path("meshes")) {
         printf("shared meshes skipped: no ../shared (GEOSEP_SHARED_DIR)\n");
