@@ -144,6 +144,15 @@ def jitter(n, amp, seed=9):
     return V, F
 
 
+def terrain(n, amp, seed=11):
+    """Height field 0.2 sin 6x cos 5y on an n x n grid of [0,1]^2, each
+    height moved by up to +-amp/2 grid cells (uniform noise): a rough
+    surface."""
+    random.seed(seed)
+    return grid(n, n, lambda i, j: i / (n - 1), lambda i, j: j / (n - 1),
+                lambda x, y: 0.2 * math.sin(6 * x) * math.cos(5 * y) + amp * (random.random() - 0.5) / (n - 1))
+
+
 def graded(n, p):
     """Height field on the grid x = (i/(n-1))^p, y = (j/(n-1))^p: cells from
     tiny (at the origin) to large."""
@@ -208,6 +217,9 @@ def main():
     write(p("sphere-bumpy"), *displaced(p("sphere4"), 0.15, 7))
     write(p("sphere5-bumpy"), *displaced(p("sphere5"), 0.1, 11))
     write(p("sphere-spiky"), *displaced(p("sphere4"), 0.06))
+    write(p("sphere-spiky2"), *displaced(p("sphere4"), 0.12))
+    write(p("sphere5-spiky"), *displaced(p("sphere5"), 0.04))
+    write(p("terrain"), *terrain(50, 1.5))
     write(p("aniso"), *aniso(20, 150, 2, 2, 0.4))
     write(p("aniso40"), *aniso(10, 300, 2, 2, 0.4))
     write(p("jitter"), *jitter(50, 0.9))
