@@ -238,12 +238,15 @@ static int assemble(gs__builder *b, const gs__leaf_tables *lt, double near_radiu
  * it by at most A, less than GS_PIPE_NEAR_TOL of any pair farther apart
  * than that (a noisy height field: pairs 19 mean edges apart were off by
  * 8.8% through fits off by up to 25%, beyond the 15 edges of the rule
- * above; with A, 2.6% at most). *rmax: the largest. NULL when out of
- * memory. */
+ * above; with A, 2.6% at most). Exact fields only: with approximate ones
+ * the field's own error dominates the pairs off by 2%, and a wider radius
+ * stores more of them (peaks:40, fmm). *rmax: the largest. NULL when out
+ * of memory. */
 static double *near_radii(const gs__builder *b, double R0, double *rmax)
 {
     uint32_t nv = b->mesh->nv;
     double *r = gs__malloc(nv ? nv : 1, sizeof *r);
+    int exact = b->opt->method == GS_METHOD_EXACT;
     if (!r) return NULL;
     *rmax = 0;
     for (uint32_t x = 0; x < nv; ++x) {
@@ -253,7 +256,7 @@ static double *near_radii(const gs__builder *b, double R0, double *rmax)
             if (b->fun_err[k] >= GS_FIT_MAX_ERR) dip = fmaxf(dip, b->fun_abs[k]);
         }
         double w = fmin(GS_PIPE_NEAR_WIDE_MAX, fmax(GS_PIPE_NEAR_WIDE, worst / GS_FIT_MAX_ERR));
-        double wa = fmin(GS_PIPE_NEAR_ABS_MAX * R0, dip / GS_PIPE_NEAR_TOL);
+        double wa = exact ? fmin(GS_PIPE_NEAR_ABS_MAX * R0, dip / GS_PIPE_NEAR_TOL) : 0;
         r[x] = worst >= GS_FIT_MAX_ERR ? fmax(w * R0, wa) : R0;
         *rmax = fmax(*rmax, r[x]);
     }
