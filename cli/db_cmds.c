@@ -32,7 +32,7 @@ const char usage_build[] =
     "  same-leaf queries with the Euclidean distance instead (smaller, but off\n"
     "  by up to 56% on curved leaves; --leaf-exact: the default). Pairs of\n"
     "  vertices in different leaves nearer than --near-radius mean edge lengths\n"
-    "  (5; 2-3 times that from a vertex with an uncertified fit; 0 = none) whose\n"
+    "  (5; 2-10 times that from a vertex with an uncertified fit; 0 = none) whose\n"
     "  answer through the separators is off by more than 2% get their exact\n"
     "  distance stored (doc/accuracy.md). --threads:\n"
     "  build threads (0 = all cores, the default). --seed: the partitioning\n"

@@ -565,7 +565,7 @@ typedef struct gs_build_options {
                              /*   leaves (bunny-5k: 56%) [1]                   */
     double near_radius;      /* near pairs, in mean edge lengths: every pair  */
                              /*   of vertices in different leaves nearer than  */
-                             /*   this (2 to 3 times this from a vertex with   */
+                             /*   this (2 to 10 times this from a vertex with  */
                              /*   an uncertified fit, see gs_build_stats) whose*/
                              /*   answer through the separators is off by more */
                              /*   than 2% gets its exact distance stored       */

@@ -25,7 +25,7 @@ static const bounds targets = {0.0030, 0.0060, 0.02, 0.05, 0.005};
 static void gate(const char *name, const gs_error_stats *st, const bounds *b, double bytes_per_vertex,
                  double cost)
 {
-    printf("%-16s ME %.3f%%  RMSE %.3f%%  p99 %.3f%%  p99.9 %.3f%%  max %.2f%%  near-pair ME %.3f%%  "
+    printf("%-18s ME %.3f%%  RMSE %.3f%%  p99 %.3f%%  p99.9 %.3f%%  max %.2f%%  near-pair ME %.3f%%  "
            "(%llu pairs; %.1f numbers, %.0f bytes per vertex)\n",
            name, 100 * st->me, 100 * st->rmse, 100 * st->p99, 100 * st->p999, 100 * st->max, 100 * st->near_me,
            (unsigned long long)st->n_used, cost, bytes_per_vertex);
@@ -34,8 +34,9 @@ static void gate(const char *name, const gs_error_stats *st, const bounds *b, do
     CHECK_MSG(st->rmse <= b->rmse, "%s: RMSE %.4f%% > %.4f%%", name, 100 * st->rmse, 100 * b->rmse);
     CHECK_MSG(st->p999 <= b->p999, "%s: p99.9 %.4f%% > %.4f%%", name, 100 * st->p999, 100 * b->p999);
     CHECK_MSG(st->max <= b->max, "%s: max %.3f%% > %.3f%%", name, 100 * st->max, 100 * b->max);
-    CHECK_MSG(st->near_me <= b->near_me, "%s: near-pair ME %.4f%% > %.4f%%", name, 100 * st->near_me,
-              100 * b->near_me);
+    /* a coarse mesh may have no pair below 10% of the median (no near pair) */
+    CHECK_MSG(st->n_near == 0 || st->near_me <= b->near_me, "%s: near-pair ME %.4f%% > %.4f%%", name,
+              100 * st->near_me, 100 * b->near_me);
 }
 
 /* Build the default database of m and measure it against k exact fields
@@ -67,13 +68,10 @@ static void measure(const char *name, const gs_mesh *m, const uint32_t *src, uin
     gs_db_free(db);
 }
 
-/* A generated mesh over all vertex pairs. */
-static void generated(const char *spec, const bounds *b)
+/* Mesh m over all vertex pairs. */
+static void all_pairs(const char *name, const gs_mesh *m, const bounds *b)
 {
-    gs_mesh *m = NULL;
     gs_error err = {0};
-    CHECK_MSG(gs_mesh_generate(spec, &m, &err) == GS_OK, "%s: %s", spec, err.message);
-    if (!m) return;
     uint32_t n = gs_mesh_num_vertices(m);
     uint32_t *src = malloc(n * sizeof *src);
     double *exact = malloc((size_t)n * n * sizeof *exact);
@@ -86,12 +84,61 @@ static void generated(const char *spec, const bounds *b)
         gs_source one = gs_source_vertex(v);
         CHECK(gs_solver_solve(s, &one, 1, 0, exact + (size_t)v * n, &err) == GS_OK);
     }
-    if (s) measure(spec, m, src, n, exact, b);
+    if (s) measure(name, m, src, n, exact, b);
     gs_solver_free(s);
     gs_patch_free(p);
     free(exact);
     free(src);
+}
+
+/* A generated mesh over all vertex pairs. */
+static void generated(const char *spec, const bounds *b)
+{
+    gs_mesh *m = NULL;
+    gs_error err = {0};
+    CHECK_MSG(gs_mesh_generate(spec, &m, &err) == GS_OK, "%s: %s", spec, err.message);
+    if (m) all_pairs(spec, m, b);
     gs_mesh_free(m);
+}
+
+static double splitmix(uint64_t *s)
+{
+    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return (double)((z ^ (z >> 31)) >> 11) / 9007199254740992.0;
+}
+
+/* A rough surface: the height field 0.2 sin 6x cos 5y on an n x n grid of
+ * [0,1]^2, every height moved by up to +-amp/2 grid cells (uniform noise,
+ * splitmix64 from seed): geodesics kink at every edge, fits cannot follow
+ * them. Over all vertex pairs. */
+static void noisy_terrain(uint32_t n, double amp, uint64_t seed, const bounds *b)
+{
+    char name[64];
+    snprintf(name, sizeof name, "terrain:%u,%.1f,%llu", n, amp, (unsigned long long)seed);
+    double *xyz = malloc(3 * (size_t)n * n * sizeof *xyz);
+    uint32_t *tri = malloc(6 * (size_t)(n - 1) * (n - 1) * sizeof *tri), nf = 0;
+    CHECK(xyz && tri);
+    if (!xyz || !tri) goto done;
+    for (uint32_t j = 0; j < n; ++j)
+        for (uint32_t i = 0; i < n; ++i) {
+            double x = (double)i / (n - 1), y = (double)j / (n - 1), *p = xyz + 3 * ((size_t)j * n + i);
+            p[0] = x, p[1] = y, p[2] = 0.2 * sin(6 * x) * cos(5 * y) + amp * (splitmix(&seed) - 0.5) / (n - 1);
+        }
+    for (uint32_t j = 0; j + 1 < n; ++j)
+        for (uint32_t i = 0; i + 1 < n; ++i, nf += 2) {
+            uint32_t a = j * n + i, *t = tri + 3 * (size_t)nf;
+            t[0] = a, t[1] = a + 1, t[2] = a + 1 + n, t[3] = a, t[4] = a + 1 + n, t[5] = a + n;
+        }
+    gs_mesh *m = NULL;
+    gs_error err = {0};
+    CHECK_MSG(gs_mesh_create(xyz, n * n, tri, nf, &m, &err) == GS_OK, "%s: %s", name, err.message);
+    if (m) all_pairs(name, m, b);
+    gs_mesh_free(m);
+done:
+    free(xyz);
+    free(tri);
 }
 
 /* A shared mesh against its ground truth (its sources only). */
@@ -119,6 +166,21 @@ int main(void)
     generated("knot:120,12", &targets);
     generated("cylinder:48,30", &targets);
     generated("cone:48,30", &targets);
+    /* meshes of other character, never tuned for (doc/accuracy.md, "Meshes
+     * nobody tuned for"; tools/unseen.sh runs the whole sweep): a coarse
+     * torus (288 vertices, 2-3 edges across the tube), a cube's sharp edges
+     * and corners, a thin knot with hexagonal rings */
+    generated("torus:24,12,1,0.35", &targets);
+    generated("cube:12", &targets);
+    generated("knot:160,6,0.12", &targets);
+    /* a noisy height field (2,500 vertices): the largest error was 4.43%
+     * (8.8% on another seed) through fits that dip far from their vertex,
+     * beyond the near radius; the radius now covers each dip's depth
+     * (src/pipeline/build.c, near_radii): 3.19%, gated at 4%. Its ME
+     * (0.330%) misses the target: rough surfaces need more than the fits'
+     * degrees give (doc/accuracy.md, "What is left"). */
+    const bounds rough = {0.0034, 0.0060, 0.02, 0.04, 0.005};
+    noisy_terrain(50, 1.5, 3, &rough);
     if (getenv("GEOSEP_QUICK")) return gs__test_finish("test_accuracy");
     if (!gs__test_shared_path("meshes")) {
         printf("shared meshes skipped: no ../shared (GEOSEP_SHARED_DIR)\n");

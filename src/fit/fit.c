@@ -32,6 +32,7 @@ typedef struct cand {
     double mean, max;
     double viol;         /* the certificate: largest relative step outside   */
                          /*   the samples' Lipschitz band between samples    */
+    double amax, aviol;  /* the same two, absolute (in units of dmax)       */
 } cand;
 
 void gs__fit_options_default(gs__fit_options *o)
@@ -213,7 +214,7 @@ static void solve_degree(const double *a, const double *y, uint32_t rows, uint32
 /* Mean and max relative error of candidate f on the first n rows. */
 static void measure(gs__fit_work *w, uint32_t rows, uint32_t n, cand *f)
 {
-    double *v = w->val, sum = 0.0, mx = 0.0;
+    double *v = w->val, sum = 0.0, mx = 0.0, amx = 0.0;
     for (uint32_t r = 0; r < n; r++)
         v[r] = f->c[0];
     for (uint32_t j = 1; j <= f->m; j++) {
@@ -223,11 +224,12 @@ static void measure(gs__fit_work *w, uint32_t rows, uint32_t n, cand *f)
     }
     for (uint32_t r = 0; r < n; r++) {
         double p = v[r] > 0.0 ? v[r] : 0.0, q = f->sq ? sqrt(p) : p;
-        double e = fabs(q - w->y[r]) / fmax(w->y[r], GS_FIT_DFLOOR);
+        double a = fabs(q - w->y[r]), e = a / fmax(w->y[r], GS_FIT_DFLOOR);
         sum += e;
         mx = e > mx ? e : mx;
+        amx = a > amx ? a : amx;
     }
-    f->mean = sum / n, f->max = mx;
+    f->mean = sum / n, f->max = mx, f->amax = amx;
 }
 
 /* The certificate between samples. Along the curve, d(x, .) is 1-Lipschitz
@@ -239,10 +241,10 @@ static void measure(gs__fit_work *w, uint32_t rows, uint32_t n, cand *f)
  * relative to the band's edge (floored like the errors). 0 without ulen. */
 static void certify(const gs__fit_work *w, uint32_t rows, cand *f)
 {
-    f->viol = 0.0;
+    f->viol = f->aviol = 0.0;
     if (!(w->ulen > 0.0))
         return;
-    double mx = 0.0;
+    double mx = 0.0, amx = 0.0;
     for (uint32_t r = 0; r + 1 < rows; r++) {
         double t0 = w->t[r], t1 = w->t[r + 1], y0 = w->y[r], y1 = w->y[r + 1];
         for (uint32_t q = 1; q <= GS_FIT_CERT_POINTS; q++) {
@@ -251,13 +253,14 @@ static void certify(const gs__fit_work *w, uint32_t rows, cand *f)
             double lo = fmax(y0 - da, y1 - db), hi = fmin(y0 + da, y1 + db);
             double p = gs__cheb_eval(f->c, f->m, t);
             p = p > 0.0 ? p : 0.0;
-            double v = f->sq ? sqrt(p) : p, e = 0.0;
-            if (v < lo) e = (lo - v) / fmax(lo, GS_FIT_DFLOOR);
-            else if (v > hi) e = (v - hi) / fmax(hi, GS_FIT_DFLOOR);
+            double v = f->sq ? sqrt(p) : p, e = 0.0, a = 0.0;
+            if (v < lo) a = lo - v, e = a / fmax(lo, GS_FIT_DFLOOR);
+            else if (v > hi) a = v - hi, e = a / fmax(hi, GS_FIT_DFLOOR);
             mx = e > mx ? e : mx;
+            amx = a > amx ? a : amx;
         }
     }
-    f->viol = mx;
+    f->viol = mx, f->aviol = amx;
 }
 
 /* How far a candidate is from being trusted: its largest error at the
@@ -316,6 +319,7 @@ static int store_result(const cand *b, double dmax, double shift, int closed, gs
     res->fun = (gs__fun){GS_FUN_CHEBYSHEV, b->m, b->sq, closed ? 1u : 0u, shift, 0.0, res->coef};
     res->fun.minval = gs__fun_min(&res->fun, NULL);
     res->mean_rel_err = b->mean, res->max_rel_err = b->max, res->cert_err = b->viol;
+    res->abs_err = (b->amax > b->aviol ? b->amax : b->aviol) * dmax;
     res->cost = gs__fun_cost(&res->fun);
     return GS_OK;
 }
@@ -331,7 +335,7 @@ int gs__fit_distance(gs__fit_work *w, const double *u, const double *d, uint32_t
     double dmax = 0.0, shift = 0.0;
     for (uint32_t k = 0; k < n; k++)
         dmax = fmax(dmax, d[k]);
-    cand best = {{0.0}, 0, 0, 0.0, 0.0, 0.0};
+    cand best = {{0.0}, 0, 0, 0.0, 0.0, 0.0, 0.0, 0.0};
     if (!(ulen >= 0.0) || !isfinite(ulen))
         return gs__fail(err, GS_EARG, "gs__fit_distance: arc length per unit %g is not finite and >= 0", ulen);
     if (dmax == 0.0) /* every sample on the curve: d = 0 */

@@ -25,6 +25,9 @@ typedef struct gs__fit_result {
     double cert_err;                        /* between them: the largest   */
                                             /*   relative step outside the */
                                             /*   samples' Lipschitz band   */
+    double abs_err;                         /* the largest absolute error, */
+                                            /*   at the samples or outside */
+                                            /*   the band (units of d)     */
     uint32_t cost;                          /* doubles to store: gs__fun_cost */
 } gs__fit_result;
 

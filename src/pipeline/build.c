@@ -232,19 +232,32 @@ static int assemble(gs__builder *b, const gs__leaf_tables *lt, double near_radiu
  * its worst fit error / GS_FIT_MAX_ERR, clamped to [GS_PIPE_NEAR_WIDE,
  * GS_PIPE_NEAR_WIDE_MAX]: answers through such functions were off by up to
  * 9% 6 to 10 mean edges apart on homer (fits off by 2-5%), 5.2% 10.3 edges
- * apart on rocker-arm (a fit off by 8%). *rmax: the largest. NULL when out
+ * apart on rocker-arm (a fit off by 8%); and at least the largest absolute
+ * error A of its uncertified functions / GS_PIPE_NEAR_TOL (at most
+ * GS_PIPE_NEAR_ABS_MAX R0): a fit that dips by A moves an answer through
+ * it by at most A, less than GS_PIPE_NEAR_TOL of any pair farther apart
+ * than that (a noisy height field: pairs 19 mean edges apart were off by
+ * 8.8% through fits off by up to 25%, beyond the 15 edges of the rule
+ * above; with A, 2.6% at most). Exact fields only: with approximate ones
+ * the field's own error dominates the pairs off by 2%, and a wider radius
+ * stores more of them (peaks:40, fmm). *rmax: the largest. NULL when out
  * of memory. */
 static double *near_radii(const gs__builder *b, double R0, double *rmax)
 {
     uint32_t nv = b->mesh->nv;
     double *r = gs__malloc(nv ? nv : 1, sizeof *r);
+    int exact = b->opt->method == GS_METHOD_EXACT;
     if (!r) return NULL;
     *rmax = 0;
     for (uint32_t x = 0; x < nv; ++x) {
-        float worst = 0;
-        for (uint64_t k = b->fun_start[x]; k < b->fun_start[x + 1]; ++k) worst = fmaxf(worst, b->fun_err[k]);
+        float worst = 0, dip = 0;
+        for (uint64_t k = b->fun_start[x]; k < b->fun_start[x + 1]; ++k) {
+            worst = fmaxf(worst, b->fun_err[k]);
+            if (b->fun_err[k] >= GS_FIT_MAX_ERR) dip = fmaxf(dip, b->fun_abs[k]);
+        }
         double w = fmin(GS_PIPE_NEAR_WIDE_MAX, fmax(GS_PIPE_NEAR_WIDE, worst / GS_FIT_MAX_ERR));
-        r[x] = worst >= GS_FIT_MAX_ERR ? w * R0 : R0;
+        double wa = exact ? fmin(GS_PIPE_NEAR_ABS_MAX * R0, dip / GS_PIPE_NEAR_TOL) : 0;
+        r[x] = worst >= GS_FIT_MAX_ERR ? fmax(w * R0, wa) : R0;
         *rmax = fmax(*rmax, r[x]);
     }
     return r;
@@ -399,7 +412,8 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
     }
     b.funs = gs__calloc(b.fun_start[mesh->nv], sizeof *b.funs);
     b.fun_err = gs__calloc(b.fun_start[mesh->nv] + 1, sizeof *b.fun_err);
-    if (!b.funs || !b.fun_err) {
+    b.fun_abs = gs__calloc(b.fun_start[mesh->nv] + 1, sizeof *b.fun_abs);
+    if (!b.funs || !b.fun_err || !b.fun_abs) {
         rc = gs__fail(err, GS_ENOMEM, "out of memory for %llu functions",
                       (unsigned long long)b.fun_start[mesh->nv]);
         goto done;
@@ -515,6 +529,7 @@ done:
     free(b.arenas);
     free(b.funs);
     free(b.fun_err);
+    free(b.fun_abs);
     free(b.fun_start);
     gs__tree_free(tree);
     return rc;

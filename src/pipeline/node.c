@@ -433,6 +433,7 @@ static int fit_node(gs__builder *b, node_job *j, uint32_t node_id, gs_error *err
                     n_over += res.mean_rel_err > fo.tol;
                     double worst = fmax(res.max_rel_err, res.cert_err);
                     b->fun_err[f - b->funs] = (float)worst;
+                    b->fun_abs[f - b->funs] = (float)res.abs_err;
                     n_uncert += worst >= GS_FIT_MAX_ERR;
                     worst_fit = fmax(worst_fit, worst);
                 }

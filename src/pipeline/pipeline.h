@@ -26,6 +26,8 @@ typedef struct gs__builder {
                            /*   samples or outside the band between them;  */
                            /*   0 for sampled): near.c widens the radius   */
                            /*   of vertices with an uncertified function   */
+    float *fun_abs;        /* per function: the same error, absolute (mesh */
+                           /*   units; 0 for sampled)                      */
     double **arenas;       /* one coefficient arena per node (or NULL)     */
     /* GS_METHOD_DGG: one graph of the whole mesh (dgg_patch: the identity
      * patch), nodes solve on views of it (gs__solver_dgg_view) */
@@ -82,6 +84,10 @@ int gs__pipe_near_pairs(gs__builder *b, const gs_db *db0, const double *radius, 
  * their worst fit error / GS_FIT_MAX_ERR, clamped to [WIDE, WIDE_MAX]. */
 #define GS_PIPE_NEAR_WIDE 2.0
 #define GS_PIPE_NEAR_WIDE_MAX 3.0
+/* ... and at least their worst absolute fit error / GS_PIPE_NEAR_TOL (the
+ * pairs a dip of that depth can move by more than GS_PIPE_NEAR_TOL), at
+ * most GS_PIPE_NEAR_ABS_MAX times near_radius. */
+#define GS_PIPE_NEAR_ABS_MAX 10.0
 
 uint32_t gs__pipe_region(const gs_mesh *m, const uint32_t *lv, uint32_t n, const double *r, uint32_t stamp,
                          uint32_t *fstamp, uint32_t **faces, size_t *cap);

@@ -678,29 +678,36 @@ static void grid_minima(const float *e, uint32_t g, float mn, float thr, uint32_
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 /* grid_minima eight points at a time (AVX2 hosts; e readable to e[g + 8]):
- * the same points, found in the same order. */
+ * the same points, found in the same order. The comparisons of each vector
+ * go into bit masks of the whole grid (g <= 96: two words) without a
+ * branch; then j1 is the first bit of (<= thr and == mn), j2 the first of
+ * the lowest among the other local minima <= thr (usually none or one). */
 __attribute__((target("avx2"))) static void grid_minima8(const float *e, uint32_t g, float mn, float thr,
                                                          uint32_t *j1, uint32_t *j2)
 {
-    uint32_t a = GS_NONE_U32, b = GS_NONE_U32;
-    float bv = 0.0f;
+    uint64_t eq[2] = {0, 0}, lm[2] = {0, 0};
     __m256 t = _mm256_set1_ps(thr), m = _mm256_set1_ps(mn);
     for (uint32_t j = 0; j < g; j += 8) {
         __m256 c = _mm256_loadu_ps(e + j + 1);
-        unsigned le = (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(c, t, _CMP_LE_OQ));
-        if (g - j < 8) le &= (1u << (g - j)) - 1u;
-        if (!le) continue;
-        if (a == GS_NONE_U32) {
-            unsigned eq = le & (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(c, m, _CMP_EQ_OQ));
-            if (eq) a = j + (uint32_t)__builtin_ctz(eq);
-        }
-        unsigned lm = le & (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(c, _mm256_loadu_ps(e + j), _CMP_LE_OQ)) &
-                      (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(c, _mm256_loadu_ps(e + j + 2), _CMP_LE_OQ));
-        for (; lm; lm &= lm - 1) {
-            uint32_t i = j + (uint32_t)__builtin_ctz(lm);
-            if (i != a && (b == GS_NONE_U32 || e[i + 1] < bv)) b = i, bv = e[i + 1];
-        }
+        uint64_t le = (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(c, t, _CMP_LE_OQ));
+        uint64_t q = (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(c, m, _CMP_EQ_OQ));
+        uint64_t n = (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(c, _mm256_loadu_ps(e + j), _CMP_LE_OQ)) &
+                     (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(c, _mm256_loadu_ps(e + j + 2), _CMP_LE_OQ));
+        eq[j >> 6] |= (le & q) << (j & 63);
+        lm[j >> 6] |= (le & n) << (j & 63);
     }
+    /* the points beyond the grid */
+    uint64_t v0 = g >= 64 ? ~0ull : (1ull << g) - 1, v1 = g > 64 ? (g >= 128 ? ~0ull : (1ull << (g - 64)) - 1) : 0;
+    eq[0] &= v0, eq[1] &= v1, lm[0] &= v0, lm[1] &= v1;
+    uint32_t a = eq[0] ? (uint32_t)__builtin_ctzll(eq[0]) : eq[1] ? 64 + (uint32_t)__builtin_ctzll(eq[1]) : GS_NONE_U32;
+    if (a != GS_NONE_U32) lm[a >> 6] &= ~(1ull << (a & 63));
+    uint32_t b = GS_NONE_U32;
+    float bv = 0.0f;
+    for (int w = 0; w < 2; ++w)
+        for (uint64_t x = lm[w]; x; x &= x - 1) {
+            uint32_t i = 64 * (uint32_t)w + (uint32_t)__builtin_ctzll(x);
+            if (b == GS_NONE_U32 || e[i + 1] < bv) b = i, bv = e[i + 1];
+        }
     *j1 = a, *j2 = b;
 }
 #endif

@@ -173,18 +173,31 @@ typedef struct dfun {
 } dfun;
 
 #ifdef __SSE2__
-/* An integer block's coefficients q_k 2^e as floats, eight at a time
- * (exact: |q_k| < 2^15 and 2^e, e <= 100, stays in float range), then as
- * doubles: the values of q_k * 2^e in double, bit for bit. The bytes are
- * read in place when the record holds whole vectors from them on, else
- * copied first (never read beyond the record's end); the lanes beyond the
- * block are not used. */
+/* Four int32 q's times the scale: as floats to cf (exact: |q| < 2^15 and
+ * 2^e, e <= 100, stays in float range) and as doubles to c, from the
+ * integers directly (the same values, bit for bit; a reload of cf as
+ * doubles would wait for its stores to complete). */
+static inline void int4_out(__m128i q, __m128 sf, __m128d sd, float *cf, double *c)
+{
+    _mm_storeu_ps(cf, _mm_mul_ps(_mm_cvtepi32_ps(q), sf));
+    _mm_storeu_pd(c, _mm_mul_pd(_mm_cvtepi32_pd(q), sd));
+    _mm_storeu_pd(c + 2, _mm_mul_pd(_mm_cvtepi32_pd(_mm_shuffle_epi32(q, 0xEE)), sd));
+}
+
+/* An integer block's coefficients q_k 2^e as floats and doubles, eight at
+ * a time. The bytes are read in place when the record holds every byte the
+ * vector loads touch, else copied first (never read beyond the record's
+ * end); the lanes beyond the block are not used. */
 static void decode_int(const gs__db_fblock *b, const unsigned char *end, double *c, float *cf)
 {
     uint32_t n = b->degree + 1, w = b->wide;
     unsigned char buf[2 * COEF_N + 16];
     const unsigned char *raw = b->coef; /* w int16, then n - w int8 */
-    if (end - raw < (ptrdiff_t)sizeof buf) { /* the record's last bytes: not read beyond its end */
+    /* the loads' last byte: int16 vectors of 16 bytes from 2k (k < w, step
+     * 8), int8 ones of 8 bytes from w + k (w <= k < n, step 8) */
+    uint32_t reach = 2 * ((w + 7) & ~7u), r8 = n > w ? 2 * w + 8 * ((n - 1 - w) / 8) + 8 : 0;
+    reach = r8 > reach ? r8 : reach;
+    if (end - raw < (ptrdiff_t)reach) { /* the record's last bytes: not read beyond its end */
         memset(buf, 0, sizeof buf);
         memcpy(buf, raw, n + w);
         raw = buf;
@@ -193,23 +206,17 @@ static void decode_int(const gs__db_fblock *b, const unsigned char *end, double 
     float sf;
     memcpy(&sf, &bits, 4);
     const __m128 sc = _mm_set1_ps(sf);
+    const __m128d sd = _mm_set1_pd(gs__db_pow2(b->e));
     for (uint32_t k = 0; k < w; k += 8) {
         __m128i q = _mm_loadu_si128((const __m128i *)(const void *)(raw + 2 * k));
-        __m128i lo = _mm_srai_epi32(_mm_unpacklo_epi16(q, q), 16), hi = _mm_srai_epi32(_mm_unpackhi_epi16(q, q), 16);
-        _mm_storeu_ps(cf + k, _mm_mul_ps(_mm_cvtepi32_ps(lo), sc));
-        _mm_storeu_ps(cf + k + 4, _mm_mul_ps(_mm_cvtepi32_ps(hi), sc));
+        int4_out(_mm_srai_epi32(_mm_unpacklo_epi16(q, q), 16), sc, sd, cf + k, c + k);
+        int4_out(_mm_srai_epi32(_mm_unpackhi_epi16(q, q), 16), sc, sd, cf + k + 4, c + k + 4);
     }
     for (uint32_t k = w; k < n; k += 8) {
         __m128i q = _mm_loadl_epi64((const __m128i *)(const void *)(raw + w + k));
         q = _mm_srai_epi16(_mm_unpacklo_epi8(q, q), 8);
-        __m128i lo = _mm_srai_epi32(_mm_unpacklo_epi16(q, q), 16), hi = _mm_srai_epi32(_mm_unpackhi_epi16(q, q), 16);
-        _mm_storeu_ps(cf + k, _mm_mul_ps(_mm_cvtepi32_ps(lo), sc));
-        _mm_storeu_ps(cf + k + 4, _mm_mul_ps(_mm_cvtepi32_ps(hi), sc));
-    }
-    for (uint32_t k = 0; k < n; k += 4) {
-        __m128 v = _mm_loadu_ps(cf + k);
-        _mm_storeu_pd(c + k, _mm_cvtps_pd(v));
-        _mm_storeu_pd(c + k + 2, _mm_cvtps_pd(_mm_movehl_ps(v, v)));
+        int4_out(_mm_srai_epi32(_mm_unpacklo_epi16(q, q), 16), sc, sd, cf + k, c + k);
+        int4_out(_mm_srai_epi32(_mm_unpackhi_epi16(q, q), 16), sc, sd, cf + k + 4, c + k + 4);
     }
 }
 #endif
@@ -527,13 +534,15 @@ static double cross_source(const gs_db *db, cursor *cx, cursor *cy, uint32_t top
     return best;
 }
 
-/* eq. 4-5 with the quick reject, x < y. */
+/* eq. 4-5 with the quick reject, x < y: cross_source's selection (most
+ * queries stop after one or two candidates; a full insertion sort of the
+ * ~6 candidates mispredicted its branches), the same order and answers. */
 static double cross(const gs_db *db, uint32_t x, uint32_t y, uint32_t top, uint32_t nfx, uint32_t nfy)
 {
     cursor cx, cy;
     cursor_init(db, x, nfx, &cx);
     cursor_init(db, y, nfy, &cy);
-    return cross_cursors(db, &cx, &cy, top, NULL, 1);
+    return cross_source(db, &cx, &cy, top, NULL, 1, INFINITY);
 }
 
 /* The stored exact distance of a near pair (section 'near_pairs'): only
