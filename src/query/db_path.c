@@ -1196,11 +1196,12 @@ static int make_path(ctx *c, gs_path **out)
 #define REVERSE_TOL_APPROX 0.01
 #define CHECK_TOL_APPROX 0.02
 #define CORRIDOR_TOL 0.01   /* the database's error allowed for in the corridor */
-/* ... and already at the reverse tolerance when the corridor is small
- * (an exact solve of this many vertices costs about a millisecond): on
- * rough and near-symmetric meshes the database errs by up to 2% and a path
- * around the other side of a bump can be 1-1.5% longer than the exact
- * distance but less than 1% longer than the database's. */
+/* ... and already at the reverse tolerance when the two walks found
+ * different paths (two routes) and the corridor is small (an exact solve
+ * of this many vertices costs about a millisecond): on rough and
+ * near-symmetric meshes the database errs by up to 2% and a path around
+ * the other side of a bump can be 1-1.5% longer than the exact distance
+ * but less than 1% longer than the database's. */
 #define SMALL_CORRIDOR 300
 
 /* ---- the check: a path much longer than the database's distance -------- */
@@ -1547,7 +1548,7 @@ int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const g
     gs_surface_point sx, sy;
     source_point(t, x, &sx);
     source_point(t, y, &sy);
-    double d = gs_db_point_distance(db, &sx, &sy), len, len2 = INFINITY;
+    double d = gs_db_point_distance(db, &sx, &sy), len, len1 = INFINITY, len2 = INFINITY;
     int exact_db = db->method == GS_METHOD_EXACT;
     ctx c2;
     memset(&c2, 0, sizeof c2);
@@ -1558,14 +1559,15 @@ int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const g
     if (!rc && len > d * (1 + (exact_db ? REVERSE_TOL_EXACT : REVERSE_TOL_APPROX))) {
         c2.donor = &c;
         rc = run(&c2, &qy, &qx, &len2);
+        len1 = len;
         if (!rc && len2 < len) best = &c2, len = len2, reverse_points(&c2);
     }
     if (!rc) rc = make_path(best, out);
-    /* still much longer (or longer, and the corridor small): the exact path
-     * inside the corridor of shorter ones */
-    double rtol = exact_db ? REVERSE_TOL_EXACT : REVERSE_TOL_APPROX;
+    /* still much longer (or the walks found two routes and the corridor is
+     * small): the exact path inside the corridor of shorter ones */
+    int two_routes = isfinite(len2) && fabs(len1 - len2) > 1e-9 * len;
     if (!rc && (len > d * (1 + (exact_db ? CHECK_TOL_EXACT : CHECK_TOL_APPROX)) ||
-                (len > d * (1 + rtol) && corridor_size(mesh, len, d) <= SMALL_CORRIDOR))) {
+                (two_routes && corridor_size(mesh, len, d) <= SMALL_CORRIDOR))) {
         double px[3], py[3];
         q_position(t, &qx, px);
         q_position(t, &qy, py);
