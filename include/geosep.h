@@ -950,9 +950,11 @@ GS_API int gs_db_check_mesh(const gs_db *db, const gs_mesh *mesh, gs_error *err)
  * consecutive points in one face, straight in faces and across edges,
  * bending only at saddle and boundary vertices) but is the locally
  * shortest path along the database's route: its length is never below
- * the exact distance and, on every mesh measured, within 1% of it. A path
+ * the exact distance and within 1% of it on the shared meshes (up to 2.4%
+ * on rough ones: doc/accuracy.md). A path
  * longer than the database's distance by more than its usual error is
- * traced again from y, and if still too long replaced by the exact
+ * traced again from y, and if still too long (or the two walks differ and
+ * the corridor is small) replaced by the exact
  * shortest path inside the corridor of shorter paths (an exact solve on
  * those faces: milliseconds, for about 1% of the paths). x == y gives one
  * point (GS_EARG for a vertex used by no face); points in different
