@@ -74,30 +74,6 @@ typedef struct candidate {
 
 #define MAX_CANDIDATES 64
 
-/* Gather the common curves of `top` and its ancestors, bottom-up, sorted by
- * their quick-reject bound (stable: bottom-up order breaks ties). Visiting
- * the most promising curve first makes the quick reject skip more pair
- * minimisations than the paper's plain bottom-up order and gives the same
- * minimum. ex, ey: the two vertices' minima. Returns the number gathered;
- * *rest is the node where gathering stopped (GS_NONE: all). */
-static uint32_t gather(const gs_db *db, const uint16_t *ex, const uint16_t *ey, uint32_t top, candidate *c,
-                       uint32_t *rest)
-{
-    uint32_t n = 0, a = top;
-    for (; a != GS_NONE; a = db->nodes[a].parent) {
-        uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
-        if (n + (k1 - k0) > MAX_CANDIDATES) break;
-        for (uint32_t k = k0; k < k1; ++k) {
-            double b = (double)gs__db_min_value(ex[k]) + (double)gs__db_min_value(ey[k]);
-            uint32_t i = n++;
-            for (; i > 0 && c[i - 1].bound > b; --i) c[i] = c[i - 1];
-            c[i].bound = b, c[i].k = k, c[i].curve = db->nodes[a].curve_start + (k - k0);
-        }
-    }
-    *rest = a;
-    return n;
-}
-
 /* ---- a vertex's record: minima, then blocks ---- */
 
 #define CURSOR_MAX 64 /* block positions remembered (deeper: walked again) */
@@ -477,36 +453,15 @@ static PREFETCH_FN void prefetch_record(const gs_db *db, uint32_t x)
     prefetch_lines(p, n < RECORD_AHEAD ? n : RECORD_AHEAD);
 }
 
-/* eq. 4-5 with the quick reject over the candidates of cursors cx, cy
- * (x < y; or, with a cache, cx the source's: x_first says which is lower). */
-static double cross_cursors(const gs_db *db, cursor *cx, cursor *cy, uint32_t top, xfun *cache, int x_first)
-{
-    candidate c[MAX_CANDIDATES];
-    uint32_t rest, n = gather(db, cx->ent, cy->ent, top, c, &rest);
-    double best = INFINITY;
-    for (uint32_t i = 0; i < n; ++i) {
-        if (c[i].bound >= best) break; /* sorted: all others rejected too (and unreachable) */
-        double d = pair_min(db, cx, cy, c[i].k, c[i].curve, cache, x_first, best);
-        if (d != d) return NAN;
-        if (d < best) best = d;
-    }
-    for (uint32_t a = rest; a != GS_NONE; a = db->nodes[a].parent) { /* > 64 curves: rare */
-        uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
-        for (uint32_t k = k0; k < k1; ++k) {
-            if ((double)gs__db_min_value(cx->ent[k]) + (double)gs__db_min_value(cy->ent[k]) >= best) continue;
-            double d = pair_min(db, cx, cy, k, db->nodes[a].curve_start + (k - k0), cache, x_first, best);
-            if (d != d) return NAN;
-            if (d < best) best = d;
-        }
-    }
-    return best;
-}
-
-/* cross_cursors for a source (cx its cursor, its functions in cache): the
- * same candidates visited in the same order (the lowest bound first, ties
- * in gathering order) and the same stop, found by selection instead of a
- * sort: most targets stop after one or two candidates. Also stops at a
- * candidate whose bound exceeds cut (+inf: never). */
+/* eq. 4-5 with the quick reject over the common curves of `top` and its
+ * ancestors (cx, cy: the two cursors, x_first: whether cx's vertex is the
+ * lower id; cache: the source's functions, or NULL). The candidates are
+ * visited the lowest bound minval_x + minval_y first (ties bottom-up), found
+ * by selection: most pairs stop after one or two, and visiting the most
+ * promising curve first lets the quick reject skip more minimisations than
+ * the paper's bottom-up order, for the same minimum. Stops at a candidate
+ * whose bound exceeds cut (+inf: never). Beyond MAX_CANDIDATES curves (rare)
+ * the rest are visited bottom-up. */
 static double cross_source(const gs_db *db, cursor *cx, cursor *cy, uint32_t top, xfun *cache, int x_first,
                            double cut)
 {
@@ -519,7 +474,6 @@ static double cross_source(const gs_db *db, cursor *cx, cursor *cy, uint32_t top
             c[n].bound = (double)gs__db_min_value(cx->ent[k]) + (double)gs__db_min_value(cy->ent[k]), c[n].k = k,
             c[n].curve = db->nodes[a].curve_start + (k - k0);
     }
-    if (a != GS_NONE) return cross_cursors(db, cx, cy, top, cache, x_first); /* > 64 curves: rare */
     double best = INFINITY;
     for (uint32_t left = n; left; --left) {
         uint32_t m = 0;
@@ -530,6 +484,16 @@ static double cross_source(const gs_db *db, cursor *cx, cursor *cy, uint32_t top
         if (d != d) return NAN;
         if (d < best) best = d;
         for (uint32_t i = m; i + 1 < left; ++i) c[i] = c[i + 1]; /* keeps the order of the rest */
+    }
+    for (; a != GS_NONE; a = db->nodes[a].parent) { /* > MAX_CANDIDATES curves */
+        uint32_t k0 = db->nodes[a].curve_prefix, k1 = k0 + db->nodes[a].n_curves;
+        for (uint32_t k = k0; k < k1; ++k) {
+            double bound = (double)gs__db_min_value(cx->ent[k]) + (double)gs__db_min_value(cy->ent[k]);
+            if (bound >= best || bound > cut) continue;
+            double d = pair_min(db, cx, cy, k, db->nodes[a].curve_start + (k - k0), cache, x_first, best);
+            if (d != d) return NAN;
+            if (d < best) best = d;
+        }
     }
     return best;
 }
