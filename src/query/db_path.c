@@ -559,7 +559,7 @@ static int descend(ctx *c, const uint32_t *targets, int nt)
                     if ((ahead >= 0) == (pass == 1)) continue;
                     uint32_t j = 0;
                     while (j < nc && cand[j] != nb[k]) ++j;
-                    if (j == nc && nc < MAX_FAN) cand[nc++] = nb[k];
+                    if (j == nc && nc < MAX_FAN) cand[nc++] = nb[k], __builtin_prefetch(t->vc_start + nb[k]);
                 }
             }
             /* d(X, .) of them all, then d(., Y) of those closer to X: each in one batch */
@@ -577,11 +577,17 @@ static int descend(ctx *c, const uint32_t *targets, int nt)
                     if (nst) ncl = nst; /* (none: closer[] untouched) */
                 }
             }
+            /* the next vertex's fan, requested while the queries run
+             * (its offsets were requested with the candidates) */
+            for (uint32_t j = 0; j < ncl; ++j) __builtin_prefetch(t->vc + t->vc_start[closer[j]]);
             if (ncl == 1) { /* the only way on: its d(., Y) is not needed */
                 bn = closer[0];
                 break;
             }
             if ((rc = fetch(c, closer, ncl, 1, INFINITY))) return rc;
+            for (uint32_t j = 0; j < ncl; ++j) /* ... and the fan's corners */
+                for (uint32_t i = t->vc_start[closer[j]]; i < t->vc_start[closer[j] + 1]; ++i)
+                    __builtin_prefetch(t->tri + t->vc[i]);
             for (uint32_t j = 0; j < ncl; ++j) {
                 uint32_t sl = vmap_get(&c->dmap, closer[j]);
                 double g = c->dval[2 * sl] + c->dval[2 * sl + 1];
@@ -730,6 +736,18 @@ static int build_sleeve(ctx *c, endspec xin, endspec yout)
     uint32_t buf[2][512];
     for (size_t i = 0; i < c->nvp; ++i) {
         uint32_t v = c->vp[i];
+        /* what the runs round the vertices ahead read, requested in stages
+         * (each needs the one before): their faces, then the faces' twins,
+         * corners and angles */
+        if (i + 8 < c->nvp) __builtin_prefetch(t->vc_start + c->vp[i + 8]);
+        if (i + 4 < c->nvp) __builtin_prefetch(t->vc + t->vc_start[c->vp[i + 4]]);
+        if (i + 2 < c->nvp) {
+            uint32_t w = c->vp[i + 2];
+            for (uint32_t k = t->vc_start[w]; k < t->vc_start[w + 1]; ++k) {
+                uint32_t h = t->vc[k];
+                __builtin_prefetch(t->opp + h), __builtin_prefetch(t->tri + h), __builtin_prefetch(t->angle + h);
+            }
+        }
         endspec in = i ? (endspec){ES_EDGE, c->vp[i - 1]} : xin;
         endspec out = i + 1 < c->nvp ? (endspec){ES_EDGE, c->vp[i + 1]} : yout;
         if (in.type == ES_NONE && out.type == ES_FACE) {
@@ -823,6 +841,12 @@ static int placement(ctx *c, uint32_t o, p2 *out)
     return GS_OK;
 }
 
+/* The joins of the faces this many positions ahead are requested from
+ * memory while the current ones are placed (a join reads the two faces'
+ * twins and the next face's edge lengths: scattered, most often missed in
+ * the caches). */
+#define UNFOLD_AHEAD 8
+
 /* Unfold the sleeve into the plane (one chain: every face shares its edge's
  * two points with the previous one) and fill the funnel's portals
  * fp[1..m-1]; fp[0] and fp[m] are the ends. Faces before `from` are where
@@ -847,6 +871,10 @@ static int unfold(ctx *c, const qpt *x, const qpt *y, size_t from)
         for (size_t i = 0; i < m; ++i) c->sd[i].lv = GS_NONE;
     for (size_t i = from ? from - 1 : 0; i + 1 < m; ++i) {
         sdesc *D = &c->sd[i + 1];
+        if (i + 1 + UNFOLD_AHEAD < m && c->sd[i + 1 + UNFOLD_AHEAD].lv == GS_NONE) { /* a join to find ahead */
+            uint32_t g = c->sl[i + 1 + UNFOLD_AHEAD];
+            __builtin_prefetch(t->opp + 3 * (size_t)g), __builtin_prefetch(t->len + 3 * (size_t)g);
+        }
         if (D->lv == GS_NONE) { /* how face i + 1 joins face i */
             uint32_t g = c->sl[i + 1], h = GS_NONE;
             f = c->sl[i];
