@@ -265,7 +265,7 @@ static int check_vertex(ctx *c, uint32_t v)
  * gs_db_distance's answer, bit for bit, from the end's functions decoded
  * once (gs__qsrc). With a cut below +inf, the query skips the curves whose
  * lower bound exceeds it: the answer is exact if at most cut, else only
- * known to exceed cut, and stored negated (-answer, see known_above). */
+ * known to exceed cut, and cached negated (-answer, see dist_above). */
 static int end_distance(ctx *c, int which, uint32_t v, double cut, double *out)
 {
     uint32_t e = which ? c->origin : c->target;
@@ -330,8 +330,12 @@ static int dist_to_target(ctx *c, uint32_t v, double *out)
 
 /* The distances to the target (which = 0) or to the origin (which = 1) of
  * the n vertices v[] into the cache (those above cut: only known to be;
- * one known so stays so: cut never grows within a walk). */
+ * one known so stays so: cut never grows within a walk). Their records
+ * are requested from memory first, all of them together: a query walks
+ * its target's record from the start to the blocks it needs (on homer-60k
+ * about 6 cache lines, 370 bytes, on average). */
 #define MAX_FAN 256
+#define RECORD_LINES 6
 static int fetch(ctx *c, const uint32_t *v, uint32_t n, int which, double cut)
 {
     uint32_t miss[MAX_FAN], slot[MAX_FAN], m = 0;
@@ -351,9 +355,9 @@ static int fetch(ctx *c, const uint32_t *v, uint32_t n, int which, double cut)
         __builtin_prefetch(db->leaf + v[j]), __builtin_prefetch(db->index + v[j]);
         __builtin_prefetch(db->xyz + 3 * (size_t)v[j]), __builtin_prefetch(c->t->xyz + 3 * (size_t)v[j]);
     }
-    for (uint32_t j = 0; j < m; ++j) {
+    for (uint32_t j = 0; j < m; ++j) { /* the records, up to RECORD_LINES lines each */
         const unsigned char *end, *p = gs__db_record(db, miss[j], &end);
-        __builtin_prefetch(p), __builtin_prefetch(p + 64);
+        for (const unsigned char *r = p; r < end && r < p + 64 * RECORD_LINES; r += 64) __builtin_prefetch(r);
     }
     for (uint32_t j = 0; j < m; ++j) {
         double d;
