@@ -790,7 +790,7 @@ static inline int grid_ok(const gs__fun *a, const gs__fun *b, uint32_t g)
 }
 
 static double grid_core(const gs__fun *a, const gs__fun *b, float *e, float mn, const float *ga, const float *gb,
-                        uint32_t g, const gs__fun_dip *da, const gs__fun_dip *db, double *u_at);
+                        const uint32_t *jm, uint32_t g, const gs__fun_dip *da, const gs__fun_dip *db, double *u_at);
 
 double gs__fun_pair_min_grid(const gs__fun *a, const gs__fun *b, const float *ga, const float *gb, uint32_t g,
                             const gs__fun_dip *da, const gs__fun_dip *db, double *u_at)
@@ -798,20 +798,22 @@ double gs__fun_pair_min_grid(const gs__fun *a, const gs__fun *b, const float *ga
     if (!grid_ok(a, b, g)) return gs__fun_pair_min(a, b, u_at);
     float e[GS_FUN_GRID_MAX + 16]; /* s = e + 1 with its ends' neighbours (grid_minima) */
     float mn = grid_sum(ga, gb, g, e + 1);
-    return grid_core(a, b, e, mn, ga, gb, g, da, db, u_at);
+    return grid_core(a, b, e, mn, ga, gb, NULL, g, da, db, u_at);
 }
 
 double gs__fun_pair_min_grid_sum(const gs__fun *a, const gs__fun *b, float *e, float mn, uint32_t g,
-                                const gs__fun_dip *da, const gs__fun_dip *db, double *u_at)
+                                const uint32_t *jm, const gs__fun_dip *da, const gs__fun_dip *db, double *u_at)
 {
     if (!grid_ok(a, b, g) || a->closed) return gs__fun_pair_min(a, b, u_at);
-    return grid_core(a, b, e, mn, NULL, NULL, g, da, db, u_at);
+    return grid_core(a, b, e, mn, NULL, NULL, jm, g, da, db, u_at);
 }
 
 /* The grid minimiser on the sum s = e + 1 of the two functions' grid
- * values (min mn); ga, gb: each function's own values (loops only). */
+ * values (min mn); ga, gb: each function's own values (loops only); jm:
+ * the grid's candidate points when the caller found them (paths only),
+ * else NULL. */
 static double grid_core(const gs__fun *a, const gs__fun *b, float *e, float mn, const float *ga, const float *gb,
-                        uint32_t g, const gs__fun_dip *da, const gs__fun_dip *db, double *u_at)
+                        const uint32_t *jm, uint32_t g, const gs__fun_dip *da, const gs__fun_dip *db, double *u_at)
 {
     int closed = a->closed != 0;
     float *s = e + 1;
@@ -826,16 +828,20 @@ static double grid_core(const gs__fun *a, const gs__fun *b, float *e, float mn, 
     int sa = closed && seam_low(a, da, gb, g, thr), sb = closed && seam_low(b, db, ga, g, thr);
     if (sa && sb && fabs(gs__fun_wrap(a->shift - b->shift + 1.0) - 1.0) < 4.0 * SEAM_WINDOW * 2.0 / g)
         return gs__fun_pair_min(a, b, u_at);
-    e[0] = closed ? s[g - 1] : INFINITY;
-    e[g + 1] = closed ? s[0] : INFINITY;
-    e[g + 2] = e[g + 3] = e[g + 4] = 0.0f;
+    if (jm) {
+        j1 = jm[0], j2 = jm[1];
+    } else {
+        e[0] = closed ? s[g - 1] : INFINITY;
+        e[g + 1] = closed ? s[0] : INFINITY;
+        e[g + 2] = e[g + 3] = e[g + 4] = 0.0f;
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (__builtin_cpu_supports("avx2")) {
-        for (uint32_t j = g + 2; j < g + 9; ++j) e[j] = 0.0f;
-        grid_minima8(e, g, mn, thr, &j1, &j2);
-    } else
+        if (__builtin_cpu_supports("avx2")) {
+            for (uint32_t j = g + 2; j < g + 9; ++j) e[j] = 0.0f;
+            grid_minima8(e, g, mn, thr, &j1, &j2);
+        } else
 #endif
-        grid_minima(e, g, mn, thr, &j1, &j2);
+            grid_minima(e, g, mn, thr, &j1, &j2);
+    }
     if (j1 == GS_NONE_U32) return gs__fun_pair_min(a, b, u_at); /* cannot happen */
     double h = closed ? 2.0 / g : 2.0 / (g - 1), best = INFINITY, bu = 0.0;
     /* loops whose pairs went to the robust minimiser before (a dip or a
