@@ -22,7 +22,9 @@ static inline uint32_t rows_for(uint32_t g)
     uint32_t r = g >= GS_FUN_GRID_B ? (g - GS_FUN_GRID_B) / GS_FUN_GRID_A + 1 : 1;
     return r > ROWS ? ROWS : (r < SLOT0 ? SLOT0 : r);
 }
-#define STRIDE(g) ((((g) + 3u) + 7u) & ~7u) /* g + 3 points, padded to 8 */
+/* g + 3 points, padded to 16: whole vectors of 16 from a row's start stay
+ * inside the row (the AVX-512 kernel reads them without masks) */
+#define STRIDE(g) ((((g) + 3u) + 15u) & ~15u)
 
 /* The grids the query uses are those of gs__fun_grid_points (one per row
  * count SLOT0..ROWS); their tables are packed one after the other (about
@@ -42,7 +44,7 @@ static inline int tabled(uint32_t g)
  * T_k(t_j), paths t_j = -1 + 2j/(g-1) (j < g), loops t_j = -1 + 2(j-1)/g
  * (j <= g + 2: one point beyond each end, for the cubic interpolation of
  * the points next to them); padding repeats the last point. */
-static float g_pool[2][POOL] __attribute__((aligned(32)));
+static float g_pool[2][POOL] __attribute__((aligned(64))); /* rows start on cache lines */
 static const float *g_ptr[2][SLOTS];
 static pthread_mutex_t g_lock = PTHREAD_MUTEX_INITIALIZER;
 static unsigned char g_done[2][SLOTS];
@@ -427,8 +429,9 @@ __attribute__((target("avx2,fma"))) static float pair_path_avx2(const float *tab
 #define AVX512 __attribute__((target("avx512f,avx2,fma")))
 
 /* fun_blocks sixteen points a vector (the same operations per point, so
- * the same values bit for bit): NB vectors, the last one's lanes from
- * `last` on not read (zeros). */
+ * the same values bit for bit): NB vectors (table rows: whole vectors, a
+ * masked load would lengthen each row's chain; given values v: the last
+ * vector's lanes beyond `last` not read, zeros). */
 AVX512 __attribute__((always_inline)) static inline void fun_blocks16(const float *tab, uint32_t st,
                                                                       const float *cf, uint32_t m, int squared,
                                                                       const float *v, __mmask16 last, __m512 *a,
@@ -446,8 +449,7 @@ AVX512 __attribute__((always_inline)) static inline void fun_blocks16(const floa
         const float *r = tab + (size_t)k * st;
 #pragma GCC unroll 6
         for (int b = 0; b < NB; ++b)
-            a[b] = _mm512_fmadd_ps(ck, b < NB - 1 ? _mm512_loadu_ps(r + 16 * b) : _mm512_maskz_loadu_ps(last, r + 16 * b),
-                                   a[b]);
+            a[b] = _mm512_fmadd_ps(ck, _mm512_loadu_ps(r + 16 * b), a[b]);
     }
     const __m512 z = _mm512_setzero_ps();
 #pragma GCC unroll 6
