@@ -28,7 +28,7 @@ static inline uint32_t rows_for(uint32_t g)
 
 /* The grids the query uses are those of gs__fun_grid_points (one per row
  * count SLOT0..ROWS); their tables are packed one after the other (about
- * 40 KB for each kind), so that those a process touches stay small in
+ * 100 KB for each kind), so that those a process touches stay small in
  * memory beside the mapped file. Any other g is tabulated without a table
  * (slow; only callers outside the query). */
 #define SLOTS (ROWS - SLOT0 + 1)

@@ -25,9 +25,9 @@ void gs__grid_values_path(const float *cf, uint32_t m, int squared, uint32_t g, 
 /* The sum of two paths' values on the grid of g points (tabled: a g of
  * gs__fun_grid_points; else by gs__grid_values_path), each from its float
  * coefficients (cf, degree m, squared) or given (v: its
- * gs__grid_values_path values, NULL: computed; readable to v[g rounded up
- * to 16]), bit for bit the sum of gs__grid_values_path's: s[0 .. g rounded
- * up to 16) (beyond g: padding); returns the smallest s[j], j < g. jm (or
+ * gs__grid_values_path values, NULL: computed), bit for bit the sum of
+ * gs__grid_values_path's: s[0 .. g rounded up to 16) (beyond g: padding);
+ * returns the smallest s[j], j < g. jm (or
  * NULL): on hosts where the sum is found in registers (AVX-512), the grid's
  * candidate points as gs__fun_pair_min_grid_sum takes them (jm[0], jm[1]);
  * elsewhere both GS__GRID_NO_MARKS. Thread-safe. */
