@@ -3,9 +3,12 @@
  * folded) sheets, taut strings around reflex corners and holes, paths
  * through a bow-tie vertex, the cube, needle triangles; plus the solver
  * contract: point sources, several sources = pointwise min, max_distance,
- * +inf where unreachable, and no state leaking between solves. */
+ * +inf where unreachable, and no state leaking between solves. And a
+ * patch's connectivity (gs_patch_create reuses the mesh's) equals the one
+ * built from its faces alone, bit for bit. */
 #include "check.h"
 #include "geosep.h"
+#include "mesh/mesh_internal.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -763,8 +766,71 @@ static void test_needle_octahedron(void)
     gs_mesh_free(m);
 }
 
+
+/* gs_patch_create's connectivity (from the mesh's: twins, lengths, angles)
+ * against gs__topo_build of the patch's own faces: equal bit for bit, for
+ * blobs, scattered faces (pinched vertices, bow-ties) and the whole mesh
+ * as a face list, on a bumpy sphere (saddles, boundary vertices). */
+static void test_patch_topology(void)
+{
+    gs_mesh *m = NULL;
+    gs_error err = {0};
+    CHECK_MSG(gs_mesh_generate("sphere:3", &m, &err) == GS_OK, "generate: %s", err.message);
+    if (!m) return;
+    uint32_t nv = gs_mesh_num_vertices(m), nf = gs_mesh_num_faces(m);
+    double *xyz = malloc(3 * sizeof(double) * nv);
+    uint32_t *faces = malloc(sizeof(uint32_t) * nf);
+    for (uint32_t v = 0; v < nv; ++v) {
+        double s = 1 + 0.3 * (rnd() - 0.5);
+        for (int k = 0; k < 3; ++k) xyz[3 * v + k] = s * m->xyz[3 * v + k];
+    }
+    gs_mesh *b = mesh_of(xyz, nv, m->tri, nf);
+    for (int trial = 0; b && trial < 12; ++trial) {
+        uint32_t n = 0;
+        double r = trial < 4 ? 0.3 + 0.4 * trial : 0, keep = trial < 4 ? 1 : trial < 11 ? 0.2 + 0.1 * trial : 1;
+        const double *c = b->xyz + 3 * (size_t)(uint32_t)(rnd() * nv);
+        for (uint32_t f = 0; f < nf; ++f) {
+            const double *q = b->xyz + 3 * (size_t)b->tri[3 * f];
+            double d2 = 0;
+            for (int k = 0; k < 3; ++k) d2 += (q[k] - c[k]) * (q[k] - c[k]);
+            if ((r == 0 || d2 < r * r) && rnd() < keep) faces[n++] = f;
+        }
+        for (uint32_t i = n; i > 1; --i) { /* any order */
+            uint32_t j = (uint32_t)(rnd() * i), t = faces[i - 1];
+            faces[i - 1] = faces[j], faces[j] = t;
+        }
+        gs_patch *p = NULL;
+        CHECK_MSG(gs_patch_create(b, faces, n, &p, &err) == GS_OK, "patch: %s", err.message);
+        if (!p) continue;
+        gs__topo t;
+        CHECK_MSG(gs__topo_build(&t, p->nv, p->xyz, p->nf, p->tri, GS_TOPO_ALLOW_NONMANIFOLD_VERTICES, NULL, &err) ==
+                      GS_OK, "topo: %s", err.message);
+        const gs__topo *u = p->topo;
+        size_t nh = 3 * (size_t)p->nf;
+        CHECK(t.nv == u->nv && t.nf == u->nf && t.n_edges == u->n_edges);
+        CHECK(!memcmp(t.opp, u->opp, nh * sizeof *t.opp) && !memcmp(t.len, u->len, nh * sizeof *t.len) &&
+              !memcmp(t.angle, u->angle, nh * sizeof *t.angle) && !memcmp(t.vc, u->vc, nh * sizeof *t.vc));
+        CHECK(!memcmp(t.vc_start, u->vc_start, (t.nv + 1) * sizeof *t.vc_start) &&
+              !memcmp(t.vangle, u->vangle, t.nv * sizeof *t.vangle) && !memcmp(t.vflag, u->vflag, t.nv));
+        for (uint32_t i = 0; i < n; ++i) CHECK(gs_patch_face_to_mesh(p, i) == faces[i]);
+        for (uint32_t v = 1; v < p->nv; ++v) CHECK(p->vmap[v - 1] < p->vmap[v]);
+        gs__topo_free(&t);
+        gs_patch_free(p);
+    }
+    /* bad lists: a face twice, a face out of range */
+    uint32_t two[2] = {3, 3}, out[1] = {nf};
+    gs_patch *p = NULL;
+    CHECK(gs_patch_create(b, two, 2, &p, &err) == GS_EARG && !p && strstr(err.message, "listed twice"));
+    CHECK(gs_patch_create(b, out, 1, &p, &err) == GS_EARG && !p && strstr(err.message, "out of range"));
+    free(xyz);
+    free(faces);
+    gs_mesh_free(b);
+    gs_mesh_free(m);
+}
+
 int main(void)
 {
+    test_patch_topology();
     test_method_names();
     test_needle_octahedron();
     test_single_triangle();

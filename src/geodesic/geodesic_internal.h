@@ -175,6 +175,11 @@ const gs__exact_trace *gs__exact_get_trace(const void *state);
 int gs__exact_trace_path(const gs__topo *t, const gs__exact_trace *tr, const gs_source *target, gs_path **out,
                          gs_error *err);
 
+/* gs_solver_path with the solve bounded by max_distance (0: unbounded):
+ * a target farther than that gets an empty path of infinite length. */
+int gs__solver_path_bounded(gs_solver *s, const gs_source *source, const gs_source *target, double max_distance,
+                            gs_path **out, gs_error *err);
+
 /* path.c: a path made of n points (db_path.c builds them); takes ownership
  * of the malloc'ed arrays xyz (3n), face (n), bary (3n), also on failure. */
 int gs__path_adopt(uint32_t n, double *xyz, uint32_t *face, double *bary, double length, gs_path **out,
