@@ -5,9 +5,12 @@
  * contract: point sources, several sources = pointwise min, max_distance,
  * +inf where unreachable, and no state leaking between solves. And a
  * patch's connectivity (gs_patch_create reuses the mesh's) equals the one
- * built from its faces alone, bit for bit. */
+ * built from its faces alone, bit for bit; a path solve bounded by a length
+ * (and pruned towards its target) gives the unbounded path's length, or no
+ * path when the bound is shorter. */
 #include "check.h"
 #include "geosep.h"
+#include "geodesic/geodesic_internal.h"
 #include "mesh/mesh_internal.h"
 
 #include <math.h>
@@ -828,9 +831,53 @@ static void test_patch_topology(void)
     gs_mesh_free(m);
 }
 
+/* gs__solver_path_bounded: bounded by 1.01 times the exact distance it
+ * finds the same path length as gs_solver_path (vertex and point ends, on
+ * a bumpy sphere: saddles as pseudo-sources); bounded below it, no path. */
+static void test_bounded_path(void)
+{
+    gs_mesh *m = NULL;
+    gs_error err = {0};
+    CHECK(gs_mesh_generate("sphere:3", &m, &err) == GS_OK);
+    if (!m) return;
+    uint32_t nv = gs_mesh_num_vertices(m), nf = gs_mesh_num_faces(m);
+    double *xyz = malloc(3 * sizeof(double) * nv);
+    for (uint32_t v = 0; v < nv; ++v) {
+        double s = 1 + 0.2 * (rnd() - 0.5);
+        for (int k = 0; k < 3; ++k) xyz[3 * v + k] = s * m->xyz[3 * v + k];
+    }
+    gs_mesh *b = mesh_of(xyz, nv, m->tri, nf);
+    gs_patch *p = b ? whole(b) : NULL;
+    gs_solver *s = NULL;
+    CHECK(p && gs_solver_create(p, GS_METHOD_EXACT, &s, &err) == GS_OK);
+    for (int i = 0; s && i < 40; ++i) {
+        gs_source x = i % 2 ? gs_source_vertex((uint32_t)(rnd() * nv)) : gs_source_point((uint32_t)(rnd() * nf), 0.2, 0.3, 0.5);
+        gs_source y = i % 4 < 2 ? gs_source_vertex((uint32_t)(rnd() * nv)) : gs_source_point((uint32_t)(rnd() * nf), 0.6, 0.1, 0.3);
+        gs_path *a = NULL, *c = NULL, *e = NULL;
+        CHECK(gs_solver_path(s, &x, &y, &a, &err) == GS_OK);
+        double d = gs_path_length(a);
+        if (!(d > 0 && d < INFINITY)) {
+            gs_path_free(a);
+            continue;
+        }
+        CHECK(gs__solver_path_bounded(s, &x, &y, 1.01 * d, &c, &err) == GS_OK);
+        CHECK_MSG(c && fabs(gs_path_length(c) - d) <= 1e-12 * d, "bounded path %d: %.17g, unbounded %.17g", i,
+                  c ? gs_path_length(c) : NAN, d);
+        CHECK(gs__solver_path_bounded(s, &x, &y, 0.99 * d, &e, &err) == GS_OK);
+        CHECK(e && gs_path_num_points(e) == 0 && gs_path_length(e) == INFINITY);
+        gs_path_free(a), gs_path_free(c), gs_path_free(e);
+    }
+    gs_solver_free(s);
+    gs_patch_free(p);
+    gs_mesh_free(b);
+    gs_mesh_free(m);
+    free(xyz);
+}
+
 int main(void)
 {
     test_patch_topology();
+    test_bounded_path();
     test_method_names();
     test_needle_octahedron();
     test_single_triangle();

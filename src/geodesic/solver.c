@@ -394,12 +394,17 @@ int gs__solver_path_bounded(gs_solver *s, const gs_source *source, const gs_sour
     double *dist = gs__malloc(t->nv ? t->nv : 1, sizeof *dist);
     if (!dist) return gs__fail(err, GS_ENOMEM, "out of memory");
     gs__exact_set_target(s->state, &q);
+    double goal[3];
+    gs__source_position(t, &q, goal);
+    int bounded = max_distance > 0 && max_distance < INFINITY;
+    if (bounded) gs__exact_set_goal(s->state, goal);
     rc = gs_solver_solve(s, source, 1, max_distance, dist, err);
     gs__exact_set_target(s->state, NULL);
+    gs__exact_set_goal(s->state, NULL);
     free(dist);
     if (rc) return rc;
     const gs__exact_trace *tr = gs__exact_get_trace(s->state);
-    if (max_distance > 0 && max_distance < INFINITY && !(q.face != GS_NONE && tr->n_src && tr->src[0].face == q.face)) {
+    if (bounded && !(q.face != GS_NONE && tr->n_src && tr->src[0].face == q.face)) {
         /* only what lies within the bound is exact: a target beyond it gets no path */
         double dt = q.face == GS_NONE ? tr->dist[q.vertex] : INFINITY;
         for (int k = 0; q.face != GS_NONE && k < 3; ++k) {
