@@ -1575,8 +1575,9 @@ static int run(ctx *c, const qpt *qx, const qpt *qy, double *len)
  * vertices r edges away from it; knot-fat, one ring alone: 4 rings leave
  * 16 of the 40, 8 rings 2, 10 none, 12 rings 31), the vertex of that ring
  * next to the walk's middle half with the least d(X, w) + d(w, Y) (c's two
- * ends) if at most thr: w[k] and its sum s[k] (GS_NONE and infinity if
- * none). c->vp is kept. */
+ * ends) if below thr: w[k] and its sum s[k] (GS_NONE and infinity if none;
+ * the straight lines to the ends rule out most without a query). c->vp is
+ * kept. */
 #define DETOUR_NRINGS 3
 static const int detour_rings[DETOUR_NRINGS] = {5, 10, 15};
 static int waypoints(ctx *c, double thr, uint32_t w[DETOUR_NRINGS], double s[DETOUR_NRINGS])
@@ -1616,24 +1617,27 @@ static int waypoints(ctx *c, double thr, uint32_t w[DETOUR_NRINGS], double s[DET
     }
     /* the sums at the chosen rings, next to the walk's middle half */
     size_t lo = c->nvp / 4, hi = c->nvp - lo;
+    const double *xp = vpos(c, c->target), *yp = vpos(c, c->origin); /* sums below the straight lines' are none */
     uint32_t cand[MAX_FAN], near[MAX_FAN];
     for (size_t q = 0; q < nq && !rc;) {
         uint32_t n = 0, nn = 0;
         for (; q < nq && n < MAX_FAN; ++q) {
             int k = 0, r = seen[queue[q]] - 1;
             while (k < DETOUR_NRINGS && rings[k] != r) ++k;
-            if (k < DETOUR_NRINGS && from[q] >= lo && from[q] < hi) cand[n++] = queue[q];
+            if (k < DETOUR_NRINGS && from[q] >= lo && from[q] < hi &&
+                dist3(vpos(c, queue[q]), xp) + dist3(vpos(c, queue[q]), yp) < thr)
+                cand[n++] = queue[q];
         }
         rc = fetch(c, cand, n, 0);
         for (uint32_t j = 0; j < n && !rc; ++j)
-            if (c->dval[2 * vmap_get(&c->dmap, cand[j])] <= thr) near[nn++] = cand[j];
+            if (c->dval[2 * vmap_get(&c->dmap, cand[j])] + dist3(vpos(c, cand[j]), yp) < thr) near[nn++] = cand[j];
         if (!rc) rc = fetch(c, near, nn, 1);
         for (uint32_t j = 0; j < nn && !rc; ++j) {
             uint32_t sl = vmap_get(&c->dmap, near[j]);
             double g = c->dval[2 * sl] + c->dval[2 * sl + 1];
             int k = 0, r = seen[near[j]] - 1;
             while (rings[k] != r) ++k;
-            if (g <= thr && g < s[k]) s[k] = g, w[k] = near[j];
+            if (g < thr && g < s[k]) s[k] = g, w[k] = near[j];
         }
     }
     free(seen), free(queue), free(from);
@@ -1701,9 +1705,9 @@ static int detour(ctx *c, const gs_mesh *mesh, const qpt *qx, const qpt *qy, dou
     if (rc || !far) return rc;
     uint32_t w[DETOUR_NRINGS];
     double sum[DETOUR_NRINGS], len0 = *len;
-    if ((rc = waypoints(c, fmin(d * (1 + CORRIDOR_TOL), *len) + 2 * mesh->report.max_edge, w, sum))) return rc;
+    if ((rc = waypoints(c, len0, w, sum))) return rc;
     for (int k = 0; k < DETOUR_NRINGS && !rc; ++k) {
-        if (w[k] == GS_NONE || sum[k] >= len0) continue;
+        if (w[k] == GS_NONE) continue;
         ctx c3;
         memset(&c3, 0, sizeof c3);
         c3.db = c->db, c3.t = c->t, c3.err = c->err;
