@@ -1561,9 +1561,9 @@ static int run(ctx *c, const qpt *qx, const qpt *qy, double *len)
  * d(X, Y) at some. A remedy much cheaper than the corridor's exact solve:
  * at a few rings round the walk, the vertex w where the database's
  * d(X, w) + d(w, Y) is least, and, if that is DETOUR_GAIN below the path's
- * length (the database sees a shorter path through w; bunny-5k: 3 of its
- * 64 candidates' walks below the length, 1 below 0.3%), a walk through it. Called for
- * when the path is longer than the database's distance by DETOUR_LONGER
+ * length (the database sees a shorter path through w; bunny-5k: 3 of the
+ * 64 paths checked have a waypoint below the length), a walk through it.
+ * Called for when the path is longer than the database's distance by DETOUR_LONGER
  * and by DETOUR_EDGES mean edge lengths, and some vertex of the walk has a
  * sum above (1 + DETOUR_EXCESS) d(X, Y) (knot-fat's 40: at least 0.0057,
  * 0.11 and 0.014; bunny-5k: 1.8% of its paths pass all three, spot 0.9%,
