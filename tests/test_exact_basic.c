@@ -3,9 +3,15 @@
  * folded) sheets, taut strings around reflex corners and holes, paths
  * through a bow-tie vertex, the cube, needle triangles; plus the solver
  * contract: point sources, several sources = pointwise min, max_distance,
- * +inf where unreachable, and no state leaking between solves. */
+ * +inf where unreachable, and no state leaking between solves. And a
+ * patch's connectivity (gs_patch_create reuses the mesh's) equals the one
+ * built from its faces alone, bit for bit; a path solve bounded by a length
+ * (and pruned towards its target) gives the unbounded path's length, or no
+ * path when the bound is shorter. */
 #include "check.h"
 #include "geosep.h"
+#include "geodesic/geodesic_internal.h"
+#include "mesh/mesh_internal.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -763,8 +769,115 @@ static void test_needle_octahedron(void)
     gs_mesh_free(m);
 }
 
+
+/* gs_patch_create's connectivity (from the mesh's: twins, lengths, angles)
+ * against gs__topo_build of the patch's own faces: equal bit for bit, for
+ * blobs, scattered faces (pinched vertices, bow-ties) and the whole mesh
+ * as a face list, on a bumpy sphere (saddles, boundary vertices). */
+static void test_patch_topology(void)
+{
+    gs_mesh *m = NULL;
+    gs_error err = {0};
+    CHECK_MSG(gs_mesh_generate("sphere:3", &m, &err) == GS_OK, "generate: %s", err.message);
+    if (!m) return;
+    uint32_t nv = gs_mesh_num_vertices(m), nf = gs_mesh_num_faces(m);
+    double *xyz = malloc(3 * sizeof(double) * nv);
+    uint32_t *faces = malloc(sizeof(uint32_t) * nf);
+    for (uint32_t v = 0; v < nv; ++v) {
+        double s = 1 + 0.3 * (rnd() - 0.5);
+        for (int k = 0; k < 3; ++k) xyz[3 * v + k] = s * m->xyz[3 * v + k];
+    }
+    gs_mesh *b = mesh_of(xyz, nv, m->tri, nf);
+    for (int trial = 0; b && trial < 12; ++trial) {
+        uint32_t n = 0;
+        double r = trial < 4 ? 0.3 + 0.4 * trial : 0, keep = trial < 4 ? 1 : trial < 11 ? 0.2 + 0.1 * trial : 1;
+        const double *c = b->xyz + 3 * (size_t)(uint32_t)(rnd() * nv);
+        for (uint32_t f = 0; f < nf; ++f) {
+            const double *q = b->xyz + 3 * (size_t)b->tri[3 * f];
+            double d2 = 0;
+            for (int k = 0; k < 3; ++k) d2 += (q[k] - c[k]) * (q[k] - c[k]);
+            if ((r == 0 || d2 < r * r) && rnd() < keep) faces[n++] = f;
+        }
+        for (uint32_t i = n; i > 1; --i) { /* any order */
+            uint32_t j = (uint32_t)(rnd() * i), t = faces[i - 1];
+            faces[i - 1] = faces[j], faces[j] = t;
+        }
+        gs_patch *p = NULL;
+        CHECK_MSG(gs_patch_create(b, faces, n, &p, &err) == GS_OK, "patch: %s", err.message);
+        if (!p) continue;
+        gs__topo t;
+        CHECK_MSG(gs__topo_build(&t, p->nv, p->xyz, p->nf, p->tri, GS_TOPO_ALLOW_NONMANIFOLD_VERTICES, NULL, &err) ==
+                      GS_OK, "topo: %s", err.message);
+        const gs__topo *u = p->topo;
+        size_t nh = 3 * (size_t)p->nf;
+        CHECK(t.nv == u->nv && t.nf == u->nf && t.n_edges == u->n_edges);
+        CHECK(!memcmp(t.opp, u->opp, nh * sizeof *t.opp) && !memcmp(t.len, u->len, nh * sizeof *t.len) &&
+              !memcmp(t.angle, u->angle, nh * sizeof *t.angle) && !memcmp(t.vc, u->vc, nh * sizeof *t.vc));
+        CHECK(!memcmp(t.vc_start, u->vc_start, (t.nv + 1) * sizeof *t.vc_start) &&
+              !memcmp(t.vangle, u->vangle, t.nv * sizeof *t.vangle) && !memcmp(t.vflag, u->vflag, t.nv));
+        for (uint32_t i = 0; i < n; ++i) CHECK(gs_patch_face_to_mesh(p, i) == faces[i]);
+        for (uint32_t v = 1; v < p->nv; ++v) CHECK(p->vmap[v - 1] < p->vmap[v]);
+        gs__topo_free(&t);
+        gs_patch_free(p);
+    }
+    /* bad lists: a face twice, a face out of range */
+    uint32_t two[2] = {3, 3}, out[1] = {nf};
+    gs_patch *p = NULL;
+    CHECK(gs_patch_create(b, two, 2, &p, &err) == GS_EARG && !p && strstr(err.message, "listed twice"));
+    CHECK(gs_patch_create(b, out, 1, &p, &err) == GS_EARG && !p && strstr(err.message, "out of range"));
+    free(xyz);
+    free(faces);
+    gs_mesh_free(b);
+    gs_mesh_free(m);
+}
+
+/* gs__solver_path_bounded: bounded by 1.01 times the exact distance it
+ * finds the same path length as gs_solver_path (vertex and point ends, on
+ * a bumpy sphere: saddles as pseudo-sources); bounded below it, no path. */
+static void test_bounded_path(void)
+{
+    gs_mesh *m = NULL;
+    gs_error err = {0};
+    CHECK(gs_mesh_generate("sphere:3", &m, &err) == GS_OK);
+    if (!m) return;
+    uint32_t nv = gs_mesh_num_vertices(m), nf = gs_mesh_num_faces(m);
+    double *xyz = malloc(3 * sizeof(double) * nv);
+    for (uint32_t v = 0; v < nv; ++v) {
+        double s = 1 + 0.2 * (rnd() - 0.5);
+        for (int k = 0; k < 3; ++k) xyz[3 * v + k] = s * m->xyz[3 * v + k];
+    }
+    gs_mesh *b = mesh_of(xyz, nv, m->tri, nf);
+    gs_patch *p = b ? whole(b) : NULL;
+    gs_solver *s = NULL;
+    CHECK(p && gs_solver_create(p, GS_METHOD_EXACT, &s, &err) == GS_OK);
+    for (int i = 0; s && i < 40; ++i) {
+        gs_source x = i % 2 ? gs_source_vertex((uint32_t)(rnd() * nv)) : gs_source_point((uint32_t)(rnd() * nf), 0.2, 0.3, 0.5);
+        gs_source y = i % 4 < 2 ? gs_source_vertex((uint32_t)(rnd() * nv)) : gs_source_point((uint32_t)(rnd() * nf), 0.6, 0.1, 0.3);
+        gs_path *a = NULL, *c = NULL, *e = NULL;
+        CHECK(gs_solver_path(s, &x, &y, &a, &err) == GS_OK);
+        double d = gs_path_length(a);
+        if (!(d > 0 && d < INFINITY)) {
+            gs_path_free(a);
+            continue;
+        }
+        CHECK(gs__solver_path_bounded(s, &x, &y, 1.01 * d, &c, &err) == GS_OK);
+        CHECK_MSG(c && fabs(gs_path_length(c) - d) <= 1e-12 * d, "bounded path %d: %.17g, unbounded %.17g", i,
+                  c ? gs_path_length(c) : NAN, d);
+        CHECK(gs__solver_path_bounded(s, &x, &y, 0.99 * d, &e, &err) == GS_OK);
+        CHECK(e && gs_path_num_points(e) == 0 && gs_path_length(e) == INFINITY);
+        gs_path_free(a), gs_path_free(c), gs_path_free(e);
+    }
+    gs_solver_free(s);
+    gs_patch_free(p);
+    gs_mesh_free(b);
+    gs_mesh_free(m);
+    free(xyz);
+}
+
 int main(void)
 {
+    test_patch_topology();
+    test_bounded_path();
     test_method_names();
     test_needle_octahedron();
     test_single_triangle();

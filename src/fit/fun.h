@@ -149,8 +149,12 @@ double gs__fun_pair_min_grid(const gs__fun *a, const gs__fun *b, const float *ga
 /* gs__fun_pair_min_grid of two paths given the sum of their grid values
  * instead: s = e + 1 holds s[j] = ga[j] + gb[j] for j < g (e readable and
  * writable from e[0] to e[g + 8]: the ends' neighbours go there), mn the
- * smallest s[j]. The same result, bit for bit (loops: gs__fun_pair_min). */
+ * smallest s[j]. jm: the grid's two candidate points when the caller found
+ * them with the sum (jm[0]: the first j with s[j] == mn <= 1.02 mn; jm[1]:
+ * the first j != jm[0] of the lowest other discrete local minimum s[j] <=
+ * 1.02 mn, the ends' outer neighbours +inf; GS_FUN_NO_CELL: none), NULL:
+ * searched here. The same result, bit for bit (loops: gs__fun_pair_min). */
 double gs__fun_pair_min_grid_sum(const gs__fun *a, const gs__fun *b, float *e, float mn, uint32_t g,
-                                const gs__fun_dip *da, const gs__fun_dip *db, double *u_at);
+                                const uint32_t *jm, const gs__fun_dip *da, const gs__fun_dip *db, double *u_at);
 
 #endif

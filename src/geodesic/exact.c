@@ -84,6 +84,8 @@ typedef struct ex_state {
     gs__exact_trace tr;
     uint32_t src_cap;
     uint32_t tface; /* face of the target point of the next solves, or GS_NONE */
+    int has_goal;   /* the next solves need only paths to goal within max_d */
+    double goal[3];
     /* local solves (gs__exact_solve_local): what the last one touched */
     uint32_t *tv, ntv;    /* vertices given a distance                        */
     uint32_t *th, nth;    /* half-edges given windows                         */
@@ -340,6 +342,15 @@ static void ex_push(ex_state *s, uint32_t h, double b0, double b1, double sx, do
     double dx = sx < b0 ? b0 - sx : (sx > b1 ? sx - b1 : 0);
     double dmin = sigma + sqrt(dx * dx + sy * sy);
     if (dmin > s->max_d) return;
+    if (s->has_goal) { /* every path through the window to the goal is longer than max_d: dropped */
+        const double *a = t->xyz + 3 * (size_t)t->tri[h], *b = t->xyz + 3 * (size_t)t->tri[gs__next(h)];
+        double e[3], w[3], ee = 0, we = 0;
+        for (int k = 0; k < 3; ++k) e[k] = b[k] - a[k], w[k] = s->goal[k] - a[k], ee += e[k] * e[k], we += w[k] * e[k];
+        double u = ee > 0 ? we / ee : 0, lo = b0 / len, hi = b1 / len, g2 = 0;
+        u = u < lo ? lo : u > hi ? hi : u;
+        for (int k = 0; k < 3; ++k) g2 += (w[k] - u * e[k]) * (w[k] - u * e[k]);
+        if (dmin + sqrt(g2) > s->max_d) return;
+    }
     uint32_t w = ex_alloc(s);
     if (w == GS_NONE) return;
     ex_win *p = &s->win[w];
@@ -779,6 +790,13 @@ void gs__exact_set_target(void *state, const gs_source *target)
     } else {
         s->tface = GS_NONE; /* the last result stays readable */
     }
+}
+
+void gs__exact_set_goal(void *state, const double *goal)
+{
+    ex_state *s = state;
+    s->has_goal = goal != NULL;
+    if (goal) memcpy(s->goal, goal, sizeof s->goal);
 }
 
 const gs__exact_trace *gs__exact_get_trace(const void *state)

@@ -168,12 +168,25 @@ typedef struct gs__exact_trace {
 /* Exact solver state: make the next solves also find the distance of a
  * surface point (its best window), or stop (target NULL or a vertex). */
 void gs__exact_set_target(void *state, const gs_source *target);
+/* Exact solver state: the next bounded solves need only the paths to the
+ * surface point at goal (xyz) no longer than their max_distance: windows
+ * every path of which through to goal is longer (by its straight-line
+ * distance) are dropped, so that only distances on such paths stay exact.
+ * NULL: every distance up to the bound (the default). */
+void gs__exact_set_goal(void *state, const double *goal);
 /* The records of the last successful solve, NULL if there was none. */
 const gs__exact_trace *gs__exact_get_trace(const void *state);
 /* path.c: the path from the last solve's sources to target (normalised;
  * a surface point only if it was the solve's gs__exact_set_target). */
 int gs__exact_trace_path(const gs__topo *t, const gs__exact_trace *tr, const gs_source *target, gs_path **out,
                          gs_error *err);
+
+/* gs_solver_path with the solve bounded by max_distance (0: unbounded):
+ * a target farther than that gets an empty path of infinite length; the
+ * solve skips what cannot lead to the target within the bound
+ * (gs__exact_set_goal). */
+int gs__solver_path_bounded(gs_solver *s, const gs_source *source, const gs_source *target, double max_distance,
+                            gs_path **out, gs_error *err);
 
 /* path.c: a path made of n points (db_path.c builds them); takes ownership
  * of the malloc'ed arrays xyz (3n), face (n), bary (3n), also on failure. */

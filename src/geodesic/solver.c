@@ -374,6 +374,12 @@ int gs_solver_trace(gs_solver *s, const gs_source *target, gs_path **out, gs_err
 int gs_solver_path(gs_solver *s, const gs_source *source, const gs_source *target, gs_path **out,
                    gs_error *err)
 {
+    return gs__solver_path_bounded(s, source, target, 0, out, err);
+}
+
+int gs__solver_path_bounded(gs_solver *s, const gs_source *source, const gs_source *target, double max_distance,
+                            gs_path **out, gs_error *err)
+{
     if (!out) return gs__fail(err, GS_EARG, "gs_solver_path: out is NULL");
     *out = NULL;
     if (!s || !source || !target) return gs__fail(err, GS_EARG, "gs_solver_path: NULL argument");
@@ -388,11 +394,30 @@ int gs_solver_path(gs_solver *s, const gs_source *source, const gs_source *targe
     double *dist = gs__malloc(t->nv ? t->nv : 1, sizeof *dist);
     if (!dist) return gs__fail(err, GS_ENOMEM, "out of memory");
     gs__exact_set_target(s->state, &q);
-    rc = gs_solver_solve(s, source, 1, 0, dist, err);
+    double goal[3];
+    gs__source_position(t, &q, goal);
+    int bounded = max_distance > 0 && max_distance < INFINITY;
+    if (bounded) gs__exact_set_goal(s->state, goal);
+    rc = gs_solver_solve(s, source, 1, max_distance, dist, err);
     gs__exact_set_target(s->state, NULL);
+    gs__exact_set_goal(s->state, NULL);
     free(dist);
     if (rc) return rc;
-    return gs__exact_trace_path(t, gs__exact_get_trace(s->state), &q, out, err);
+    const gs__exact_trace *tr = gs__exact_get_trace(s->state);
+    if (bounded && !(q.face != GS_NONE && tr->n_src && tr->src[0].face == q.face)) {
+        /* only what lies within the bound is exact: a target beyond it gets no path */
+        double dt = q.face == GS_NONE ? tr->dist[q.vertex] : INFINITY;
+        for (int k = 0; q.face != GS_NONE && k < 3; ++k) {
+            double p[3], e[3];
+            gs__source_position(t, &q, p);
+            const double *x = t->xyz + 3 * (size_t)t->tri[3 * (size_t)q.face + k];
+            for (int j = 0; j < 3; ++j) e[j] = x[j] - p[j];
+            dt = fmin(dt, tr->dist[t->tri[3 * (size_t)q.face + k]] + sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]));
+        }
+        if (q.face != GS_NONE && tr->target.face == q.face) dt = fmin(dt, tr->target.dist);
+        if (!(dt <= max_distance)) return gs__path_adopt(0, NULL, NULL, NULL, INFINITY, out, err);
+    }
+    return gs__exact_trace_path(t, tr, &q, out, err);
 }
 
 int gs__solver_dgg_info(const gs_solver *s, gs__dgg_stats *st, gs_error *err)

@@ -49,6 +49,16 @@ int gs__topo_build(gs__topo *t, uint32_t nv, const double *xyz, uint32_t nf,
                   const uint32_t *tri, unsigned flags, const gs__origin *origin,
                   gs_error *err);
 void gs__topo_free(gs__topo *t);
+/* The connectivity of a patch of whole's mesh, without validation (its
+ * faces are the mesh's, already checked): face f of the patch is face
+ * fmap[f] of the mesh, with the same corner order (tri: the patch's
+ * corners in its own vertex ids); opp (3 nf, malloc'ed, taken over also on
+ * failure): the twins, a mesh twin's local half-edge where its face is in
+ * the patch, else GS_NONE. Lengths and angles are copied from whole: the
+ * same connectivity, bit for bit, as gs__topo_build of those faces with
+ * GS_TOPO_ALLOW_NONMANIFOLD_VERTICES, in O(patch). */
+int gs__topo_build_sub(gs__topo *t, const gs__topo *whole, const uint32_t *fmap, uint32_t *opp, uint32_t nv,
+                       const double *xyz, uint32_t nf, const uint32_t *tri, gs_error *err);
 
 /* The validation's zero-area test of triangle (p, q, r): 0 if it has area,
  * 2 if its corners are at one point, 1 if they are collinear (its height is

@@ -22,6 +22,56 @@ static int cmp_u32(const void *a, const void *b)
     return x < y ? -1 : (x > y);
 }
 
+/* A map of mesh ids (below n) to patch ids: an array over all n ids when
+ * the patch holds many of them, else an open-addressing table of at least
+ * twice the keys (cost O(keys), not O(n)). */
+typedef struct idmap {
+    uint32_t *key, *val; /* key NULL: dense, val[id] */
+    uint32_t mask;
+} idmap;
+
+static int idmap_init(idmap *m, uint32_t n, size_t keys)
+{
+    memset(m, 0, sizeof *m);
+    if (8 * keys >= n) {
+        m->val = gs__malloc(n ? n : 1, sizeof *m->val);
+        if (!m->val) return GS_ENOMEM;
+        memset(m->val, 0xff, (size_t)n * sizeof *m->val);
+        return GS_OK;
+    }
+    size_t cap = 16;
+    while (cap < 2 * keys) cap *= 2;
+    m->key = gs__malloc(cap, sizeof *m->key);
+    m->val = gs__malloc(cap, sizeof *m->val);
+    if (!m->key || !m->val) return GS_ENOMEM;
+    memset(m->key, 0xff, cap * sizeof *m->key);
+    m->mask = (uint32_t)(cap - 1);
+    return GS_OK;
+}
+
+static void idmap_free(idmap *m)
+{
+    free(m->key), free(m->val);
+}
+
+/* The slot of id k (created with value GS_NONE when absent). */
+static inline uint32_t *idmap_slot(idmap *m, uint32_t k)
+{
+    if (!m->key) return m->val + k;
+    uint32_t i = (k * 2654435761u) & m->mask;
+    while (m->key[i] != k && m->key[i] != GS_NONE) i = (i + 1) & m->mask;
+    if (m->key[i] == GS_NONE) m->key[i] = k, m->val[i] = GS_NONE;
+    return m->val + i;
+}
+
+static inline uint32_t idmap_get(const idmap *m, uint32_t k)
+{
+    if (!m->key) return m->val[k];
+    uint32_t i = (k * 2654435761u) & m->mask;
+    while (m->key[i] != k && m->key[i] != GS_NONE) i = (i + 1) & m->mask;
+    return m->key[i] == GS_NONE ? GS_NONE : m->val[i];
+}
+
 int gs_patch_create(const gs_mesh *mesh, const uint32_t *faces, uint32_t n_faces,
                     gs_patch **out, gs_error *err)
 {
@@ -39,56 +89,70 @@ int gs_patch_create(const gs_mesh *mesh, const uint32_t *faces, uint32_t n_faces
         *out = p;
         return GS_OK;
     }
-    /* Everything below costs O(k log k) for k faces, independent of the
-     * mesh size: the nested bisection creates many small patches. */
+    /* Everything below costs O(k) for k faces (and sorting the vertices),
+     * independent of the mesh size: the nested bisection creates many
+     * small patches, and a database path one per corridor. The mesh's
+     * connectivity is reused: its twins where both faces are in the patch,
+     * its lengths and angles. */
     int rc = GS_OK;
     size_t nc = 3 * (size_t)n_faces;
-    uint32_t *sorted = gs__malloc(n_faces, sizeof *sorted);
-    uint32_t *verts = gs__malloc(nc, sizeof *verts);
-    p->fmap = gs__malloc(n_faces, sizeof *p->fmap);
-    p->tri = gs__malloc(nc, sizeof *p->tri);
-    if (!sorted || !verts || !p->fmap || !p->tri) {
+    idmap fm = {0}, vm = {0};
+    uint32_t *verts = gs__malloc(nc ? nc : 1, sizeof *verts), *opp = NULL;
+    p->fmap = gs__malloc(n_faces ? n_faces : 1, sizeof *p->fmap);
+    p->tri = gs__malloc(nc ? nc : 1, sizeof *p->tri);
+    if (!verts || !p->fmap || !p->tri || idmap_init(&fm, mesh->nf, n_faces) ||
+        idmap_init(&vm, mesh->nv, nc < mesh->nv ? nc : mesh->nv)) {
         rc = gs__fail(err, GS_ENOMEM, "out of memory creating a patch");
         goto done;
     }
+    uint32_t nv = 0;
     for (uint32_t i = 0; i < n_faces; ++i) {
         if (faces[i] >= mesh->nf) {
             rc = gs__fail(err, GS_EARG, "gs_patch_create: face %u (entry %u) out of range (%u faces)",
                           faces[i], i, mesh->nf);
             goto done;
         }
-        sorted[i] = p->fmap[i] = faces[i];
-        for (int k = 0; k < 3; ++k) verts[3 * (size_t)i + k] = mesh->tri[3 * (size_t)faces[i] + k];
-    }
-    qsort(sorted, n_faces, sizeof *sorted, cmp_u32);
-    for (uint32_t i = 1; i < n_faces; ++i)
-        if (sorted[i] == sorted[i - 1]) {
-            rc = gs__fail(err, GS_EARG, "gs_patch_create: face %u listed twice", sorted[i]);
+        uint32_t *fs = idmap_slot(&fm, faces[i]);
+        if (*fs != GS_NONE) {
+            rc = gs__fail(err, GS_EARG, "gs_patch_create: face %u listed twice", faces[i]);
             goto done;
         }
-    qsort(verts, nc, sizeof *verts, cmp_u32);
-    uint32_t nv = 0;
-    for (size_t i = 0; i < nc; ++i)
-        if (i == 0 || verts[i] != verts[i - 1]) verts[nv++] = verts[i];
+        *fs = i;
+        p->fmap[i] = faces[i];
+        for (int k = 0; k < 3; ++k) {
+            uint32_t v = mesh->tri[3 * (size_t)faces[i] + k], *vs = idmap_slot(&vm, v);
+            if (*vs == GS_NONE) *vs = 0, verts[nv++] = v;
+        }
+    }
+    qsort(verts, nv, sizeof *verts, cmp_u32); /* vmap increasing: gs_patch_vertex_from_mesh */
+    for (uint32_t v = 0; v < nv; ++v) *idmap_slot(&vm, verts[v]) = v;
     p->nv = nv;
     p->nf = n_faces;
-    p->vmap = gs__malloc(nv, sizeof *p->vmap);
-    p->xyz = gs__malloc(3 * (size_t)nv, sizeof *p->xyz);
-    if (!p->vmap || !p->xyz) {
+    p->vmap = gs__malloc(nv ? nv : 1, sizeof *p->vmap);
+    p->xyz = gs__malloc(3 * (size_t)(nv ? nv : 1), sizeof *p->xyz);
+    opp = gs__malloc(nc ? nc : 1, sizeof *opp);
+    if (!p->vmap || !p->xyz || !opp) {
         rc = gs__fail(err, GS_ENOMEM, "out of memory creating a patch");
         goto done;
     }
     memcpy(p->vmap, verts, (size_t)nv * sizeof *p->vmap);
     for (uint32_t v = 0; v < nv; ++v)
         memcpy(p->xyz + 3 * (size_t)v, mesh->xyz + 3 * (size_t)p->vmap[v], 3 * sizeof(double));
-    for (size_t i = 0; i < nc; ++i)
-        p->tri[i] = gs_patch_vertex_from_mesh(p, mesh->tri[3 * (size_t)faces[i / 3] + i % 3]);
-    rc = gs__topo_build(&p->topo_own, nv, p->xyz, n_faces, p->tri,
-                       GS_TOPO_ALLOW_NONMANIFOLD_VERTICES, NULL, err);
+    const gs__topo *mt = &mesh->topo;
+    for (size_t i = 0; i < nc; ++i) {
+        size_t H = 3 * (size_t)faces[i / 3] + i % 3;
+        p->tri[i] = idmap_get(&vm, mesh->tri[H]);
+        uint32_t tw = mt->opp[H], g = tw == GS_NONE ? GS_NONE : idmap_get(&fm, tw / 3);
+        opp[i] = g == GS_NONE ? GS_NONE : 3 * g + tw % 3;
+    }
+    rc = gs__topo_build_sub(&p->topo_own, mt, p->fmap, opp, nv, p->xyz, n_faces, p->tri, err);
+    opp = NULL;
     p->topo = &p->topo_own;
 done:
-    free(sorted);
     free(verts);
+    free(opp);
+    idmap_free(&fm);
+    idmap_free(&vm);
     if (rc) {
         gs_patch_free(p);
         return rc;

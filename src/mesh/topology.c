@@ -315,3 +315,43 @@ int gs__topo_build(gs__topo *t, uint32_t nv, const double *xyz, uint32_t nf,
     }
     return rc;
 }
+
+int gs__topo_build_sub(gs__topo *t, const gs__topo *whole, const uint32_t *fmap, uint32_t *opp, uint32_t nv,
+                       const double *xyz, uint32_t nf, const uint32_t *tri, gs_error *err)
+{
+    memset(t, 0, sizeof *t);
+    t->nv = nv;
+    t->nf = nf;
+    t->xyz = xyz;
+    t->tri = tri;
+    t->opp = opp;
+    size_t nh = 3 * (size_t)nf;
+    t->len = gs__malloc(nh ? nh : 1, sizeof *t->len);
+    t->angle = gs__malloc(nh ? nh : 1, sizeof *t->angle);
+    t->vc_start = gs__calloc((size_t)nv + 1, sizeof *t->vc_start);
+    t->vc = gs__malloc(nh ? nh : 1, sizeof *t->vc);
+    t->vangle = gs__malloc(nv ? nv : 1, sizeof *t->vangle);
+    t->vflag = gs__calloc(nv ? nv : 1, 1);
+    if (!t->len || !t->angle || !t->vc_start || !t->vc || !t->vangle || !t->vflag) {
+        gs__topo_free(t);
+        return gs__fail(err, GS_ENOMEM, "out of memory building connectivity");
+    }
+    uint32_t half = 0, border = 0;
+    for (uint32_t f = 0; f < nf; ++f) {
+        size_t H = 3 * (size_t)fmap[f], h = 3 * (size_t)f;
+        memcpy(t->len + h, whole->len + H, 3 * sizeof *t->len);
+        memcpy(t->angle + h, whole->angle + H, 3 * sizeof *t->angle);
+        for (int k = 0; k < 3; ++k) {
+            if (opp[h + k] == GS_NONE) ++border;
+            else ++half;
+        }
+    }
+    t->n_edges = border + half / 2;
+    int rc = build_vertex_data(t, GS_TOPO_ALLOW_NONMANIFOLD_VERTICES, NULL, err);
+    if (rc) {
+        gs__topo_free(t);
+        t->nv = nv;
+        t->nf = nf;
+    }
+    return rc;
+}

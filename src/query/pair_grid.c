@@ -22,11 +22,13 @@ static inline uint32_t rows_for(uint32_t g)
     uint32_t r = g >= GS_FUN_GRID_B ? (g - GS_FUN_GRID_B) / GS_FUN_GRID_A + 1 : 1;
     return r > ROWS ? ROWS : (r < SLOT0 ? SLOT0 : r);
 }
-#define STRIDE(g) ((((g) + 3u) + 7u) & ~7u) /* g + 3 points, padded to 8 */
+/* g + 3 points, padded to 16: whole vectors of 16 from a row's start stay
+ * inside the row (the AVX-512 kernel reads them without masks) */
+#define STRIDE(g) ((((g) + 3u) + 15u) & ~15u)
 
 /* The grids the query uses are those of gs__fun_grid_points (one per row
  * count SLOT0..ROWS); their tables are packed one after the other (about
- * 40 KB for each kind), so that those a process touches stay small in
+ * 100 KB for each kind), so that those a process touches stay small in
  * memory beside the mapped file. Any other g is tabulated without a table
  * (slow; only callers outside the query). */
 #define SLOTS (ROWS - SLOT0 + 1)
@@ -42,7 +44,7 @@ static inline int tabled(uint32_t g)
  * T_k(t_j), paths t_j = -1 + 2j/(g-1) (j < g), loops t_j = -1 + 2(j-1)/g
  * (j <= g + 2: one point beyond each end, for the cubic interpolation of
  * the points next to them); padding repeats the last point. */
-static float g_pool[2][POOL] __attribute__((aligned(32)));
+static float g_pool[2][POOL] __attribute__((aligned(64))); /* rows start on cache lines */
 static const float *g_ptr[2][SLOTS];
 static pthread_mutex_t g_lock = PTHREAD_MUTEX_INITIALIZER;
 static unsigned char g_done[2][SLOTS];
@@ -422,6 +424,108 @@ __attribute__((target("avx2,fma"))) static float pair_path_avx2(const float *tab
 }
 #endif
 
+#ifdef HAVE_AVX2_PATH
+#define HAVE_AVX512_PATH 1
+#define AVX512 __attribute__((target("avx512f,avx2,fma")))
+
+/* fun_blocks sixteen points a vector (the same operations per point, so
+ * the same values bit for bit): NB vectors (table rows: whole vectors, a
+ * masked load would lengthen each row's chain; given values v: the last
+ * vector's lanes beyond `last` not read, zeros). */
+AVX512 __attribute__((always_inline)) static inline void fun_blocks16(const float *tab, uint32_t st,
+                                                                      const float *cf, uint32_t m, int squared,
+                                                                      const float *v, __mmask16 last, __m512 *a,
+                                                                      const int NB)
+{
+    if (v) {
+#pragma GCC unroll 6
+        for (int b = 0; b < NB; ++b) a[b] = b < NB - 1 ? _mm512_loadu_ps(v + 16 * b) : _mm512_maskz_loadu_ps(last, v + 16 * b);
+        return;
+    }
+#pragma GCC unroll 6
+    for (int b = 0; b < NB; ++b) a[b] = _mm512_setzero_ps();
+    for (uint32_t k = 0; k <= m; ++k) {
+        __m512 ck = _mm512_set1_ps(cf[k]);
+        const float *r = tab + (size_t)k * st;
+#pragma GCC unroll 6
+        for (int b = 0; b < NB; ++b)
+            a[b] = _mm512_fmadd_ps(ck, _mm512_loadu_ps(r + 16 * b), a[b]);
+    }
+    const __m512 z = _mm512_setzero_ps();
+#pragma GCC unroll 6
+    for (int b = 0; b < NB; ++b) {
+        __m512 x = _mm512_max_ps(a[b], z);
+        a[b] = squared ? _mm512_sqrt_ps(x) : x;
+    }
+}
+
+/* pair_nb sixteen points a vector, the sum kept in registers for the
+ * grid's candidate points (grid_minima's rule in pair_min.c: jm[0] the
+ * first point equal to the minimum, jm[1] the first of the lowest other
+ * discrete local minima, both <= 1.02 times the minimum; the ends' outer
+ * neighbours +inf): lanes beyond the grid are +inf. */
+AVX512 __attribute__((always_inline)) static inline float pair16(const float *tab, uint32_t st, const float *ca,
+                                                                 uint32_t ma, int sqa, const float *va,
+                                                                 const float *cb, uint32_t mb, int sqb,
+                                                                 const float *vb, uint32_t g, float *s, uint32_t *jm,
+                                                                 const int NB)
+{
+    __m512 x[6], y[6];
+    const __mmask16 last = (__mmask16)((1u << (g - 16 * (NB - 1))) - 1u);
+    const __m512 inf = _mm512_set1_ps(INFINITY);
+    fun_blocks16(tab, st, ca, ma, sqa, va, last, x, NB);
+    fun_blocks16(tab, st, cb, mb, sqb, vb, last, y, NB);
+    __m512 mv = inf;
+#pragma GCC unroll 6
+    for (int i = 0; i < NB; ++i) {
+        x[i] = _mm512_add_ps(x[i], y[i]);
+        if (i == NB - 1) x[i] = _mm512_mask_blend_ps(last, inf, x[i]);
+        _mm512_storeu_ps(s + 16 * i, x[i]);
+        mv = _mm512_min_ps(mv, x[i]);
+    }
+    float mn = _mm512_reduce_min_ps(mv);
+    if (!jm) return mn;
+    const __m512 t = _mm512_set1_ps(mn * 1.02f), m = _mm512_set1_ps(mn);
+    uint64_t eq[2] = {0, 0}, lm[2] = {0, 0};
+#pragma GCC unroll 6
+    for (int i = 0; i < NB; ++i) {
+        __m512i c = _mm512_castps_si512(x[i]);
+        __m512 l = _mm512_castsi512_ps(_mm512_alignr_epi32(c, _mm512_castps_si512(i ? x[i - 1] : inf), 15));
+        __m512 r = _mm512_castsi512_ps(_mm512_alignr_epi32(_mm512_castps_si512(i < NB - 1 ? x[i + 1] : inf), c, 1));
+        __mmask16 le = _mm512_cmp_ps_mask(x[i], t, _CMP_LE_OQ);
+        __mmask16 q = _mm512_mask_cmp_ps_mask(le, x[i], m, _CMP_EQ_OQ);
+        __mmask16 n = _mm512_mask_cmp_ps_mask(_mm512_mask_cmp_ps_mask(le, x[i], l, _CMP_LE_OQ), x[i], r, _CMP_LE_OQ);
+        if (i == NB - 1) q &= last, n &= last;
+        eq[i >> 2] |= (uint64_t)q << (16 * (i & 3));
+        lm[i >> 2] |= (uint64_t)n << (16 * (i & 3));
+    }
+    uint32_t a = eq[0] ? (uint32_t)__builtin_ctzll(eq[0]) : eq[1] ? 64 + (uint32_t)__builtin_ctzll(eq[1]) : GS_FUN_NO_CELL;
+    if (a != GS_FUN_NO_CELL) lm[a >> 6] &= ~(1ull << (a & 63));
+    uint32_t b = GS_FUN_NO_CELL;
+    float bv = 0.0f;
+    for (int w = 0; w < 2; ++w)
+        for (uint64_t z = lm[w]; z; z &= z - 1) {
+            uint32_t i = 64 * (uint32_t)w + (uint32_t)__builtin_ctzll(z);
+            if (b == GS_FUN_NO_CELL || s[i] < bv) b = i, bv = s[i];
+        }
+    jm[0] = a, jm[1] = b;
+    return mn;
+}
+
+#define PAIR16(n) \
+    case n: return pair16(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, s, jm, n)
+
+AVX512 static float pair_path_avx512(const float *tab, uint32_t st, const float *ca, uint32_t ma, int sqa,
+                                     const float *va, const float *cb, uint32_t mb, int sqb, const float *vb,
+                                     uint32_t g, float *s, uint32_t *jm)
+{
+    switch ((g + 15) / 16) { /* g <= GS_FUN_GRID_MAX = 96: at most 6 */
+        PAIR16(1); PAIR16(2); PAIR16(3); PAIR16(4); PAIR16(5);
+    default: return pair16(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, s, jm, 6);
+    }
+}
+#endif
+
 /* One function's value at path grid point j (gs__grid_values_path's
  * scalar operations). */
 static inline float fun_point(const float *tab, uint32_t st, const float *cf, uint32_t m, int squared, uint32_t j)
@@ -433,8 +537,9 @@ static inline float fun_point(const float *tab, uint32_t st, const float *cf, ui
 }
 
 float gs__grid_pair_path(const float *ca, uint32_t ma, int sqa, const float *va, const float *cb, uint32_t mb,
-                         int sqb, const float *vb, uint32_t g, float *s)
+                         int sqb, const float *vb, uint32_t g, float *s, uint32_t *jm)
 {
+    if (jm) jm[0] = jm[1] = GS__GRID_NO_MARKS;
     uint32_t r = rows_for(g);
     if (g < 3 || g > GS_FUN_GRID_MAX || gs__fun_grid_points(r - 1) != g || ma >= r || mb >= r) {
         float ta[GS_FUN_GRID_MAX + 8], tb[GS_FUN_GRID_MAX + 8], mn = INFINITY;
@@ -446,6 +551,9 @@ float gs__grid_pair_path(const float *ca, uint32_t ma, int sqa, const float *va,
     }
     const float *tab = table(0, g);
     uint32_t st = STRIDE(g);
+#ifdef HAVE_AVX512_PATH
+    if (__builtin_cpu_supports("avx512f")) return pair_path_avx512(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, s, jm);
+#endif
 #ifdef HAVE_AVX2_PATH
     if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
         return pair_path_avx2(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, s);

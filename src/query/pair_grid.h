@@ -26,9 +26,13 @@ void gs__grid_values_path(const float *cf, uint32_t m, int squared, uint32_t g, 
  * gs__fun_grid_points; else by gs__grid_values_path), each from its float
  * coefficients (cf, degree m, squared) or given (v: its
  * gs__grid_values_path values, NULL: computed), bit for bit the sum of
- * gs__grid_values_path's: s[0 .. g rounded up to 8) (beyond g: padding);
- * returns the smallest s[j], j < g. Thread-safe. */
+ * gs__grid_values_path's: s[0 .. g rounded up to 16) (beyond g: padding);
+ * returns the smallest s[j], j < g. jm (or
+ * NULL): on hosts where the sum is found in registers (AVX-512), the grid's
+ * candidate points as gs__fun_pair_min_grid_sum takes them (jm[0], jm[1]);
+ * elsewhere both GS__GRID_NO_MARKS. Thread-safe. */
+#define GS__GRID_NO_MARKS 0xFFFFFFFEu
 float gs__grid_pair_path(const float *ca, uint32_t ma, int sqa, const float *va, const float *cb, uint32_t mb,
-                         int sqb, const float *vb, uint32_t g, float *s);
+                         int sqb, const float *vb, uint32_t g, float *s, uint32_t *jm);
 
 #endif

@@ -790,7 +790,7 @@ static inline int grid_ok(const gs__fun *a, const gs__fun *b, uint32_t g)
 }
 
 static double grid_core(const gs__fun *a, const gs__fun *b, float *e, float mn, const float *ga, const float *gb,
-                        uint32_t g, const gs__fun_dip *da, const gs__fun_dip *db, double *u_at);
+                        const uint32_t *jm, uint32_t g, const gs__fun_dip *da, const gs__fun_dip *db, double *u_at);
 
 double gs__fun_pair_min_grid(const gs__fun *a, const gs__fun *b, const float *ga, const float *gb, uint32_t g,
                             const gs__fun_dip *da, const gs__fun_dip *db, double *u_at)
@@ -798,20 +798,22 @@ double gs__fun_pair_min_grid(const gs__fun *a, const gs__fun *b, const float *ga
     if (!grid_ok(a, b, g)) return gs__fun_pair_min(a, b, u_at);
     float e[GS_FUN_GRID_MAX + 16]; /* s = e + 1 with its ends' neighbours (grid_minima) */
     float mn = grid_sum(ga, gb, g, e + 1);
-    return grid_core(a, b, e, mn, ga, gb, g, da, db, u_at);
+    return grid_core(a, b, e, mn, ga, gb, NULL, g, da, db, u_at);
 }
 
 double gs__fun_pair_min_grid_sum(const gs__fun *a, const gs__fun *b, float *e, float mn, uint32_t g,
-                                const gs__fun_dip *da, const gs__fun_dip *db, double *u_at)
+                                const uint32_t *jm, const gs__fun_dip *da, const gs__fun_dip *db, double *u_at)
 {
     if (!grid_ok(a, b, g) || a->closed) return gs__fun_pair_min(a, b, u_at);
-    return grid_core(a, b, e, mn, NULL, NULL, g, da, db, u_at);
+    return grid_core(a, b, e, mn, NULL, NULL, jm, g, da, db, u_at);
 }
 
 /* The grid minimiser on the sum s = e + 1 of the two functions' grid
- * values (min mn); ga, gb: each function's own values (loops only). */
+ * values (min mn); ga, gb: each function's own values (loops only); jm:
+ * the grid's candidate points when the caller found them (paths only),
+ * else NULL. */
 static double grid_core(const gs__fun *a, const gs__fun *b, float *e, float mn, const float *ga, const float *gb,
-                        uint32_t g, const gs__fun_dip *da, const gs__fun_dip *db, double *u_at)
+                        const uint32_t *jm, uint32_t g, const gs__fun_dip *da, const gs__fun_dip *db, double *u_at)
 {
     int closed = a->closed != 0;
     float *s = e + 1;
@@ -826,16 +828,20 @@ static double grid_core(const gs__fun *a, const gs__fun *b, float *e, float mn, 
     int sa = closed && seam_low(a, da, gb, g, thr), sb = closed && seam_low(b, db, ga, g, thr);
     if (sa && sb && fabs(gs__fun_wrap(a->shift - b->shift + 1.0) - 1.0) < 4.0 * SEAM_WINDOW * 2.0 / g)
         return gs__fun_pair_min(a, b, u_at);
-    e[0] = closed ? s[g - 1] : INFINITY;
-    e[g + 1] = closed ? s[0] : INFINITY;
-    e[g + 2] = e[g + 3] = e[g + 4] = 0.0f;
+    if (jm) {
+        j1 = jm[0], j2 = jm[1];
+    } else {
+        e[0] = closed ? s[g - 1] : INFINITY;
+        e[g + 1] = closed ? s[0] : INFINITY;
+        e[g + 2] = e[g + 3] = e[g + 4] = 0.0f;
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (__builtin_cpu_supports("avx2")) {
-        for (uint32_t j = g + 2; j < g + 9; ++j) e[j] = 0.0f;
-        grid_minima8(e, g, mn, thr, &j1, &j2);
-    } else
+        if (__builtin_cpu_supports("avx2")) {
+            for (uint32_t j = g + 2; j < g + 9; ++j) e[j] = 0.0f;
+            grid_minima8(e, g, mn, thr, &j1, &j2);
+        } else
 #endif
-        grid_minima(e, g, mn, thr, &j1, &j2);
+            grid_minima(e, g, mn, thr, &j1, &j2);
+    }
     if (j1 == GS_NONE_U32) return gs__fun_pair_min(a, b, u_at); /* cannot happen */
     double h = closed ? 2.0 / g : 2.0 / (g - 1), best = INFINITY, bu = 0.0;
     /* loops whose pairs went to the robust minimiser before (a dip or a
@@ -862,17 +868,28 @@ static double grid_core(const gs__fun *a, const gs__fun *b, float *e, float mn, 
             if (den > 0.0) {
                 double t = 0.5 * (sl - sr) / den;
 #ifndef NO_CUBIC
-                /* the cubic through a fourth point on t's side (paths) */
-                if (!closed && t != 0.0 && (t > 0.0 ? jb + 2 < g : jb >= 2)) {
-                    double dir = t > 0.0 ? 1.0 : -1.0, ym = t > 0.0 ? sl : sr, yp = t > 0.0 ? sr : sl;
-                    double y2 = s[t > 0.0 ? jb + 2 : jb - 2];
-                    double bq = 0.5 * (yp + ym) - sc, c3 = ((y2 - sc - 4.0 * bq) - (yp - ym)) / 6.0;
-                    double aq = 0.5 * (yp - ym) - c3, disc = bq * bq - 3.0 * aq * c3, x;
-                    if (fabs(c3) <= 1e-12 * fabs(bq)) x = -aq / (2.0 * bq);
+                /* the cubic through a fourth point on t's side (paths);
+                 * t's sign is (sl - sr)'s (exact for floats in double; a
+                 * finite den > 0), so the side is known without waiting
+                 * for the division (an infinite den: t is NaN, not > 0) */
+                int fin = den < INFINITY, right = fin && sl > sr;
+                if (!closed && (!fin || sl != sr) && (right ? jb + 2 < g : jb >= 2)) {
+                    double dir = right ? 1.0 : -1.0, ym = right ? sl : sr, yp = right ? sr : sl;
+                    double y2 = s[right ? jb + 2 : jb - 2];
+                    /* p(x) = sc + aq x + bq x^2 + c3 x^3 through the four
+                     * points (x = -1, 0, 1, 2 along dir); its minimum is the
+                     * root of p' = aq + 2 bq x + 3 c3 x^2 where p'' = 2 bq +
+                     * 6 c3 x > 0. With q = -(bq + sign(bq) r), r = sqrt(disc),
+                     * the roots are q / (3 c3) and aq / q, and p'' at the
+                     * first is -2 sign(bq) r: the minimum is the first only
+                     * for bq < 0 < r. c6 = 6 c3 without a division (on the
+                     * latency chain of every refined pair). */
+                    double bq = 0.5 * (yp + ym) - sc, c6 = (y2 - sc - 4.0 * bq) - (yp - ym);
+                    double aq = 0.5 * (yp - ym) - c6 * (1.0 / 6.0), disc = bq * bq - 0.5 * aq * c6, x;
+                    if (fabs(c6) <= 6e-12 * fabs(bq)) x = -aq / (2.0 * bq);
                     else if (disc >= 0.0) {
                         double r = sqrt(disc), q = -(bq + (bq >= 0.0 ? r : -r));
-                        double x1 = q / (3.0 * c3), x2 = q != 0.0 ? aq / q : x1;
-                        x = 2.0 * bq + 6.0 * c3 * x1 > 0.0 ? x1 : x2;
+                        x = bq < 0.0 && r > 0.0 ? 2.0 * q / c6 : (q != 0.0 ? aq / q : 2.0 * q / c6);
                     } else x = dir * t;
                     if (x >= -1.0 && x <= 1.5) t = dir * x;
                 }

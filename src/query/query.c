@@ -361,12 +361,14 @@ static double pair_min_dec(const gs_db *db, uint32_t c, const dfun *a, const flo
     uint32_t g = pair_grid(d1, a->f.degree, b->f.degree, a->f.closed);
     if (!a->f.closed && !b->f.closed) { /* both paths: tabulated and summed in one pass */
         float e[GS_FUN_GRID_MAX + 16];
+        uint32_t jm[2];
         float mn = gs__grid_pair_path(a->cf, a->f.degree, a->f.squared, ga, b->cf, b->f.degree, b->f.squared, gb, g,
-                                      e + 1);
+                                      e + 1, jm);
         double len = db->curves[c].length;
         if (len >= 0.0 && !a->b.has_dip && !b->b.has_dip && mn - LIPSCHITZ_SAFETY * len / (g - 1) >= best)
             return mn;
-        return gs__fun_pair_min_grid_sum(&a->f, &b->f, e, mn, g, &a->dip, &b->dip, NULL);
+        return gs__fun_pair_min_grid_sum(&a->f, &b->f, e, mn, g, jm[0] == GS__GRID_NO_MARKS ? NULL : jm, &a->dip,
+                                         &b->dip, NULL);
     }
     float va[GS_FUN_GRID_MAX + 8], vb[GS_FUN_GRID_MAX + 8];
     if (!ga) grid_of(a, g, va), ga = va;
