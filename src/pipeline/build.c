@@ -69,7 +69,103 @@ static void thin_samples(gs__tree *t, uint32_t cap)
  * of its node one more function) */
 #define GS_PIPE_PIECE 48
 
-/* Split every curve of more than `piece` sample intervals into paths of
+/* How rough the surface is at the scale of its edges: the median over the
+ * vertices of |h(v) - mean of h over v's neighbours|, where h(v) is the
+ * component along v's normal of the umbrella vector (the neighbours' mean
+ * less v) in units of v's mean edge: a smooth surface's h varies slowly,
+ * however coarse its triangles (torus:24,12 0.004, bunny-5k 0.039,
+ * rocker-arm 0.021), a noisy one's flips from vertex to vertex (radial
+ * noise of +-0.34 mean edges on a sphere: 0.21; height noise of +-0.75
+ * cells: 0.24). Neighbours through each face (an inner edge counts twice);
+ * vertices on no face or with a zero normal are left out. 0 when none is
+ * left or out of memory (then nothing is rough). */
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : (x > y);
+}
+
+static double mesh_roughness(const gs_mesh *m)
+{
+    uint32_t nv = m->nv;
+    double *acc = gs__calloc((size_t)nv * 8 + 1, sizeof *acc), *h = gs__malloc((size_t)nv + 1, sizeof *h);
+    double rough = 0;
+    uint32_t k = 0;
+    if (!acc || !h) goto out;
+    /* acc per vertex: neighbour sum (3), normal (3), edge length sum, count */
+    for (uint32_t f = 0; f < m->nf; ++f) {
+        const uint32_t *t = m->tri + 3 * (size_t)f;
+        const double *p[3] = {m->xyz + 3 * (size_t)t[0], m->xyz + 3 * (size_t)t[1], m->xyz + 3 * (size_t)t[2]};
+        double e1[3], e2[3], n[3];
+        for (int d = 0; d < 3; ++d) e1[d] = p[1][d] - p[0][d], e2[d] = p[2][d] - p[0][d];
+        n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2], n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        for (int a = 0; a < 3; ++a) {
+            double *q = acc + 8 * (size_t)t[a];
+            for (int o = 1; o < 3; ++o) {
+                const double *r = p[(a + o) % 3];
+                double dx = r[0] - p[a][0], dy = r[1] - p[a][1], dz = r[2] - p[a][2];
+                q[0] += r[0], q[1] += r[1], q[2] += r[2];
+                q[6] += sqrt(dx * dx + dy * dy + dz * dz), q[7] += 1;
+            }
+            q[3] += n[0], q[4] += n[1], q[5] += n[2];
+        }
+    }
+    for (uint32_t v = 0; v < nv; ++v) {
+        const double *q = acc + 8 * (size_t)v, *p = m->xyz + 3 * (size_t)v;
+        double nl = sqrt(q[3] * q[3] + q[4] * q[4] + q[5] * q[5]), el = q[7] > 0 ? q[6] / q[7] : 0;
+        h[v] = NAN;
+        if (!(nl > 0) || !(el > 0)) continue;
+        double u = 0;
+        for (int d = 0; d < 3; ++d) u += (q[d] / q[7] - p[d]) * q[3 + d] / nl;
+        h[v] = u / el;
+    }
+    /* second pass: the neighbours' mean of h, into acc[8v] (sum) and [8v+1] (count) */
+    for (uint32_t v = 0; v < nv; ++v) acc[8 * (size_t)v] = acc[8 * (size_t)v + 1] = 0;
+    for (uint32_t f = 0; f < m->nf; ++f) {
+        const uint32_t *t = m->tri + 3 * (size_t)f;
+        for (int a = 0; a < 3; ++a)
+            for (int o = 1; o < 3; ++o) {
+                double hu = h[t[(a + o) % 3]];
+                if (hu == hu) acc[8 * (size_t)t[a]] += hu, acc[8 * (size_t)t[a] + 1] += 1;
+            }
+    }
+    for (uint32_t v = 0; v < nv; ++v)
+        if (h[v] == h[v] && acc[8 * (size_t)v + 1] > 0) h[k++] = fabs(h[v] - acc[8 * (size_t)v] / acc[8 * (size_t)v + 1]);
+    if (k) {
+        qsort(h, k, sizeof *h, cmp_double);
+        rough = h[k / 2];
+    }
+out:
+    free(acc), free(h);
+    return rough;
+}
+
+/* Rough surfaces (noisy scans, spiky at the scale of the edges): each
+ * vertex's distance along a curve kinks at nearly every edge the curve
+ * crosses, and a series of degree mmax over 48 sample intervals smooths
+ * the kinks away, its minima sitting above the true ones (queries through
+ * such fits overestimate: ME 0.37% on a spiky sphere). The nodes of depth
+ * <= GS_PIPE_ROUGH_DEPTH (they split 15/16 of the vertex pairs) are
+ * processed first. On a rough surface (mesh_roughness at least
+ * GS_PIPE_ROUGH_MESH: the noisy meshes of doc/accuracy.md 0.14-0.36, every
+ * shared mesh at most 0.04) each of those nodes where more than
+ * GS_PIPE_ROUGH_SOME of the functions miss the tolerance at degree mmax
+ * (noisy spheres and height fields: 1-21%; a spiky sphere whose fits meet
+ * it, 0.9%, is left alone) gets its curves cut into pieces of at most
+ * GS_PIPE_PIECE_ROUGH intervals and is processed again (its fields too:
+ * doc/accuracy.md, "Rough surfaces"). Exact fields only: approximate
+ * fields' own noise is not the surface's. */
+#define GS_PIPE_ROUGH_MESH 0.1
+#define GS_PIPE_ROUGH_SOME 0.01
+#define GS_PIPE_ROUGH_DEPTH 3
+#define GS_PIPE_PIECE_ROUGH 16
+/* ... and their near pairs are checked GS_PIPE_NEAR_ROUGH times further out
+ * (the shorter pieces leave fewer fits uncertified, whose vertices' radius
+ * near.c widens, yet pairs at 5-10 edges can be off by 5%) */
+#define GS_PIPE_NEAR_ROUGH 2.0
+
+/* Split every curve (of the nodes i with only[i] != 0; only NULL: all) of
+ * more than `piece0` sample intervals into paths of
  * at most that many (as equal as they can be; consecutive pieces share
  * their end sample, a loop's last piece ends at its first sample): each
  * piece is a curve of the same separator, so that every path still
@@ -77,12 +173,13 @@ static void thin_samples(gs__tree *t, uint32_t cap)
  * degree where one series over a long curve cannot follow the sharp dip of
  * a vertex near it. Renumbers the curves, the nodes' curve ranges and
  * prefixes. GS_ENOMEM leaves the tree as it was. */
-static int split_curves(gs__tree *t, uint32_t piece, gs_error *err)
+static int split_curves(gs__tree *t, uint32_t piece0, const uint8_t *only, gs_error *err)
 {
-    if (!piece) return GS_OK;
+    if (!piece0) return GS_OK;
     uint32_t nc = 0, ns = 0;
     for (uint32_t c = 0; c < t->n_curves; ++c) {
         const gs__sep_curve *cv = &t->curves[c];
+        uint32_t piece = !only || only[cv->node] ? piece0 : UINT32_MAX;
         uint32_t iv = cv->closed ? cv->n_samples : cv->n_samples - 1;
         uint32_t k = iv > piece ? (iv + piece - 1) / piece : 1;
         nc += k;
@@ -100,6 +197,7 @@ static int split_curves(gs__tree *t, uint32_t piece, gs_error *err)
     for (uint32_t i = 0; i < t->n_nodes; ++i) {
         gs__tree_node *nd = &t->nodes[i];
         uint32_t first = oc;
+        uint32_t piece = !only || only[i] ? piece0 : UINT32_MAX;
         for (uint32_t c = nd->curve_start; c < nd->curve_start + nd->n_curves; ++c) {
             const gs__sep_curve *cv = &t->curves[c];
             const gs__sep_sample *sm = t->samples + cv->sample_start;
@@ -347,6 +445,87 @@ int gs_db_build(const gs_mesh *mesh, const gs_build_options *opt_in, gs_db **out
     return rc;
 }
 
+/* The per-vertex function slots of b->tree's curves, empty; the work
+ * total for progress. On failure the caller frees what was made
+ * (free_functions). */
+static int alloc_functions(gs__builder *b, gs_error *err)
+{
+    const gs__tree *tree = b->tree;
+    uint32_t nv = b->mesh->nv;
+    b->fun_start = gs__malloc((size_t)nv + 1, sizeof *b->fun_start);
+    b->arenas = gs__calloc(tree->n_nodes, sizeof *b->arenas);
+    b->node_fits = gs__calloc((size_t)tree->n_nodes + 1, sizeof *b->node_fits);
+    if (!b->fun_start || !b->arenas || !b->node_fits) return gs__fail(err, GS_ENOMEM, "out of memory");
+    b->fun_start[0] = 0;
+    for (uint32_t x = 0; x < nv; ++x) {
+        uint32_t l = tree->leaf_of_vertex[x];
+        b->fun_start[x + 1] = b->fun_start[x] + (l == GS_NONE ? 0 : tree->nodes[l].curve_prefix);
+    }
+    b->funs = gs__calloc(b->fun_start[nv], sizeof *b->funs);
+    b->fun_err = gs__calloc(b->fun_start[nv] + 1, sizeof *b->fun_err);
+    b->fun_abs = gs__calloc(b->fun_start[nv] + 1, sizeof *b->fun_abs);
+    if (!b->funs || !b->fun_err || !b->fun_abs)
+        return gs__fail(err, GS_ENOMEM, "out of memory for %llu functions", (unsigned long long)b->fun_start[nv]);
+    b->work_total = 0;
+    for (uint32_t i = 0; i < tree->n_nodes; ++i)
+        if (tree->nodes[i].n_curves) b->work_total += (double)tree->nodes[i].n_faces * tree->nodes[i].n_curves;
+    return GS_OK;
+}
+
+static void free_functions(gs__builder *b)
+{
+    if (b->arenas)
+        for (uint32_t i = 0; i < b->tree->n_nodes; ++i) free(b->arenas[i]);
+    free(b->arenas), free(b->funs), free(b->fun_err), free(b->fun_abs), free(b->fun_start), free(b->node_fits);
+    b->arenas = NULL, b->funs = NULL, b->fun_err = b->fun_abs = NULL, b->fun_start = NULL, b->node_fits = NULL;
+}
+
+/* Cut the curves of the nodes with rough[i] into pieces of
+ * GS_PIPE_PIECE_ROUGH intervals and lay the function slots out again: the
+ * functions of the nodes already fitted (done[i]) and not rough move to
+ * their new slots (their coefficients stay in their arenas); rough nodes
+ * are left to be processed again (done[i] = 0). */
+static int cut_rough(gs__builder *b, gs__tree *tree, const uint8_t *rough, uint8_t *done, gs_error *err)
+{
+    uint32_t nn = tree->n_nodes;
+    gs__builder old = *b;
+    uint32_t *prefix = gs__malloc((size_t)nn + 1, sizeof *prefix), *ncurves = gs__malloc((size_t)nn + 1, sizeof *ncurves);
+    if (!prefix || !ncurves) {
+        free(prefix), free(ncurves);
+        return gs__fail(err, GS_ENOMEM, "out of memory");
+    }
+    for (uint32_t i = 0; i < nn; ++i) prefix[i] = tree->nodes[i].curve_prefix, ncurves[i] = tree->nodes[i].n_curves;
+    b->arenas = NULL, b->funs = NULL, b->fun_err = b->fun_abs = NULL, b->fun_start = NULL, b->node_fits = NULL;
+    int rc = split_curves(tree, GS_PIPE_PIECE_ROUGH, rough, err);
+    if (rc == GS_OK) rc = alloc_functions(b, err);
+    if (rc) {
+        free_functions(b);
+        *b = old; /* the caller frees it and gives up */
+        free(prefix), free(ncurves);
+        return rc;
+    }
+    for (uint32_t i = 0; i < nn; ++i) {
+        const gs__tree_node *nd = &tree->nodes[i];
+        if (!done[i]) continue;
+        if (rough[i]) {
+            done[i] = 0;
+            continue;
+        }
+        b->arenas[i] = old.arenas[i], old.arenas[i] = NULL;
+        b->node_fits[i] = old.node_fits[i];
+        for (uint32_t v = 0; v < nd->n_verts; ++v) {
+            uint32_t x = tree->verts[nd->vert_start + v];
+            uint64_t from = old.fun_start[x] + prefix[i], to = b->fun_start[x] + nd->curve_prefix;
+            memcpy(b->funs + to, old.funs + from, ncurves[i] * sizeof *b->funs);
+            memcpy(b->fun_err + to, old.fun_err + from, ncurves[i] * sizeof *b->fun_err);
+            memcpy(b->fun_abs + to, old.fun_abs + from, ncurves[i] * sizeof *b->fun_abs);
+        }
+    }
+    free_functions(&old);
+    free(prefix), free(ncurves);
+    return GS_OK;
+}
+
 static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_options *opt_in, gs_db **out,
                     gs_build_stats *stats, gs_error *err)
 {
@@ -391,7 +570,7 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
     rc = gs__tree_build(mesh, &to, &tree, err);
     if (rc) return rc;
     thin_samples(tree, opt->max_samples);
-    if ((rc = split_curves(tree, GS_PIPE_PIECE, err))) {
+    if ((rc = split_curves(tree, GS_PIPE_PIECE, NULL, err))) {
         gs__tree_free(tree);
         return rc;
     }
@@ -399,28 +578,11 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
     double t1 = gs__now();
     gs__pipe_progress(&b, "tree", 1);
 
-    b.fun_start = gs__malloc((size_t)mesh->nv + 1, sizeof *b.fun_start);
-    b.arenas = gs__calloc(tree->n_nodes, sizeof *b.arenas);
-    if (!b.fun_start || !b.arenas) {
-        rc = gs__fail(err, GS_ENOMEM, "out of memory");
+    uint8_t *done_node = gs__calloc((size_t)tree->n_nodes + 1, 1), *rough = gs__calloc((size_t)tree->n_nodes + 1, 1);
+    if (!done_node || !rough || (rc = alloc_functions(&b, err))) {
+        if (!done_node || !rough) rc = gs__fail(err, GS_ENOMEM, "out of memory");
         goto done;
     }
-    b.fun_start[0] = 0;
-    for (uint32_t x = 0; x < mesh->nv; ++x) {
-        uint32_t l = tree->leaf_of_vertex[x];
-        b.fun_start[x + 1] = b.fun_start[x] + (l == GS_NONE ? 0 : tree->nodes[l].curve_prefix);
-    }
-    b.funs = gs__calloc(b.fun_start[mesh->nv], sizeof *b.funs);
-    b.fun_err = gs__calloc(b.fun_start[mesh->nv] + 1, sizeof *b.fun_err);
-    b.fun_abs = gs__calloc(b.fun_start[mesh->nv] + 1, sizeof *b.fun_abs);
-    if (!b.funs || !b.fun_err || !b.fun_abs) {
-        rc = gs__fail(err, GS_ENOMEM, "out of memory for %llu functions",
-                      (unsigned long long)b.fun_start[mesh->nv]);
-        goto done;
-    }
-    for (uint32_t i = 0; i < tree->n_nodes; ++i)
-        if (tree->nodes[i].n_curves)
-            b.work_total += (double)tree->nodes[i].n_faces * tree->nodes[i].n_curves;
     double t_fields = 0, t_fits = 0;
     if (opt->method == GS_METHOD_DGG) {
         /* one graph for every node (doc/approximate-fields.md: patches) */
@@ -432,12 +594,37 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
         if (rc) goto done;
         t_fields += gs__now() - ta;
     }
+    /* The top nodes first, all threads each; on a rough surface those whose
+     * fits miss (above) get shorter pieces and are processed again below */
+    int is_rough = 0;
+    for (uint32_t i = 0; i < tree->n_nodes && rc == GS_OK; ++i) {
+        const gs__tree_node *nd = &tree->nodes[i];
+        if (nd->n_curves == 0 || nd->depth > GS_PIPE_ROUGH_DEPTH) continue;
+        rc = gs__pipe_process_node(&b, i, b.nthreads, &t_fields, &t_fits, err);
+        done_node[i] = 1;
+        const gs__node_fits *nf = &b.node_fits[i];
+        rough[i] = nf->n_over_tol > GS_PIPE_ROUGH_SOME * (double)nf->n_functions;
+        is_rough |= rough[i];
+        b.work_done += (double)nd->n_faces * nd->n_curves;
+        gs__pipe_progress(&b, "fields", b.work_total > 0 ? b.work_done / b.work_total : 1);
+    }
+    is_rough = is_rough && opt->method == GS_METHOD_EXACT && mesh_roughness(mesh) >= GS_PIPE_ROUGH_MESH;
+    for (uint32_t i = 0; i < tree->n_nodes; ++i) b.n_rough += rough[i] = is_rough && rough[i];
+    if (rc == GS_OK && b.n_rough) {
+        double ta = gs__now();
+        rc = cut_rough(&b, tree, rough, done_node, err);
+        t_fits += gs__now() - ta;
+        if (rc) goto done;
+        b.work_done = 0;
+        for (uint32_t i = 0; i < tree->n_nodes; ++i)
+            if (done_node[i]) b.work_done += (double)tree->nodes[i].n_faces * tree->nodes[i].n_curves;
+    }
     /* Large nodes one at a time, threads inside each (sources, vertices);
      * then the small ones in parallel, one thread each. The result is the
      * same either way (chunks of sources do not depend on threads). */
     for (uint32_t i = 0; i < tree->n_nodes && rc == GS_OK; ++i) {
         const gs__tree_node *nd = &tree->nodes[i];
-        if (nd->n_curves == 0 || (b.nthreads > 1 && nd->n_verts < GS_PIPE_SMALL_NODE)) continue;
+        if (done_node[i] || nd->n_curves == 0 || (b.nthreads > 1 && nd->n_verts < GS_PIPE_SMALL_NODE)) continue;
         rc = gs__pipe_process_node(&b, i, b.nthreads, &t_fields, &t_fits, err);
         b.work_done += (double)nd->n_faces * nd->n_curves;
         gs__pipe_progress(&b, "fields", b.work_total > 0 ? b.work_done / b.work_total : 1);
@@ -451,7 +638,7 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
 #pragma omp for schedule(dynamic, 1)
             for (uint32_t i = 0; i < tree->n_nodes; ++i) {
                 const gs__tree_node *nd = &tree->nodes[i];
-                if (my || nd->n_curves == 0 || nd->n_verts >= GS_PIPE_SMALL_NODE) continue;
+                if (my || done_node[i] || nd->n_curves == 0 || nd->n_verts >= GS_PIPE_SMALL_NODE) continue;
                 my = gs__pipe_process_node(&b, i, 1, &sf, &sfit, &e);
                 double w;
 #pragma omp critical(gs_build_stats)
@@ -491,7 +678,8 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
         double ta = gs__now();
         gs_db *db0 = NULL;
         gs__pipe_progress(&b, "near", 0);
-        double *radius = near_radii(&b, opt->near_radius * mesh->report.mean_edge, &R);
+        double R0 = opt->near_radius * mesh->report.mean_edge * (b.n_rough ? GS_PIPE_NEAR_ROUGH : 1.0);
+        double *radius = near_radii(&b, R0, &R);
         rc = radius ? assemble(&b, &lt, 0, NULL, 0, &db0, err) : gs__fail(err, GS_ENOMEM, "out of memory for near pairs");
         if (rc == GS_OK) rc = gs__pipe_near_pairs(&b, db0, radius, GS_PIPE_NEAR_TOL, &pairs, &n_near, err);
         free(radius);
@@ -513,24 +701,27 @@ static int build_db(const gs_mesh *mesh, const double *xyz_out, const gs_build_o
         stats->seconds_fits = t_fits;
         stats->seconds_total = gs__now() - t0;
         stats->n_fields = b.n_fields;
-        stats->n_functions = b.n_functions;
-        stats->mean_degree = b.n_functions ? b.degree_sum / (double)b.n_functions : 0;
-        stats->n_over_tol = b.n_over_tol;
-        stats->n_uncertified = b.n_uncertified;
-        stats->max_fit_error = b.max_fit_error;
-        stats->mean_fit_error = b.n_functions ? b.fit_err_sum / (double)b.n_functions : 0;
+        gs__node_fits t = {0, 0, 0, 0, 0, 0, 0};
+        for (uint32_t i = 0; i < tree->n_nodes; ++i) {
+            const gs__node_fits *f = &b.node_fits[i];
+            t.n_functions += f->n_functions, t.n_over_tol += f->n_over_tol, t.n_uncertified += f->n_uncertified;
+            t.degree_sum += f->degree_sum, t.fit_err_sum += f->fit_err_sum;
+            t.max_fit_error = fmax(t.max_fit_error, f->max_fit_error);
+        }
+        stats->n_functions = t.n_functions;
+        stats->mean_degree = t.n_functions ? t.degree_sum / (double)t.n_functions : 0;
+        stats->n_over_tol = t.n_over_tol;
+        stats->n_uncertified = t.n_uncertified;
+        stats->max_fit_error = t.max_fit_error;
+        stats->mean_fit_error = t.n_functions ? t.fit_err_sum / (double)t.n_functions : 0;
         stats->seconds_near = t_near;
     }
 done:
     gs_solver_free(b.dgg);
     gs_patch_free(b.dgg_patch);
-    if (b.arenas)
-        for (uint32_t i = 0; i < tree->n_nodes; ++i) free(b.arenas[i]);
-    free(b.arenas);
-    free(b.funs);
-    free(b.fun_err);
-    free(b.fun_abs);
-    free(b.fun_start);
+    free_functions(&b);
+    free(done_node);
+    free(rough);
     gs__tree_free(tree);
     return rc;
 }

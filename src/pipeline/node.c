@@ -450,16 +450,7 @@ static int fit_node(gs__builder *b, node_job *j, uint32_t node_id, gs_error *err
         free(d);
     }
     free(u_all);
-#pragma omp critical(gs_build_stats)
-    {
-        b->n_functions += n_fun;
-        b->n_mixed += n_mixed;
-        b->degree_sum += deg_sum;
-        b->n_over_tol += n_over;
-        b->n_uncertified += n_uncert;
-        b->max_fit_error = fmax(b->max_fit_error, worst_fit);
-        b->fit_err_sum += err_sum;
-    }
+    b->node_fits[node_id] = (gs__node_fits){n_fun, n_mixed, n_over, n_uncert, worst_fit, deg_sum, err_sum};
     return rc;
 }
 

@@ -29,6 +29,8 @@ typedef struct gs__builder {
     float *fun_abs;        /* per function: the same error, absolute (mesh */
                            /*   units; 0 for sampled)                      */
     double **arenas;       /* one coefficient arena per node (or NULL)     */
+    struct gs__node_fits *node_fits; /* per node: its fits' statistics   */
+    uint32_t n_rough;      /* nodes whose curves were cut shorter (build.c) */
     /* GS_METHOD_DGG: one graph of the whole mesh (dgg_patch: the identity
      * patch), nodes solve on views of it (gs__solver_dgg_view) */
     gs_patch *dgg_patch;
@@ -36,10 +38,14 @@ typedef struct gs__builder {
     /* progress */
     double work_total, work_done;
     /* stats */
-    uint64_t n_fields, n_functions, n_mixed, n_over_tol, n_uncertified;
-    double max_fit_error;
-    double degree_sum, fit_err_sum;
+    uint64_t n_fields;
 } gs__builder;
+
+/* One node's fits (node.c fills it when it fits the node). */
+typedef struct gs__node_fits {
+    uint64_t n_functions, n_mixed, n_over_tol, n_uncertified;
+    double max_fit_error, degree_sum, fit_err_sum;
+} gs__node_fits;
 
 /* Report progress of a stage (no-op without a callback). */
 void gs__pipe_progress(gs__builder *b, const char *stage, double frac);
