@@ -1568,6 +1568,23 @@ static int carriers(const gs__topo *t, const qpt *q, uint32_t v[3])
     return n;
 }
 
+/* A walk's vertices (Y first, loops removed) made a path: turned X first,
+ * its sleeve built, shortened (*len: its length) and traced. */
+static int finish(ctx *c, const qpt *qx, const qpt *qy, double *len)
+{
+    for (size_t i = 0, j = c->nvp - 1; i < j; ++i, --j) { /* X first */
+        uint32_t s = c->vp[i];
+        c->vp[i] = c->vp[j], c->vp[j] = s;
+    }
+    endspec xin = {ES_NONE, 0}, yout = {ES_NONE, 0};
+    if (qx->type != Q_VERTEX) xin = (endspec){ES_FACE, qx->f};
+    if (qy->type != Q_VERTEX) yout = (endspec){ES_FACE, qy->f};
+    int rc = build_sleeve(c, xin, yout);
+    uint32_t xv = qx->type == Q_VERTEX ? qx->a : GS_NONE, yv = qy->type == Q_VERTEX ? qy->a : GS_NONE;
+    if (!rc) rc = converge(c, qx, qy, xv, yv, len);
+    return rc ? rc : trace_points(c, qx, qy);
+}
+
 /* One path from X to Y (descent from Y's end, sleeve, shortening): its
  * points in c->q, *len its length. */
 static int run(ctx *c, const qpt *qx, const qpt *qy, double *len)
@@ -1618,19 +1635,7 @@ static int run(ctx *c, const qpt *qx, const qpt *qy, double *len)
     if (!rc) rc = push_vertex(c, start);
     if (!rc) rc = descend(c, targets, nt);
     if (!rc) rc = remove_loops(c);
-    if (rc) return rc;
-    /* X first */
-    for (size_t i = 0, j = c->nvp - 1; i < j; ++i, --j) {
-        uint32_t s = c->vp[i];
-        c->vp[i] = c->vp[j], c->vp[j] = s;
-    }
-    endspec xin = {ES_NONE, 0}, yout = {ES_NONE, 0};
-    if (qx->type != Q_VERTEX) xin = (endspec){ES_FACE, qx->f};
-    if (qy->type != Q_VERTEX) yout = (endspec){ES_FACE, qy->f};
-    if ((rc = build_sleeve(c, xin, yout))) return rc;
-    uint32_t xv = qx->type == Q_VERTEX ? qx->a : GS_NONE, yv = qy->type == Q_VERTEX ? qy->a : GS_NONE;
-    if ((rc = converge(c, qx, qy, xv, yv, len))) return rc;
-    return trace_points(c, qx, qy);
+    return rc ? rc : finish(c, qx, qy, len);
 }
 
 /* ---- a third walk, round the other side ---------------------------------- */
@@ -1765,18 +1770,7 @@ static int via(ctx *c, const ctx *base, const qpt *qx, const qpt *qy, uint32_t w
     }
     ctx_free(&d);
     if (!rc) rc = remove_loops(c);
-    if (rc) return rc;
-    for (size_t i = 0, j = c->nvp - 1; i < j; ++i, --j) { /* X first */
-        uint32_t s = c->vp[i];
-        c->vp[i] = c->vp[j], c->vp[j] = s;
-    }
-    endspec xin = {ES_NONE, 0}, yout = {ES_NONE, 0};
-    if (qx->type != Q_VERTEX) xin = (endspec){ES_FACE, qx->f};
-    if (qy->type != Q_VERTEX) yout = (endspec){ES_FACE, qy->f};
-    if ((rc = build_sleeve(c, xin, yout))) return rc;
-    uint32_t xv = qx->type == Q_VERTEX ? qx->a : GS_NONE, yv = qy->type == Q_VERTEX ? qy->a : GS_NONE;
-    if ((rc = converge(c, qx, qy, xv, yv, len))) return rc;
-    return trace_points(c, qx, qy);
+    return rc ? rc : finish(c, qx, qy, len);
 }
 
 /* The third walk (above) when the first walk's triangle excess calls for
