@@ -408,10 +408,9 @@ int gs__solver_path_bounded(gs_solver *s, const gs_source *source, const gs_sour
         /* only what lies within the bound is exact: a target beyond it gets no path */
         double dt = q.face == GS_NONE ? tr->dist[q.vertex] : INFINITY;
         for (int k = 0; q.face != GS_NONE && k < 3; ++k) {
-            double p[3], e[3];
-            gs__source_position(t, &q, p);
+            double e[3];
             const double *x = t->xyz + 3 * (size_t)t->tri[3 * (size_t)q.face + k];
-            for (int j = 0; j < 3; ++j) e[j] = x[j] - p[j];
+            for (int j = 0; j < 3; ++j) e[j] = x[j] - goal[j]; /* goal: the target's position */
             dt = fmin(dt, tr->dist[t->tri[3 * (size_t)q.face + k]] + sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]));
         }
         if (q.face != GS_NONE && tr->target.face == q.face) dt = fmin(dt, tr->target.dist);

@@ -1,5 +1,6 @@
 /* patch.c - gs_patch: a subset of a mesh's faces with its own vertex
  * numbering and connectivity (the surface patches P(N) of the paper, sec. 2.2). */
+#include "../core/idmap.h"
 #include "mesh_internal.h"
 
 #include <stdlib.h>
@@ -20,56 +21,6 @@ static int cmp_u32(const void *a, const void *b)
 {
     uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
     return x < y ? -1 : (x > y);
-}
-
-/* A map of mesh ids (below n) to patch ids: an array over all n ids when
- * the patch holds many of them, else an open-addressing table of at least
- * twice the keys (cost O(keys), not O(n)). */
-typedef struct idmap {
-    uint32_t *key, *val; /* key NULL: dense, val[id] */
-    uint32_t mask;
-} idmap;
-
-static int idmap_init(idmap *m, uint32_t n, size_t keys)
-{
-    memset(m, 0, sizeof *m);
-    if (8 * keys >= n) {
-        m->val = gs__malloc(n ? n : 1, sizeof *m->val);
-        if (!m->val) return GS_ENOMEM;
-        memset(m->val, 0xff, (size_t)n * sizeof *m->val);
-        return GS_OK;
-    }
-    size_t cap = 16;
-    while (cap < 2 * keys) cap *= 2;
-    m->key = gs__malloc(cap, sizeof *m->key);
-    m->val = gs__malloc(cap, sizeof *m->val);
-    if (!m->key || !m->val) return GS_ENOMEM;
-    memset(m->key, 0xff, cap * sizeof *m->key);
-    m->mask = (uint32_t)(cap - 1);
-    return GS_OK;
-}
-
-static void idmap_free(idmap *m)
-{
-    free(m->key), free(m->val);
-}
-
-/* The slot of id k (created with value GS_NONE when absent). */
-static inline uint32_t *idmap_slot(idmap *m, uint32_t k)
-{
-    if (!m->key) return m->val + k;
-    uint32_t i = (k * 2654435761u) & m->mask;
-    while (m->key[i] != k && m->key[i] != GS_NONE) i = (i + 1) & m->mask;
-    if (m->key[i] == GS_NONE) m->key[i] = k, m->val[i] = GS_NONE;
-    return m->val + i;
-}
-
-static inline uint32_t idmap_get(const idmap *m, uint32_t k)
-{
-    if (!m->key) return m->val[k];
-    uint32_t i = (k * 2654435761u) & m->mask;
-    while (m->key[i] != k && m->key[i] != GS_NONE) i = (i + 1) & m->mask;
-    return m->key[i] == GS_NONE ? GS_NONE : m->val[i];
 }
 
 int gs_patch_create(const gs_mesh *mesh, const uint32_t *faces, uint32_t n_faces,
@@ -96,12 +47,12 @@ int gs_patch_create(const gs_mesh *mesh, const uint32_t *faces, uint32_t n_faces
      * its lengths and angles. */
     int rc = GS_OK;
     size_t nc = 3 * (size_t)n_faces;
-    idmap fm = {0}, vm = {0};
+    gs__idmap fm = {0}, vm = {0};
     uint32_t *verts = gs__malloc(nc ? nc : 1, sizeof *verts), *opp = NULL;
     p->fmap = gs__malloc(n_faces ? n_faces : 1, sizeof *p->fmap);
     p->tri = gs__malloc(nc ? nc : 1, sizeof *p->tri);
-    if (!verts || !p->fmap || !p->tri || idmap_init(&fm, mesh->nf, n_faces) ||
-        idmap_init(&vm, mesh->nv, nc < mesh->nv ? nc : mesh->nv)) {
+    if (!verts || !p->fmap || !p->tri || gs__idmap_init(&fm, mesh->nf, n_faces) ||
+        gs__idmap_init(&vm, mesh->nv, nc < mesh->nv ? nc : mesh->nv)) {
         rc = gs__fail(err, GS_ENOMEM, "out of memory creating a patch");
         goto done;
     }
@@ -112,20 +63,23 @@ int gs_patch_create(const gs_mesh *mesh, const uint32_t *faces, uint32_t n_faces
                           faces[i], i, mesh->nf);
             goto done;
         }
-        uint32_t *fs = idmap_slot(&fm, faces[i]);
-        if (*fs != GS_NONE) {
+        if (gs__idmap_get(&fm, faces[i]) != GS_NONE) {
             rc = gs__fail(err, GS_EARG, "gs_patch_create: face %u listed twice", faces[i]);
             goto done;
         }
-        *fs = i;
         p->fmap[i] = faces[i];
-        for (int k = 0; k < 3; ++k) {
-            uint32_t v = mesh->tri[3 * (size_t)faces[i] + k], *vs = idmap_slot(&vm, v);
-            if (*vs == GS_NONE) *vs = 0, verts[nv++] = v;
+        int oom = gs__idmap_put(&fm, faces[i], i); /* sized for every key: no growth */
+        for (int k = 0; k < 3 && !oom; ++k) {
+            uint32_t v = mesh->tri[3 * (size_t)faces[i] + k];
+            if (gs__idmap_get(&vm, v) == GS_NONE) oom = gs__idmap_put(&vm, v, 0), verts[nv++] = v;
+        }
+        if (oom) {
+            rc = gs__fail(err, GS_ENOMEM, "out of memory creating a patch");
+            goto done;
         }
     }
     qsort(verts, nv, sizeof *verts, cmp_u32); /* vmap increasing: gs_patch_vertex_from_mesh */
-    for (uint32_t v = 0; v < nv; ++v) *idmap_slot(&vm, verts[v]) = v;
+    for (uint32_t v = 0; v < nv; ++v) gs__idmap_put(&vm, verts[v], v); /* present: no growth */
     p->nv = nv;
     p->nf = n_faces;
     p->vmap = gs__malloc(nv ? nv : 1, sizeof *p->vmap);
@@ -141,8 +95,8 @@ int gs_patch_create(const gs_mesh *mesh, const uint32_t *faces, uint32_t n_faces
     const gs__topo *mt = &mesh->topo;
     for (size_t i = 0; i < nc; ++i) {
         size_t H = 3 * (size_t)faces[i / 3] + i % 3;
-        p->tri[i] = idmap_get(&vm, mesh->tri[H]);
-        uint32_t tw = mt->opp[H], g = tw == GS_NONE ? GS_NONE : idmap_get(&fm, tw / 3);
+        p->tri[i] = gs__idmap_get(&vm, mesh->tri[H]);
+        uint32_t tw = mt->opp[H], g = tw == GS_NONE ? GS_NONE : gs__idmap_get(&fm, tw / 3);
         opp[i] = g == GS_NONE ? GS_NONE : 3 * g + tw % 3;
     }
     rc = gs__topo_build_sub(&p->topo_own, mt, p->fmap, opp, nv, p->xyz, n_faces, p->tri, err);
@@ -151,8 +105,8 @@ int gs_patch_create(const gs_mesh *mesh, const uint32_t *faces, uint32_t n_faces
 done:
     free(verts);
     free(opp);
-    idmap_free(&fm);
-    idmap_free(&vm);
+    gs__idmap_free(&fm);
+    gs__idmap_free(&vm);
     if (rc) {
         gs_patch_free(p);
         return rc;

@@ -50,66 +50,13 @@
  * thread-safe. */
 #include "../db/db_internal.h"
 #include "../geodesic/geodesic_internal.h"
+#include "../core/idmap.h"
 #include "../mesh/mesh_internal.h"
 #include "query_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* ---- a map vertex id -> slot (open addressing) --------------------------- */
-
-typedef struct vmap {
-    uint32_t *key, *val;
-    uint32_t cap, n; /* cap: a power of two */
-} vmap;
-
-static void vmap_free(vmap *m)
-{
-    free(m->key), free(m->val);
-    memset(m, 0, sizeof *m);
-}
-
-static inline uint32_t vmap_hash(uint32_t k, uint32_t cap)
-{
-    return (uint32_t)((k * 2654435761u) & (cap - 1));
-}
-
-/* The slot of k (GS_NONE: absent). */
-static inline uint32_t vmap_get(const vmap *m, uint32_t k)
-{
-    if (!m->cap) return GS_NONE;
-    for (uint32_t i = vmap_hash(k, m->cap);; i = (i + 1) & (m->cap - 1)) {
-        if (m->key[i] == GS_NONE) return GS_NONE;
-        if (m->key[i] == k) return m->val[i];
-    }
-}
-
-static int vmap_put(vmap *m, uint32_t k, uint32_t v)
-{
-    if (2 * (m->n + 1) > m->cap) {
-        uint32_t nc = m->cap ? 2 * m->cap : 1024;
-        uint32_t *nk = gs__malloc(nc, sizeof *nk), *nv = gs__malloc(nc, sizeof *nv);
-        if (!nk || !nv) {
-            free(nk), free(nv);
-            return GS_ENOMEM;
-        }
-        memset(nk, 0xff, (size_t)nc * sizeof *nk);
-        for (uint32_t i = 0; i < m->cap; ++i)
-            if (m->key[i] != GS_NONE) {
-                uint32_t j = vmap_hash(m->key[i], nc);
-                while (nk[j] != GS_NONE) j = (j + 1) & (nc - 1);
-                nk[j] = m->key[i], nv[j] = m->val[i];
-            }
-        free(m->key), free(m->val);
-        m->key = nk, m->val = nv, m->cap = nc;
-    }
-    uint32_t i = vmap_hash(k, m->cap);
-    while (m->key[i] != GS_NONE && m->key[i] != k) i = (i + 1) & (m->cap - 1);
-    if (m->key[i] == GS_NONE) m->n++;
-    m->key[i] = k, m->val[i] = v;
-    return GS_OK;
-}
 
 /* ---- points -------------------------------------------------------------- */
 
@@ -176,7 +123,7 @@ typedef struct ctx {
     gs__qsrc *src[2]; /* the target's and the origin's functions, decoded once (NULL until asked) */
     int src_borrowed[2];
     const struct ctx *donor; /* a finished run between the same ends, or NULL: its distances are reused */
-    vmap dmap;
+    gs__idmap dmap;
     double *dval;
     size_t nd, dcap;
     /* the vertex path */
@@ -210,7 +157,7 @@ typedef struct ctx {
     qpt *q;
     size_t nq, qcap;
     /* A* */
-    vmap amap;
+    gs__idmap amap;
     double *ag;
     uint32_t *aparent, *anode;
     uint8_t *aclosed;
@@ -222,8 +169,8 @@ typedef struct ctx {
 
 static void ctx_free(ctx *c)
 {
-    vmap_free(&c->dmap);
-    vmap_free(&c->amap);
+    gs__idmap_free(&c->dmap);
+    gs__idmap_free(&c->amap);
     free(c->pc);
     for (int k = 0; k < 2; ++k)
         if (!c->src_borrowed[k]) gs__qsrc_free(c->src[k]);
@@ -272,7 +219,7 @@ static int end_distance(ctx *c, int which, uint32_t v, double cut, double *out)
     const struct ctx *o = c->donor;
     int w = o ? (o->target == e ? 0 : o->origin == e ? 1 : -1) : -1; /* the donor's column of e */
     if (w >= 0) {
-        uint32_t s = vmap_get(&o->dmap, v);
+        uint32_t s = gs__idmap_get(&o->dmap, v);
         if (s != GS_NONE && o->dval[2 * s + w] >= 0) { /* known exactly */
             *out = o->dval[2 * s + w];
             return GS_OK;
@@ -307,7 +254,7 @@ static inline double dist_above(double x)
  * asked); exact. */
 static int dist_to_target(ctx *c, uint32_t v, double *out)
 {
-    uint32_t s = vmap_get(&c->dmap, v);
+    uint32_t s = gs__idmap_get(&c->dmap, v);
     if (s != GS_NONE && c->dval[2 * s] >= 0) {
         *out = c->dval[2 * s];
         return GS_OK;
@@ -318,7 +265,7 @@ static int dist_to_target(ctx *c, uint32_t v, double *out)
     if (rc) return rc;
     if (s == GS_NONE) {
         if (gs__grow((void **)&c->dval, &c->dcap, 2 * c->nd + 2, sizeof *c->dval) ||
-            vmap_put(&c->dmap, v, (uint32_t)c->nd))
+            gs__idmap_put(&c->dmap, v, (uint32_t)c->nd))
             return oom(c);
         s = (uint32_t)c->nd++;
         c->dval[2 * s + 1] = NAN;
@@ -342,12 +289,12 @@ static int fetch(ctx *c, const uint32_t *v, uint32_t n, int which, double cut)
     uint32_t miss[MAX_FAN], slot[MAX_FAN], m = 0;
     const gs_db *db = c->db;
     for (uint32_t j = 0; j < n; ++j) {
-        uint32_t s = vmap_get(&c->dmap, v[j]);
+        uint32_t s = gs__idmap_get(&c->dmap, v[j]);
         double known = s != GS_NONE ? c->dval[2 * s + which] : NAN;
         if (cut < INFINITY ? known == known : known >= 0) continue;
         if (s == GS_NONE) {
             if (gs__grow((void **)&c->dval, &c->dcap, 2 * c->nd + 2, sizeof *c->dval) ||
-                vmap_put(&c->dmap, v[j], (uint32_t)c->nd))
+                gs__idmap_put(&c->dmap, v[j], (uint32_t)c->nd))
                 return oom(c);
             s = (uint32_t)c->nd++;
             c->dval[2 * s] = c->dval[2 * s + 1] = NAN;
@@ -420,7 +367,7 @@ static uint32_t heap_pop(ctx *c)
 /* A* node of vertex v (created on first sight). */
 static int anode(ctx *c, uint32_t v, uint32_t *slot)
 {
-    uint32_t s = vmap_get(&c->amap, v);
+    uint32_t s = gs__idmap_get(&c->amap, v);
     if (s == GS_NONE) {
         if (gs__grow((void **)&c->ag, &c->acap[0], c->na + 1, sizeof *c->ag) ||
             gs__grow((void **)&c->aparent, &c->acap[1], c->na + 1, sizeof *c->aparent) ||
@@ -429,7 +376,7 @@ static int anode(ctx *c, uint32_t v, uint32_t *slot)
             return GS_ENOMEM;
         s = (uint32_t)c->na++;
         c->ag[s] = INFINITY, c->aparent[s] = GS_NONE, c->anode[s] = v, c->aclosed[s] = 0;
-        if (vmap_put(&c->amap, v, s)) return GS_ENOMEM;
+        if (gs__idmap_put(&c->amap, v, s)) return GS_ENOMEM;
     }
     *slot = s;
     return GS_OK;
@@ -558,14 +505,14 @@ static int descend(ctx *c, const uint32_t *targets, int nt)
             if ((rc = fetch(c, cand, nc, 0, dv))) return rc;
             uint32_t closer[MAX_FAN], ncl = 0;
             for (uint32_t j = 0; j < nc; ++j)
-                if (dist_above(c->dval[2 * vmap_get(&c->dmap, cand[j])]) < dv) closer[ncl++] = cand[j];
+                if (dist_above(c->dval[2 * gs__idmap_get(&c->dmap, cand[j])]) < dv) closer[ncl++] = cand[j];
             if (ncl > 1 && c->nvp > STEEP_FROM) { /* far from both ends: the steep ones, if any */
                 uint32_t nst = 0;
                 double len[MAX_FAN], mean = 0;
                 for (uint32_t j = 0; j < ncl; ++j) len[j] = dist3(vpos(c, v), vpos(c, closer[j])), mean += len[j];
                 if (dv > STEEP_FROM * mean / ncl) {
                     for (uint32_t j = 0; j < ncl; ++j)
-                        if (dv - c->dval[2 * vmap_get(&c->dmap, closer[j])] >= STEEP * len[j]) closer[nst++] = closer[j];
+                        if (dv - c->dval[2 * gs__idmap_get(&c->dmap, closer[j])] >= STEEP * len[j]) closer[nst++] = closer[j];
                     if (nst) ncl = nst; /* (none: closer[] untouched) */
                 }
             }
@@ -581,7 +528,7 @@ static int descend(ctx *c, const uint32_t *targets, int nt)
                 for (uint32_t i = t->vc_start[closer[j]]; i < t->vc_start[closer[j] + 1]; ++i)
                     __builtin_prefetch(t->tri + t->vc[i]);
             for (uint32_t j = 0; j < ncl; ++j) {
-                uint32_t sl = vmap_get(&c->dmap, closer[j]);
+                uint32_t sl = gs__idmap_get(&c->dmap, closer[j]);
                 double g = c->dval[2 * sl] + c->dval[2 * sl + 1];
                 if (g < best) best = g, bn = closer[j];
             }
@@ -605,22 +552,22 @@ static int descend(ctx *c, const uint32_t *targets, int nt)
  * way out. */
 static int remove_loops(ctx *c)
 {
-    vmap seen = {0};
+    gs__idmap seen = {0};
     size_t k = 0;
     for (size_t i = 0; i < c->nvp; ++i) {
-        uint32_t v = c->vp[i], at = vmap_get(&seen, v);
+        uint32_t v = c->vp[i], at = gs__idmap_get(&seen, v);
         if (at != GS_NONE && at < k && c->vp[at] == v) {
             k = at + 1; /* back to v's first visit: drop the loop */
             continue;
         }
-        if (vmap_put(&seen, v, (uint32_t)k)) {
-            vmap_free(&seen);
+        if (gs__idmap_put(&seen, v, (uint32_t)k)) {
+            gs__idmap_free(&seen);
             return oom(c);
         }
         c->vp[k++] = v;
     }
     c->nvp = k;
-    vmap_free(&seen);
+    gs__idmap_free(&seen);
     return GS_OK;
 }
 
@@ -1333,10 +1280,10 @@ static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_so
                 uint32_t near[MAX_FAN], nn = 0;
                 int rc = fetch(c, cand, nc, 0, INFINITY);
                 for (uint32_t j = 0; j < nc && !rc; ++j)
-                    if (c->dval[2 * vmap_get(&c->dmap, cand[j])] <= thr) near[nn++] = cand[j];
+                    if (c->dval[2 * gs__idmap_get(&c->dmap, cand[j])] <= thr) near[nn++] = cand[j];
                 if (!rc) rc = fetch(c, near, nn, 1, INFINITY);
                 for (uint32_t j = 0; j < nn && !rc; ++j) {
-                    uint32_t sl = vmap_get(&c->dmap, near[j]);
+                    uint32_t sl = gs__idmap_get(&c->dmap, near[j]);
                     if (c->dval[2 * sl] + c->dval[2 * sl + 1] <= thr) rc = push_vertex(c, near[j]);
                 }
                 if (rc) return rc;
@@ -1346,14 +1293,14 @@ static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_so
             uint32_t h = t->vc[i];
             uint32_t nb[2] = {t->tri[gs__next(h)], t->tri[gs__prev(h)]};
             for (int k = 0; k < 2; ++k) {
-                if (vmap_get(&c->amap, nb[k]) != GS_NONE) continue;
+                if (gs__idmap_get(&c->amap, nb[k]) != GS_NONE) continue;
                 if (anode(c, nb[k], &slot)) return oom(c);
                 cand[nc++] = nb[k];
             }
         }
     }
     /* the faces at the corridor's vertices, and the ends' faces */
-    vmap fmap = {0};
+    gs__idmap fmap = {0};
     uint32_t *faces = NULL;
     size_t nf = 0, fcap = 0;
     int rc = GS_OK;
@@ -1364,8 +1311,8 @@ static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_so
         if (v != GS_NONE) i0 = t->vc_start[v], i1 = t->vc_start[v + 1];
         for (uint32_t i = i0; i < i1 && !rc; ++i) {
             uint32_t f = v != GS_NONE ? t->vc[i] / 3 : one;
-            if (f == GS_NONE || vmap_get(&fmap, f) != GS_NONE) continue;
-            if (gs__grow((void **)&faces, &fcap, nf + 1, sizeof *faces) || vmap_put(&fmap, f, (uint32_t)nf))
+            if (f == GS_NONE || gs__idmap_get(&fmap, f) != GS_NONE) continue;
+            if (gs__grow((void **)&faces, &fcap, nf + 1, sizeof *faces) || gs__idmap_put(&fmap, f, (uint32_t)nf))
                 rc = oom(c);
             else
                 faces[nf++] = f;
@@ -1380,7 +1327,7 @@ static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_so
     for (int k = 0; k < 2 && !rc; ++k) {
         gs_source *e = k ? &ly : &lx;
         if (e->face == GS_NONE) e->vertex = gs_patch_vertex_from_mesh(patch, e->vertex);
-        else e->face = vmap_get(&fmap, e->face);
+        else e->face = gs__idmap_get(&fmap, e->face);
     }
     /* bounded by the path's length: only a shorter one is wanted */
     if (!rc) rc = gs__solver_path_bounded(solver, &lx, &ly, len, &p, c->err);
@@ -1403,7 +1350,7 @@ static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_so
     gs_path_free(p);
     gs_solver_free(solver);
     gs_patch_free(patch);
-    vmap_free(&fmap);
+    gs__idmap_free(&fmap);
     free(faces);
     return rc;
 }
@@ -1452,7 +1399,7 @@ static int walk_far_off(ctx *c, double d_ends, double excess, int *far)
         if (!rc) rc = fetch(c, c->vp + i, n, 1, INFINITY);
         if (rc) return rc;
         for (uint32_t j = 0; j < n; ++j) {
-            uint32_t s = vmap_get(&c->dmap, c->vp[i + j]);
+            uint32_t s = gs__idmap_get(&c->dmap, c->vp[i + j]);
             if (c->dval[2 * s] + c->dval[2 * s + 1] > (1 + excess) * d_ends) *far = 1;
         }
     }
@@ -1719,10 +1666,10 @@ static int waypoints(ctx *c, double thr, uint32_t w[DETOUR_NRINGS], double s[DET
         }
         rc = fetch(c, cand, n, 0, INFINITY);
         for (uint32_t j = 0; j < n && !rc; ++j)
-            if (c->dval[2 * vmap_get(&c->dmap, cand[j])] + dist3(vpos(c, cand[j]), yp) < thr) near[nn++] = cand[j];
+            if (c->dval[2 * gs__idmap_get(&c->dmap, cand[j])] + dist3(vpos(c, cand[j]), yp) < thr) near[nn++] = cand[j];
         if (!rc) rc = fetch(c, near, nn, 1, INFINITY);
         for (uint32_t j = 0; j < nn && !rc; ++j) {
-            uint32_t sl = vmap_get(&c->dmap, near[j]);
+            uint32_t sl = gs__idmap_get(&c->dmap, near[j]);
             double g = c->dval[2 * sl] + c->dval[2 * sl + 1];
             int k = 0, r = seen[near[j]] - 1;
             while (rings[k] != r) ++k;
