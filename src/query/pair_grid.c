@@ -468,7 +468,7 @@ AVX512 __attribute__((always_inline)) static inline float pair16(const float *ta
                                                                  uint32_t ma, int sqa, const float *va,
                                                                  const float *cb, uint32_t mb, int sqb,
                                                                  const float *vb, uint32_t g, float *s, uint32_t *jm,
-                                                                 const int NB)
+                                                                 double best, double margin, const int NB)
 {
     __m512 x[6], y[6];
     const __mmask16 last = (__mmask16)((1u << (g - 16 * (NB - 1))) - 1u);
@@ -484,7 +484,7 @@ AVX512 __attribute__((always_inline)) static inline float pair16(const float *ta
         mv = _mm512_min_ps(mv, x[i]);
     }
     float mn = _mm512_reduce_min_ps(mv);
-    if (!jm) return mn;
+    if (!jm || mn - margin >= best) return mn; /* the caller's quick reject: no marks */
     const __m512 t = _mm512_set1_ps(mn * 1.02f), m = _mm512_set1_ps(mn);
     uint64_t eq[2] = {0, 0}, lm[2] = {0, 0};
 #pragma GCC unroll 6
@@ -513,15 +513,15 @@ AVX512 __attribute__((always_inline)) static inline float pair16(const float *ta
 }
 
 #define PAIR16(n) \
-    case n: return pair16(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, s, jm, n)
+    case n: return pair16(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, s, jm, best, margin, n)
 
 AVX512 static float pair_path_avx512(const float *tab, uint32_t st, const float *ca, uint32_t ma, int sqa,
                                      const float *va, const float *cb, uint32_t mb, int sqb, const float *vb,
-                                     uint32_t g, float *s, uint32_t *jm)
+                                     uint32_t g, float *s, uint32_t *jm, double best, double margin)
 {
     switch ((g + 15) / 16) { /* g <= GS_FUN_GRID_MAX = 96: at most 6 */
         PAIR16(1); PAIR16(2); PAIR16(3); PAIR16(4); PAIR16(5);
-    default: return pair16(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, s, jm, 6);
+    default: return pair16(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, s, jm, best, margin, 6);
     }
 }
 #endif
@@ -537,7 +537,8 @@ static inline float fun_point(const float *tab, uint32_t st, const float *cf, ui
 }
 
 float gs__grid_pair_path(const float *ca, uint32_t ma, int sqa, const float *va, const float *cb, uint32_t mb,
-                         int sqb, const float *vb, uint32_t g, float *s, uint32_t *jm)
+                         int sqb, const float *vb, uint32_t g, float *s, uint32_t *jm, double best,
+                         double margin)
 {
     if (jm) jm[0] = jm[1] = GS__GRID_NO_MARKS;
     uint32_t r = rows_for(g);
@@ -552,7 +553,7 @@ float gs__grid_pair_path(const float *ca, uint32_t ma, int sqa, const float *va,
     const float *tab = table(0, g);
     uint32_t st = STRIDE(g);
 #ifdef HAVE_AVX512_PATH
-    if (__builtin_cpu_supports("avx512f")) return pair_path_avx512(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, s, jm);
+    if (__builtin_cpu_supports("avx512f")) return pair_path_avx512(tab, st, ca, ma, sqa, va, cb, mb, sqb, vb, g, s, jm, best, margin);
 #endif
 #ifdef HAVE_AVX2_PATH
     if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))

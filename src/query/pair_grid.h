@@ -30,9 +30,12 @@ void gs__grid_values_path(const float *cf, uint32_t m, int squared, uint32_t g, 
  * returns the smallest s[j], j < g. jm (or
  * NULL): on hosts where the sum is found in registers (AVX-512), the grid's
  * candidate points as gs__fun_pair_min_grid_sum takes them (jm[0], jm[1]);
- * elsewhere both GS__GRID_NO_MARKS. Thread-safe. */
+ * elsewhere, and when the caller's quick reject holds (the smallest s[j]
+ * mn has mn - margin >= best: the caller will not refine the pair), both
+ * GS__GRID_NO_MARKS (best = +inf: never). Thread-safe. */
 #define GS__GRID_NO_MARKS 0xFFFFFFFEu
 float gs__grid_pair_path(const float *ca, uint32_t ma, int sqa, const float *va, const float *cb, uint32_t mb,
-                         int sqb, const float *vb, uint32_t g, float *s, uint32_t *jm);
+                         int sqb, const float *vb, uint32_t g, float *s, uint32_t *jm, double best,
+                         double margin);
 
 #endif
