@@ -452,10 +452,11 @@ AVX512 __attribute__((always_inline)) static inline void fun_blocks16(const floa
             a[b] = _mm512_fmadd_ps(ck, _mm512_loadu_ps(r + 16 * b), a[b]);
     }
     const __m512 z = _mm512_setzero_ps();
+    const __mmask16 sq = (__mmask16)(squared ? 0xFFFFu : 0u); /* a select, not a branch */
 #pragma GCC unroll 6
     for (int b = 0; b < NB; ++b) {
         __m512 x = _mm512_max_ps(a[b], z);
-        a[b] = squared ? _mm512_sqrt_ps(x) : x;
+        a[b] = _mm512_mask_sqrt_ps(x, sq, x);
     }
 }
 
