@@ -393,6 +393,49 @@ static double pair_value(const gs__fun *a, const gs__fun *b, double u)
     return gs__fun_term_value(&fa, pa) + gs__fun_term_value(&fb, pb);
 }
 
+/* pair_value at two points u0, u1 at once (two independent pairs of
+ * recurrences, each lane the same operations as pair_value: the same
+ * values, bit for bit), for a path's two grid candidates: the second
+ * evaluation need not wait for the first. */
+static void pair_value2(const gs__fun *a, const gs__fun *b, double u0, double u1, double *v0, double *v1)
+{
+    const double *ca = a->coef, *cb = b->coef;
+    uint32_t ma = a->degree, mb = b->degree, m = ma > mb ? ma : mb, mn = ma < mb ? ma : mb;
+    double ta = gs__fun_clamp1(a->closed ? gs__fun_wrap(u0 - a->shift) : u0);
+    double tb = gs__fun_clamp1(b->closed ? gs__fun_wrap(u0 - b->shift) : u0);
+    double qa = gs__fun_clamp1(a->closed ? gs__fun_wrap(u1 - a->shift) : u1);
+    double qb = gs__fun_clamp1(b->closed ? gs__fun_wrap(u1 - b->shift) : u1);
+    v2 s = {2.0 * ta, 2.0 * tb}, S = {2.0 * qa, 2.0 * qb}, z = {0.0, 0.0};
+    v2 r1 = z, r2 = z, R1 = z, R2 = z;
+    for (uint32_t k = m; k > mn; k--) { /* the higher degree's own terms (the other lane stays +0) */
+        if (ma > mb) {
+            double x = ca[k] + s[0] * r1[0] - r2[0], y = ca[k] + S[0] * R1[0] - R2[0];
+            r2[0] = r1[0], r1[0] = x, R2[0] = R1[0], R1[0] = y;
+        } else {
+            double x = cb[k] + s[1] * r1[1] - r2[1], y = cb[k] + S[1] * R1[1] - R2[1];
+            r2[1] = r1[1], r1[1] = x, R2[1] = R1[1], R1[1] = y;
+        }
+    }
+    uint32_t k = mn;
+    for (; k >= 2; k -= 2) {
+        v2 c1 = {ca[k], cb[k]}, c2 = {ca[k - 1], cb[k - 1]};
+        r2 = c1 + s * r1 - r2;
+        R2 = c1 + S * R1 - R2;
+        r1 = c2 + s * r2 - r1;
+        R1 = c2 + S * R2 - R1;
+    }
+    if (k == 1) {
+        v2 ck = {ca[1], cb[1]};
+        v2 r0 = ck + s * r1 - r2, R0 = ck + S * R1 - R2;
+        r2 = r1, r1 = r0, R2 = R1, R1 = R0;
+    }
+    double pa = ma ? ca[0] + ta * r1[0] - r2[0] : ca[0], pb = mb ? cb[0] + tb * r1[1] - r2[1] : cb[0];
+    double Pa = ma ? ca[0] + qa * R1[0] - R2[0] : ca[0], Pb = mb ? cb[0] + qb * R1[1] - R2[1] : cb[0];
+    term fa = {ca, ma, a->squared}, fb = {cb, mb, b->squared};
+    *v0 = gs__fun_term_value(&fa, pa) + gs__fun_term_value(&fb, pb);
+    *v1 = gs__fun_term_value(&fa, Pa) + gs__fun_term_value(&fb, Pb);
+}
+
 /* term_at3 of the two functions at u (p, p', p'' by the forward recurrences
  * of gs__cheb_eval3, both series at once up to the lower degree): returns
  * the sum of the values, *s1 and *s2 the sums of the derivatives, bit for
@@ -722,13 +765,6 @@ static int seam_near(const gs__fun *f, uint32_t j, uint32_t g)
     if (d >= g) d -= g;
     return d <= 2.0 + 1e-9 * g || d >= g - 1e-9 * g;
 }
-/* The sum at x (a point of a's zero set). */
-static void dip_edge(const gs__fun *a, const gs__fun *b, double x, int closed, double *best, double *bu, int *exact)
-{
-    x = closed ? gs__fun_wrap(x) : gs__fun_clamp1(x);
-    double v = pair_value(a, b, x);
-    if (v < *best) *best = v, *bu = x, *exact = 1;
-}
 
 /* Candidates of a sharp function's dip: near its own minimiser (Newton, or
  * for loops the window of DIP_WINDOW cells either side), and both edges of
@@ -744,8 +780,13 @@ static int dip_candidates(const gs__fun *a, const gs__fun *b, const gs__fun_dip 
     else if (!window_min(a, b, d->u - DIP_WINDOW * h, d->u + DIP_WINDOW * h, best, bu, exact)) return 0;
     double pull = 0.5 * (d->hi - d->lo) * DIP_INSIDE;
     if (!(pull > 0.0)) return 1;
-    dip_edge(a, b, d->lo + pull, closed, best, bu, exact);
-    dip_edge(a, b, d->hi - pull, closed, best, bu, exact);
+    /* the sum at both edges (a little inside), evaluated together */
+    double x0 = d->lo + pull, x1 = d->hi - pull, v0, v1;
+    x0 = closed ? gs__fun_wrap(x0) : gs__fun_clamp1(x0);
+    x1 = closed ? gs__fun_wrap(x1) : gs__fun_clamp1(x1);
+    pair_value2(a, b, x0, x1, &v0, &v1);
+    if (v0 < *best) *best = v0, *bu = x0, *exact = 1;
+    if (v1 < *best) *best = v1, *bu = x1, *exact = 1;
     return 1;
 }
 
@@ -848,6 +889,8 @@ static double grid_core(const gs__fun *a, const gs__fun *b, float *e, float mn, 
      * seam): Newton from the parabola's vertex too */
     int dipped = closed && ((da && da->u == da->u) || (db && db->u == db->u) || sa || sb);
     int exact = 1;
+    double pts[4]; /* paths: the candidates' points (an end cell: two each), evaluated in pairs below */
+    int npts = 0;
     for (int c = 0; c < 2; ++c) {
         uint32_t jb = c ? j2 : j1;
         if (jb == GS_NONE_U32) continue;
@@ -860,8 +903,7 @@ static double grid_core(const gs__fun *a, const gs__fun *b, float *e, float mn, 
             uint32_t m = jb ? g - 2 : 1;
             double sl = s[m - 1], sc = s[m], sr = s[m + 1], den = sl - 2.0 * sc + sr;
             double t = den > 0.0 ? 0.5 * (sl - sr) / den : 0.0;
-            if (jb ? t > 0.0 && t < 1.0 : t < 0.0 && t > -1.0)
-                newton_candidate(a, b, grid_u(m, g, 0) + t * h, h, 0, 0, &best, &bu, &exact);
+            if (jb ? t > 0.0 && t < 1.0 : t < 0.0 && t > -1.0) pts[npts++] = grid_u(m, g, 0) + t * h;
         } else { /* parabola through the neighbours */
             double sl = s[jb ? jb - 1 : g - 1], sc = s[jb], sr = s[jb + 1 < g ? jb + 1 : 0];
             double den = sl - 2.0 * sc + sr;
@@ -898,7 +940,19 @@ static double grid_core(const gs__fun *a, const gs__fun *b, float *e, float mn, 
                 u0 = closed ? gs__fun_wrap(u0) : gs__fun_clamp1(u0);
             }
         }
-        newton_candidate(a, b, u0, h, closed, dipped ? NEWTON_STEPS : 0, &best, &bu, &exact);
+        if (!closed) pts[npts++] = u0;
+        else newton_candidate(a, b, u0, h, closed, dipped ? NEWTON_STEPS : 0, &best, &bu, &exact);
+    }
+    /* newton_candidate's value-only update for each, in the same order */
+    for (int i = 0; i < npts; i += 2) {
+        if (i + 1 == npts) {
+            newton_candidate(a, b, pts[i], h, 0, 0, &best, &bu, &exact);
+            break;
+        }
+        double v0, v1;
+        pair_value2(a, b, pts[i], pts[i + 1], &v0, &v1);
+        if (v0 < best) best = v0, bu = pts[i], exact = 1;
+        if (v1 < best) best = v1, bu = pts[i + 1], exact = 1;
     }
     /* a vertex close to the curve gives its function a sharp dip, which the
      * grid may step over: the dip's own minimiser is a candidate too */
