@@ -139,7 +139,7 @@ static const unsigned char *cursor_block(cursor *c, uint32_t k)
 
 /* A block as a function: coefficients decoded into coef (Chebyshev), the
  * dip (if stored), the minimum from the entry. Returns 0 if malformed. */
-#define COEF_N 40 /* room for whole SIMD vectors (>= 32: decode_int512) */
+#define COEF_N (GS_FUN_MAX_DEGREE + 1 + 15) /* room for whole SIMD vectors */
 typedef struct dfun {
     gs__fun f;
     gs__fun_dip dip;
@@ -197,47 +197,6 @@ static void decode_int(const gs__db_fblock *b, const unsigned char *end, double 
 }
 #endif
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#define HAVE_DECODE_AVX512 1
-/* decode_int on AVX-512 hosts, without a loop or a branch: 32 lanes read
- * both ways (int16 at byte 2k, int8 at byte w + k) by loads masked to the
- * block's bytes (never beyond them: a masked load reads nothing outside
- * its mask), each lane's kind selected by k < w; the same values (q 2^e,
- * exact in float and double). Lanes n..31 of cf are 0; c gets all 32. */
-__attribute__((target("avx512f,avx512bw"))) static void decode_int512(const gs__db_fblock *b, double *c,
-                                                                        float *cf)
-{
-    uint32_t n = b->degree + 1, w = b->wide, nb = n + w; /* the block's coefficient bytes (<= 50) */
-    const unsigned char *raw = b->coef;
-    __m512i bytes = _mm512_maskz_loadu_epi8(nb >= 64 ? ~0ull : (1ull << nb) - 1u, raw);
-    __m512i q16 = _mm512_cvtepi16_epi32(_mm512_castsi512_si256(bytes));
-    __m512i q16b = _mm512_cvtepi16_epi32(_mm512_extracti64x4_epi64(bytes, 1));
-    /* int8 lanes: byte w + k; bytes beyond nb are 0 */
-    uint64_t m8 = nb > w ? ((nb - w >= 64 ? ~0ull : (1ull << (nb - w)) - 1u)) : 0;
-    __m512i b8 = _mm512_maskz_loadu_epi8(m8, raw + w);
-    __m512i q8 = _mm512_cvtepi8_epi32(_mm512_castsi512_si128(b8));
-    __m512i q8b = _mm512_cvtepi8_epi32(_mm512_extracti32x4_epi32(b8, 1));
-    __mmask16 wide0 = (__mmask16)(w >= 16 ? 0xFFFFu : (1u << w) - 1u);
-    __mmask16 wide1 = (__mmask16)(w > 16 ? (1u << (w - 16)) - 1u : 0u);
-    __mmask16 in0 = (__mmask16)(n >= 16 ? 0xFFFFu : (1u << n) - 1u);
-    __mmask16 in1 = (__mmask16)(n > 16 ? (1u << (n - 16)) - 1u : 0u);
-    __m512i lo = _mm512_mask_blend_epi32(wide0, q8, q16), hi = _mm512_mask_blend_epi32(wide1, q8b, q16b);
-    uint32_t bits = (uint32_t)(127 + b->e) << 23;
-    float sf;
-    memcpy(&sf, &bits, 4);
-    const __m512 sc = _mm512_set1_ps(sf);
-    __m512 f0 = _mm512_maskz_mul_ps(in0, _mm512_cvtepi32_ps(lo), sc);
-    __m512 f1 = _mm512_maskz_mul_ps(in1, _mm512_cvtepi32_ps(hi), sc);
-    _mm512_storeu_ps(cf, f0);
-    _mm512_storeu_ps(cf + 16, f1);
-    _mm512_storeu_pd(c, _mm512_cvtps_pd(_mm512_castps512_ps256(f0)));
-    _mm512_storeu_pd(c + 8, _mm512_cvtps_pd(_mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(f0), 1))));
-    _mm512_storeu_pd(c + 16, _mm512_cvtps_pd(_mm512_castps512_ps256(f1)));
-    _mm512_storeu_pd(c + 24, _mm512_cvtps_pd(_mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(f1), 1))));
-}
-#endif
-
 /* The coefficients of a parsed Chebyshev block as doubles and floats
  * (gs__db_fblock_coef, without a call to ldexp); 0 if malformed. */
 static int decode_coef(const gs__db_fblock *b, const unsigned char *end, double *c, float *cf)
@@ -252,12 +211,6 @@ static int decode_coef(const gs__db_fblock *b, const unsigned char *end, double 
         return 1;
     }
     if (b->e < GS__FB_EXP_MIN || b->e > GS__FB_EXP_MAX) return 0;
-#ifdef HAVE_DECODE_AVX512
-    if (b->e <= 100 && __builtin_cpu_supports("avx512bw")) {
-        decode_int512(b, c, cf);
-        return 1;
-    }
-#endif
 #ifdef __SSE2__
     if (b->e <= 100) {
         decode_int(b, end, c, cf);
@@ -525,8 +478,8 @@ static double cross_source(const gs_db *db, cursor *cx, cursor *cy, uint32_t top
     }
     double best = INFINITY;
     for (uint32_t left = n; left; --left) {
-        /* the first lowest bound; a visited candidate's becomes +inf (NaN
-         * bounds, a corrupt file: never the lowest, as before) */
+        /* the first lowest bound (a visited candidate's is +inf; a NaN
+         * bound, only in a corrupt file, is taken only in the first place) */
         uint32_t m = 0;
         double bm = c[0].bound;
         for (uint32_t i = 1; i < n; ++i) {
