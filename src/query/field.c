@@ -21,11 +21,6 @@ int gs_db_field(const gs_db *db, uint32_t x, double *out, gs_error *err)
         gs__qsrc_free(s), free(top);
         return gs__fail(err, GS_ENOMEM, "gs_db_field: out of memory for vertex %u's functions", x);
     }
-    int rc = gs__field_batch(s, db, x, out); /* AVX-512 hosts: targets in parallel lanes */
-    if (rc) {
-        gs__qsrc_free(s), free(top);
-        return rc > 0 ? GS_OK : gs__fail(err, GS_ENOMEM, "gs_db_field: out of memory for vertex %u's field", x);
-    }
     for (uint32_t n = 0; n < db->n_nodes; ++n) top[n] = GS_NONE;
     const uint32_t lx = db->leaf[x];
     for (uint32_t y = 0; y < db->nv; ++y) {

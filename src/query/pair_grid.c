@@ -566,12 +566,3 @@ float gs__grid_pair_path(const float *ca, uint32_t ma, int sqa, const float *va,
     }
     return mn;
 }
-
-/* ---- the path table for the batched field (pair_grid.h) ---- */
-
-const float *gs__grid_path_table(uint32_t g, uint32_t *rows, uint32_t *stride)
-{
-    if (!tabled(g)) return NULL;
-    *rows = rows_for(g), *stride = STRIDE(g);
-    return table(0, g);
-}

@@ -35,12 +35,4 @@ void gs__grid_values_path(const float *cf, uint32_t m, int squared, uint32_t g, 
 float gs__grid_pair_path(const float *ca, uint32_t ma, int sqa, const float *va, const float *cb, uint32_t mb,
                          int sqb, const float *vb, uint32_t g, float *s, uint32_t *jm);
 
-/* The path table of a grid g of gs__fun_grid_points (3 <= g <= GS_FUN_GRID_MAX):
- * rows k = 0 .. *rows - 1 of T_k(u_j), u_j = -1 + 2j/(g-1), *stride floats
- * apart (row k point j at [k * stride + j]; j < g), the very values the
- * path kernels above use; NULL for any other g. Built on first use, kept
- * for the process (read-only after). Thread-safe. For the batched field
- * (field_batch.c). */
-const float *gs__grid_path_table(uint32_t g, uint32_t *rows, uint32_t *stride);
-
 #endif

@@ -674,12 +674,3 @@ double gs__qsrc_distance(gs__qsrc *s, uint32_t y)
     if (ly == s->lx) return same_leaf(db, ly, s->x, y);
     return gs__qsrc_cross(s, y, ly, gs__qsrc_ancestor(s, ly));
 }
-
-/* ---- one candidate curve of a source's pair (field_batch.c) ---- */
-
-double gs__qsrc_pair(gs__qsrc *s, uint32_t y, uint32_t ly, uint32_t k, uint32_t curve, double best)
-{
-    cursor cy;
-    cursor_init(s->db, y, s->db->nodes[ly].curve_prefix, &cy);
-    return pair_min(s->db, &s->cx, &cy, k, curve, s->cache, s->x < y, best);
-}

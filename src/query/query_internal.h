@@ -36,12 +36,6 @@ double gs__qsrc_cross(gs__qsrc *s, uint32_t y, uint32_t ly, uint32_t top);
  * <= r exact and every other one > r. */
 double gs__qsrc_cross_cut(gs__qsrc *s, uint32_t y, uint32_t ly, uint32_t top, double cut);
 
-/* One candidate of cross_source (query.c) for y in leaf ly != x's leaf:
- * min over curve `curve` (x's and y's function k) of the sum, or some
- * value >= best when it cannot be below best; NaN: a malformed block. The
- * very value cross_source computes for that candidate with that best. */
-double gs__qsrc_pair(gs__qsrc *s, uint32_t y, uint32_t ly, uint32_t k, uint32_t curve, double best);
-
 /* x's leaf (GS_NONE: used by no face). */
 uint32_t gs__qsrc_leaf(const gs__qsrc *s);
 
@@ -58,11 +52,5 @@ uint32_t gs__qsrc_ancestor(const gs__qsrc *s, uint32_t node);
  * distances. *ids, *dist: new arrays (caller frees; NULL when *n = 0). */
 int gs__db_within_row(const gs_db *db, uint32_t x, double r, uint32_t **ids, double **dist, size_t *n,
                       gs_error *err);
-
-/* gs_db_field's batched kernel (field_batch.c): out[y] for every y, equal
- * bit for bit to gs__qsrc_distance(s, y), on hosts with AVX-512F;
- * returns 0 (out untouched) on other hosts, -1 when out of memory, 1 when
- * done. s: x's source (x's leaf not GS_NONE). */
-int gs__field_batch(gs__qsrc *s, const gs_db *db, uint32_t x, double *out);
 
 #endif
