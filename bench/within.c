@@ -107,7 +107,7 @@ int main(int argc, char **argv)
             gs_neighbors_free(nb);
         }
     }
-    printf("%d random sources, one thread, alternately (medians):\n", ns);
+    printf("%d random sources, alternately (medians; one thread unless said):\n", ns);
     double ms = median(t_single, ns), mf = median(t_field, ns);
     printf("  %u single queries (gs_db_distance): %.3f ms; gs_db_field: %.3f ms; ratio %.2fx (median of per-source "
            "ratios %.2fx); %ld values differ\n",
