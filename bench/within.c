@@ -1,7 +1,8 @@
 /* bench/within.c - neighbourhoods and fields from a database (issue 19
  * items 3-4): for random sources, the time of
  *   - n single queries (gs_db_distance to every vertex, one by one),
- *   - a whole field (gs_db_field: x's work shared by all targets),
+ *   - a whole field (gs_db_field: x's work shared by all targets), and
+ *     on 2 threads (gs_db_field_threads),
  *   - gs_db_within at the radii holding 0.1%, 1% and 10% of the vertices
  *     (each source's own quantiles of its field),
  * measured alternately source after source (medians and the median of the
@@ -66,7 +67,8 @@ int main(int argc, char **argv)
            1e3 * t_first, 1e3 * t_second);
 
     double *f = malloc((size_t)n * sizeof *f), *g = malloc((size_t)n * sizeof *g), *s = malloc((size_t)n * sizeof *s);
-    double *t_single = malloc(ns * sizeof(double)), *t_field = malloc(ns * sizeof(double));
+    double *t_single = malloc(ns * sizeof(double)), *t_field = malloc(ns * sizeof(double)),
+           *t_field2 = malloc(ns * sizeof(double));
     double *t_w[N_FRAC], *ratio_w[N_FRAC], *cnt[N_FRAC], *rad[N_FRAC], *ratio_f = malloc(ns * sizeof(double));
     for (int q = 0; q < N_FRAC; ++q) {
         t_w[q] = malloc(ns * sizeof(double)), ratio_w[q] = malloc(ns * sizeof(double));
@@ -84,6 +86,10 @@ int main(int argc, char **argv)
         gs_db_field(db, x, f, NULL);
         t_field[i] = now() - t0;
         ratio_f[i] = t_single[i] / t_field[i];
+        t0 = now();
+        gs_db_field_threads(db, x, s, 2, NULL);
+        t_field2[i] = now() - t0;
+        for (uint32_t y = 0; y < n; ++y) mismatches += memcmp(&f[y], &s[y], 8) != 0;
         for (uint32_t y = 0; y < n; ++y) mismatches += memcmp(&f[y], &g[y], 8) != 0;
         uint32_t m = 0;
         for (uint32_t y = 0; y < n; ++y)
@@ -101,11 +107,14 @@ int main(int argc, char **argv)
             gs_neighbors_free(nb);
         }
     }
-    printf("%d random sources, one thread, alternately (medians):\n", ns);
+    printf("%d random sources, alternately (medians; one thread unless said):\n", ns);
     double ms = median(t_single, ns), mf = median(t_field, ns);
     printf("  %u single queries (gs_db_distance): %.3f ms; gs_db_field: %.3f ms; ratio %.2fx (median of per-source "
            "ratios %.2fx); %ld values differ\n",
            n, 1e3 * ms, 1e3 * mf, ms / mf, median(ratio_f, ns), mismatches);
+    double mf2 = median(t_field2, ns);
+    printf("  gs_db_field_threads, 2 threads: %.3f ms (%.2fx the n single queries, %.2fx one thread)\n", 1e3 * mf2,
+           ms / mf2, mf / mf2);
     for (int q = 0; q < N_FRAC; ++q) {
         double mw = median(t_w[q], ns), mc = median(cnt[q], ns), mr = median(rad[q], ns);
         printf("  gs_db_within, radius holding %.1f%% (median r %.4g, %.0f vertices): %.4f ms; field / within %.1fx "
@@ -162,7 +171,7 @@ int main(int argc, char **argv)
     }
     printf("(checksum %g)\n", check);
     for (int q = 0; q < N_FRAC; ++q) free(t_w[q]), free(ratio_w[q]), free(cnt[q]), free(rad[q]);
-    free(f), free(g), free(s), free(t_single), free(t_field), free(ratio_f);
+    free(f), free(g), free(s), free(t_single), free(t_field), free(t_field2), free(ratio_f);
     gs_db_free(db);
     return 0;
 }

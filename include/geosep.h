@@ -710,6 +710,14 @@ GS_API int gs_db_distances(const gs_db *db, const uint32_t *pairs, size_t n, dou
  * Thread-safe (the database is only read). */
 GS_API int gs_db_field(const gs_db *db, uint32_t x, double *out, gs_error *err);
 
+/* gs_db_field on `threads` OpenMP threads (0: the library's default count;
+ * 1: gs_db_field): the targets in chunks of consecutive vertex ids (at
+ * most 4096), each thread with its own copy of x's decoded functions. The same answers, bit for bit,
+ * for any number of threads. out: n_vertices doubles (the caller's); the
+ * work arrays are freed before returning. GS_EARG for a NULL argument or x
+ * out of range; GS_ENOMEM. Thread-safe (the database is only read). */
+GS_API int gs_db_field_threads(const gs_db *db, uint32_t x, double *out, uint32_t threads, gs_error *err);
+
 /* ---- Neighbourhoods (src/query/within.c, radius.c) --------------------- */
 
 /* Vertices and their database distances from one vertex, by increasing

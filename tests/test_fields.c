@@ -1,6 +1,7 @@
 /* test_fields.c - a database's fields (gs_db_field: one query source for
  * every target, src/query/field.c) equal its single queries
- * (gs_db_distance) bit for bit, and gs_db_within equals the thresholded
+ * (gs_db_distance) bit for bit, as do gs_db_field_threads's on 2 and 3
+ * threads (every third source), and gs_db_within equals the thresholded
  * field, whatever method built the database (exact, graph, fast marching,
  * heat, DGG: their functions differ in degree, sharp dips and zero sets):
  * on generated meshes (loops, holes, two components) from every source,
@@ -46,7 +47,7 @@ static void check(const gs_db *db, const char *what, gs_method method, uint32_t 
     CHECK(gs_db_get_info(db, &info, NULL) == GS_OK);
     const uint32_t n = info.n_vertices;
     double *f = malloc((size_t)n * sizeof *f), *s = malloc((size_t)n * sizeof *s);
-    uint64_t pairs = 0, differ = 0, finite = 0, within_bad = 0, within_n = 0;
+    uint64_t pairs = 0, differ = 0, finite = 0, within_bad = 0, within_n = 0, threads_differ = 0;
     for (uint32_t x = 0; x < n && f && s; x += step) {
         gs_error e = {0};
         CHECK_MSG(gs_db_field(db, x, f, &e) == GS_OK, "%s: field %u: %s", what, x, e.message);
@@ -57,6 +58,13 @@ static void check(const gs_db *db, const char *what, gs_method method, uint32_t 
                         f[y]);
             finite += isfinite(d) && d > 0;
             pairs++;
+        }
+        if ((x / step) % 3 == 0) { /* the threaded field: the same values for 2 and 3 threads */
+            for (uint32_t th = 2; th <= 3; ++th) {
+                CHECK_MSG(gs_db_field_threads(db, x, s, th, &e) == GS_OK, "%s: field %u, %u threads: %s", what, x,
+                          th, e.message);
+                for (uint32_t y = 0; y < n; ++y) threads_differ += memcmp(&s[y], &f[y], sizeof *s) != 0;
+            }
         }
         if ((x / step) % 5) continue;
         uint32_t m = 0;
@@ -76,6 +84,14 @@ static void check(const gs_db *db, const char *what, gs_method method, uint32_t 
     }
     CHECK_MSG(differ == 0, "%s (%s): %llu of %llu field values differ from gs_db_distance", what,
               gs_method_name(method), (unsigned long long)differ, (unsigned long long)pairs);
+    {
+        gs_error e = {0};
+        CHECK(gs_db_field_threads(db, n, f, 2, &e) == GS_EARG && strstr(e.message, "n_vertices"));
+        CHECK(gs_db_field_threads(db, 0, NULL, 2, &e) == GS_EARG && strstr(e.message, "NULL"));
+        CHECK(gs_db_field_threads(NULL, 0, f, 2, &e) == GS_EARG);
+    }
+    CHECK_MSG(threads_differ == 0, "%s (%s): %llu values of gs_db_field_threads differ from gs_db_field", what,
+              gs_method_name(method), (unsigned long long)threads_differ);
     CHECK_MSG(finite * 3 > pairs, "%s (%s): too few finite distances (%llu of %llu)", what, gs_method_name(method),
               (unsigned long long)finite, (unsigned long long)pairs);
     CHECK_MSG(within_bad == 0 && within_n > 0, "%s (%s): gs_db_within differs from the thresholded field (%llu)",

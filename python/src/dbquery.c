@@ -163,23 +163,29 @@ done:
 }
 
 const char gspy_db_field_doc[] =
-    "field($self, x, /)\n--\n\n"
+    "field($self, x, /, threads=1)\n--\n\n"
     "Returns an (n_vertices,) float64 array:\n"
-    "the distances from vertex x to every vertex (+inf where unreachable). Runs\n"
+    "the distances from vertex x to every vertex (+inf where unreachable), the\n"
+    "same values as distance(x, y) for each y. threads: how many threads share\n"
+    "the targets (0 = all cores; the answers are the same for any count). Runs\n"
     "without the GIL.";
 
-PyObject *gspy_db_field(PyObject *self_obj, PyObject *arg)
+PyObject *gspy_db_field(PyObject *self_obj, PyObject *args, PyObject *kwargs)
 {
     gspy_Database *self = (gspy_Database *)self_obj;
+    static char *kw[] = {"", "threads", NULL};
+    PyObject *x_obj;
+    unsigned int threads = 1;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|$I:field", kw, &x_obj, &threads)) return NULL;
     uint32_t x;
-    if (gspy_index(arg, self->n_vertices, "vertex id", &x) < 0) return NULL;
+    if (gspy_index(x_obj, self->n_vertices, "vertex id", &x) < 0) return NULL;
     npy_intp dims[1] = {self->n_vertices};
     PyObject *out = PyArray_SimpleNew(1, dims, NPY_DOUBLE);
     if (!out) return NULL;
     gs_error err = {0};
     int rc;
     Py_BEGIN_ALLOW_THREADS
-    rc = gs_db_field(self->db, x, PyArray_DATA((PyArrayObject *)out), &err);
+    rc = gs_db_field_threads(self->db, x, PyArray_DATA((PyArrayObject *)out), threads, &err);
     Py_END_ALLOW_THREADS
     if (rc) {
         Py_DECREF(out);

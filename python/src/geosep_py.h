@@ -148,7 +148,7 @@ PyObject *gspy_db_pairs(gspy_Database *self, PyObject *x, PyObject *y, int input
 const gs_mesh *gspy_db_mesh(gspy_Database *self, PyObject *mesh_obj, const char *method);
 PyObject *gspy_db_distance(PyObject *self, PyObject *args);
 PyObject *gspy_db_pairwise(PyObject *self, PyObject *args, PyObject *kwargs);
-PyObject *gspy_db_field(PyObject *self, PyObject *arg);
+PyObject *gspy_db_field(PyObject *self, PyObject *args, PyObject *kwargs);
 PyObject *gspy_db_point_distance(PyObject *self, PyObject *args, PyObject *kwargs);
 PyObject *gspy_db_farthest_point_sampling(PyObject *self, PyObject *args, PyObject *kwargs);
 extern const char gspy_db_distance_doc[], gspy_db_pairwise_doc[], gspy_db_field_doc[],
@@ -170,7 +170,8 @@ extern const char gspy_db_input_distance_doc[], gspy_db_input_field_doc[], gspy_
     {"distance", (PyCFunction)gspy_db_distance, METH_VARARGS, gspy_db_distance_doc},                          \
         {"pairwise", (PyCFunction)(void (*)(void))gspy_db_pairwise, METH_VARARGS | METH_KEYWORDS,             \
          gspy_db_pairwise_doc},                                                                               \
-        {"field", (PyCFunction)gspy_db_field, METH_O, gspy_db_field_doc},                                     \
+        {"field", (PyCFunction)(void (*)(void))gspy_db_field, METH_VARARGS | METH_KEYWORDS,                   \
+         gspy_db_field_doc},                                                                                  \
         {"farthest_point_sampling", (PyCFunction)(void (*)(void))gspy_db_farthest_point_sampling,             \
          METH_VARARGS | METH_KEYWORDS, gspy_db_farthest_point_sampling_doc},                                  \
     {                                                                                                         \

@@ -101,6 +101,19 @@ def test_pairwise(sphere_db):
         sphere_db.pairwise([[0, 1]])
 
 
+def test_field_threads_same_answers(sphere_db):
+    n = sphere_db.n_vertices
+    for x in (0, n // 3, n - 1):
+        one = sphere_db.field(x)
+        assert np.array_equal(sphere_db.field(x, threads=2), one)
+        assert np.array_equal(sphere_db.field(x, threads=0), one)
+        assert one[n // 2] == sphere_db.distance(x, n // 2)
+    with pytest.raises(TypeError):
+        sphere_db.field(0, 2)  # threads is keyword-only
+    with pytest.raises(TypeError):
+        sphere_db.field(0, threads="two")
+
+
 def test_unreachable_is_inf(two, two_db):
     n = two.n_vertices
     assert two_db.distance(0, n - 1) == np.inf
