@@ -223,11 +223,14 @@ static void every_pair(const char *spec)
  * locally shortest route round the wrong side of the tube, 1-1.5% longer
  * than the exact distance but within 1% of the database's, far from the
  * true path; the walk through a waypoint round the other side must find
- * it. The pairs: the ones that went round the wrong side before. */
+ * it. The pairs: the ones that went round the wrong side before (the last
+ * two: where the walk from the other end was the shorter, and the
+ * waypoints are looked for round it). */
 static void fat_knot(void)
 {
     static const uint32_t pair[][2] = {{943, 368}, {285, 891}, {892, 522}, {235, 941}, {1398, 756},
-                                       {224, 1026}, {1346, 639}, {1197, 597}, {823, 117}, {880, 1403}};
+                                       {224, 1026}, {1346, 639}, {1197, 597}, {823, 117}, {880, 1403},
+                                       {295, 948},  {618, 1297}};
     env e;
     if (env_open(&e, "knot:60,24,0.5", NULL)) {
         env_close(&e);

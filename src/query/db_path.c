@@ -1739,9 +1739,13 @@ static int via(ctx *c, const ctx *base, const qpt *qx, const qpt *qy, uint32_t w
     return rc ? rc : finish(c, qx, qy, len);
 }
 
-/* The third walk (above) when the first walk's triangle excess calls for
- * it: *out replaced and *len lowered if it is shorter. */
-static int detour(ctx *c, const gs_mesh *mesh, const qpt *qx, const qpt *qy, double d, double *len, gs_path **out)
+static void reverse_points(ctx *c);
+
+/* The third walk (above) when the walk c's triangle excess calls for it:
+ * *out replaced and *len lowered if it is shorter. reversed: c runs from
+ * Y to X (qx, qy: c's ends, Y and X), *out from X to Y. */
+static int detour(ctx *c, const gs_mesh *mesh, const qpt *qx, const qpt *qy, int reversed, double d, double *len,
+                  gs_path **out)
 {
     if (*len <= d * (1 + DETOUR_LONGER)) return GS_OK;
     if (*len - d < DETOUR_EDGES * mesh->report.mean_edge) return GS_OK;
@@ -1759,6 +1763,7 @@ static int detour(ctx *c, const gs_mesh *mesh, const qpt *qx, const qpt *qy, dou
         rc = via(&c3, c, qx, qy, w[k], &len3);
         if (!rc && len3 < *len) {
             gs_path *p = NULL;
+            if (reversed) reverse_points(&c3);
             rc = make_path(&c3, &p);
             if (!rc) gs_path_free(*out), *out = p, *len = len3;
         }
@@ -1857,9 +1862,11 @@ int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const g
         if (!rc && len3 < len) best = &c3, len = len3, reverse_points(&c3);
     }
     if (!rc) rc = make_path(best, out);
-    /* longer than the database's distance and its walk far off the database's
-     * shortest path: walks round the other side */
-    if (!rc) rc = detour(&c, mesh, &qx, &qy, d, &len, out);
+    /* longer than the database's distance and the shorter walk far off the
+     * database's shortest path: walks round the other side (knot-fat: of
+     * 5 vertex pairs in 2,000 over 1%, 2 found where the other walk was
+     * the shorter) */
+    if (!rc) rc = best == &c2 ? detour(&c2, mesh, &qy, &qx, 1, d, &len, out) : detour(&c, mesh, &qx, &qy, 0, d, &len, out);
     /* still much longer (or the walks found two routes and the corridor is
      * small): the exact path inside the corridor of shorter ones */
     double lo = fmin(fmin(len1, len2), len3), hi = fmax(len1, len2);
