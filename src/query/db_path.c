@@ -1741,19 +1741,18 @@ static int via(ctx *c, const ctx *base, const qpt *qx, const qpt *qy, uint32_t w
 
 static void reverse_points(ctx *c);
 
-/* The third walk (above) when the walk c's triangle excess calls for it,
- * the walks' path being `walked` long: *out replaced and *len lowered if
- * it is shorter. reversed: c runs from Y to X (qx, qy: c's ends, Y and X),
- * *out from X to Y. */
-static int detour(ctx *c, const gs_mesh *mesh, const qpt *qx, const qpt *qy, int reversed, double d, double walked,
-                  double *len, gs_path **out)
+/* The third walk (above) when the walk c's triangle excess calls for it:
+ * *out replaced and *len lowered if it is shorter. reversed: c runs from
+ * Y to X (qx, qy: c's ends, Y and X), *out from X to Y. */
+static int detour(ctx *c, const gs_mesh *mesh, const qpt *qx, const qpt *qy, int reversed, double d, double *len,
+                  gs_path **out)
 {
-    if (walked <= d * (1 + DETOUR_LONGER)) return GS_OK;
-    if (walked - d < DETOUR_EDGES * mesh->report.mean_edge) return GS_OK;
+    if (*len <= d * (1 + DETOUR_LONGER)) return GS_OK;
+    if (*len - d < DETOUR_EDGES * mesh->report.mean_edge) return GS_OK;
     int far, rc = walk_far_off(c, gs_db_distance(c->db, c->target, c->origin), DETOUR_EXCESS, &far);
     if (rc || !far) return rc;
     uint32_t w[DETOUR_NRINGS];
-    double sum[DETOUR_NRINGS], len0 = walked;
+    double sum[DETOUR_NRINGS], len0 = *len;
     if ((rc = waypoints(c, len0 * (1 - DETOUR_GAIN), w, sum))) return rc;
     for (int k = 0; k < DETOUR_NRINGS && !rc; ++k) {
         if (w[k] == GS_NONE) continue;
@@ -1863,21 +1862,18 @@ int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const g
         if (!rc && len3 < len) best = &c3, len = len3, reverse_points(&c3);
     }
     if (!rc) rc = make_path(best, out);
-    /* longer than the database's distance and a walk far off the database's
-     * shortest path: walks round the other side of the first walk, then of
-     * the second if it took another route (knot-fat: of 5 vertex pairs in
-     * 2,000 over 1%, 2 found round the second walk only) */
-    double walked = len; /* a path through a waypoint is no proof: the check below goes by the walks' */
-    if (!rc) rc = detour(&c, mesh, &qx, &qy, 0, d, walked, &len, out);
-    if (!rc && isfinite(len2) && len2 != len1)
-        rc = detour(&c2, mesh, &qy, &qx, 1, d, walked, &len, out);
+    /* longer than the database's distance and the shorter walk far off the
+     * database's shortest path: walks round the other side (knot-fat: of
+     * 5 vertex pairs in 2,000 over 1%, 2 found where the other walk was
+     * the shorter) */
+    if (!rc) rc = best == &c2 ? detour(&c2, mesh, &qy, &qx, 1, d, &len, out) : detour(&c, mesh, &qx, &qy, 0, d, &len, out);
     /* still much longer (or the walks found two routes and the corridor is
      * small): the exact path inside the corridor of shorter ones */
     double lo = fmin(fmin(len1, len2), len3), hi = fmax(len1, len2);
     if (isfinite(len3)) hi = fmax(hi, len3);
     int two_routes = isfinite(len2) && hi - lo > 1e-9 * len;
     double mean_defect, size = corridor_size(mesh, len, d), rough = walk_roughness(best, &mean_defect);
-    if (!rc && (walked > d * (1 + (exact_db ? CHECK_TOL_EXACT : CHECK_TOL_APPROX)) ||
+    if (!rc && (len > d * (1 + (exact_db ? CHECK_TOL_EXACT : CHECK_TOL_APPROX)) ||
                 (two_routes && size <= (hi - lo > ROUTE_GAP * len ? SMALL_CORRIDOR : CHEAP_CORRIDOR)) ||
                 (point_end && len > d * (1 + reverse_tol) && mean_defect >= POINT_DEFECT && size <= POINT_CORRIDOR) ||
                 (rough > 0 && (len >= d || rough >= ROUGH_STRONG) && size <= ROUGH_CORRIDOR))) {
