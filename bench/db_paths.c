@@ -1,7 +1,10 @@
 /* bench/db_paths.c - geodesic paths from a database (gs_db_path) against
  * the exact distance: time per path and the length ratio (path length /
  * exact distance) over random vertex pairs and random surface-point pairs.
- * Usage: bench_db_paths MESH DB [N_SOURCES=10] [TARGETS=100] [SEED=1].
+ * Usage: bench_db_paths MESH DB [N_SOURCES=10] [TARGETS=100] [SEED=1]
+ * [POINT_PAIRS=2 N_SOURCES]; with the environment variable
+ * GEOSEP_BENCH_WORST=K, the K point pairs with the largest ratios are
+ * listed (face and barycentric weights of both ends).
  * Sources and targets are random vertices (gs_mesh_random_vertices; the
  * surface points: random faces with random barycentric weights); the exact
  * distances come from one exact field per source (gs_solver_solve; for the
@@ -79,11 +82,15 @@ static void report(const char *what, stats *s)
 int main(int argc, char **argv)
 {
     if (argc < 3) {
-        fprintf(stderr, "usage: %s MESH DB [n_sources=10] [targets=100] [seed=1]\n", argv[0]);
+        fprintf(stderr, "usage: %s MESH DB [n_sources=10] [targets=100] [seed=1] [point_pairs=2*n_sources]\n",
+                argv[0]);
         return 2;
     }
     uint32_t ns = argc > 3 ? (uint32_t)atoi(argv[3]) : 10, nt = argc > 4 ? (uint32_t)atoi(argv[4]) : 100;
     rng = argc > 5 ? (uint64_t)atoll(argv[5]) : 1;
+    uint32_t npts = argc > 6 ? (uint32_t)atoi(argv[6]) : ns * 2;
+    const char *worst_env = getenv("GEOSEP_BENCH_WORST");
+    uint32_t nworst = worst_env ? (uint32_t)atoi(worst_env) : 0;
     gs_error err = {0};
     gs_mesh *mesh = NULL;
     gs_db *db = NULL;
@@ -128,7 +135,11 @@ int main(int argc, char **argv)
         }
     }
     /* surface points: exact lengths from gs_solver_path (one field each) */
-    uint32_t npts = ns * 2;
+    struct worst {
+        double ratio;
+        gs_source e[2];
+    } *worst = calloc(nworst + 1, sizeof *worst);
+    if (!worst) return 3;
     for (uint32_t i = 0; i < npts; ++i) {
         gs_source e[2];
         for (int k = 0; k < 2; ++k) {
@@ -149,7 +160,14 @@ int main(int argc, char **argv)
             fprintf(stderr, "point path %u: %s\n", i, err.message);
             ++failures;
         } else if (isfinite(gs_path_length(q)) && gs_path_length(q) > 0) {
-            add(&sp, gs_path_length(p) / gs_path_length(q), 1e6 * (t1 - t0), gs_path_num_points(p));
+            double r = gs_path_length(p) / gs_path_length(q);
+            add(&sp, r, 1e6 * (t1 - t0), gs_path_num_points(p));
+            uint32_t k = nworst; /* insertion into the K largest, largest first */
+            while (k > 0 && worst[k - 1].ratio < r) {
+                if (k < nworst) worst[k] = worst[k - 1];
+                --k;
+            }
+            if (k < nworst) worst[k] = (struct worst){r, {e[0], e[1]}};
         }
         gs_path_free(p);
         gs_path_free(q);
@@ -157,6 +175,13 @@ int main(int argc, char **argv)
     printf("%s, %u vertices; database %s\n", argv[1], nv, argv[2]);
     report("vertex pairs", &sv);
     report("point pairs", &sp);
+    for (uint32_t k = 0; k < nworst && k < sp.n; ++k) {
+        const gs_source *a = &worst[k].e[0], *b = &worst[k].e[1];
+        printf("worst point pair %u: ratio %.5f: face %u (%.17g, %.17g, %.17g) -> face %u (%.17g, %.17g, %.17g)\n", k,
+               worst[k].ratio, a->face, a->bary[0], a->bary[1], a->bary[2], b->face, b->bary[0], b->bary[1],
+               b->bary[2]);
+    }
+    free(worst);
     if (failures) printf("%d failures\n", failures);
     free(sv.ratio), free(sv.us), free(sp.ratio), free(sp.us);
     free(src), free(tgt), free(field);
