@@ -500,16 +500,7 @@ AVX512 __attribute__((always_inline)) static inline float pair16(const float *ta
         eq[i >> 2] |= (uint64_t)q << (16 * (i & 3));
         lm[i >> 2] |= (uint64_t)n << (16 * (i & 3));
     }
-    uint32_t a = eq[0] ? (uint32_t)__builtin_ctzll(eq[0]) : eq[1] ? 64 + (uint32_t)__builtin_ctzll(eq[1]) : GS_FUN_NO_CELL;
-    if (a != GS_FUN_NO_CELL) lm[a >> 6] &= ~(1ull << (a & 63));
-    uint32_t b = GS_FUN_NO_CELL;
-    float bv = 0.0f;
-    for (int w = 0; w < 2; ++w)
-        for (uint64_t z = lm[w]; z; z &= z - 1) {
-            uint32_t i = 64 * (uint32_t)w + (uint32_t)__builtin_ctzll(z);
-            if (b == GS_FUN_NO_CELL || s[i] < bv) b = i, bv = s[i];
-        }
-    jm[0] = a, jm[1] = b;
+    gs__grid_marks_pick(eq, lm, s, &jm[0], &jm[1]);
     return mn;
 }
 

@@ -38,4 +38,27 @@ float gs__grid_pair_path(const float *ca, uint32_t ma, int sqa, const float *va,
                          int sqb, const float *vb, uint32_t g, float *s, uint32_t *jm, double best,
                          double margin);
 
+/* The grid's candidate points from bit masks of its g <= 128 points (bit
+ * j of word j / 64): eq, the points <= 1.02 times the minimum and equal to
+ * it; lm, those <= 1.02 times it that are discrete local minima. *j1: the
+ * first of eq; *j2: the lowest s[j] of lm other than *j1, the first on
+ * ties (GS_FUN_NO_CELL for none): the rule of grid_minima (pair_min.c),
+ * shared by the kernels that build the masks in registers (inlined into
+ * each: the hot path). lm is spent. */
+static inline __attribute__((always_inline)) void gs__grid_marks_pick(const uint64_t eq[2], uint64_t lm[2],
+                                                                       const float *s, uint32_t *j1, uint32_t *j2)
+{
+    uint32_t a = eq[0] ? (uint32_t)__builtin_ctzll(eq[0])
+                       : eq[1] ? 64 + (uint32_t)__builtin_ctzll(eq[1]) : GS_FUN_NO_CELL;
+    if (a != GS_FUN_NO_CELL) lm[a >> 6] &= ~(1ull << (a & 63));
+    uint32_t b = GS_FUN_NO_CELL;
+    float bv = 0.0f;
+    for (int w = 0; w < 2; ++w)
+        for (uint64_t z = lm[w]; z; z &= z - 1) {
+            uint32_t i = 64 * (uint32_t)w + (uint32_t)__builtin_ctzll(z);
+            if (b == GS_FUN_NO_CELL || s[i] < bv) b = i, bv = s[i];
+        }
+    *j1 = a, *j2 = b;
+}
+
 #endif

@@ -6,6 +6,7 @@
  * minimum from the two functions' values on the curve's uniform grid,
  * src/query/pair_grid.c, refined from the series). */
 #include "../fit/fun_internal.h"
+#include "pair_grid.h"
 
 #include <float.h>
 #include <math.h>
@@ -348,6 +349,7 @@ double gs__fun_pair_min_below(const gs__fun *a, const gs__fun *b, double best, d
 /* ---- the query's grid minimiser ------------------------------------------ */
 
 #define GS_NONE_U32 0xFFFFFFFFu
+_Static_assert(GS_NONE_U32 == GS_FUN_NO_CELL, "grid candidates: one \"none\" (gs__grid_marks_pick)");
 
 static double grid_u(uint32_t j, uint32_t g, int closed)
 {
@@ -742,16 +744,7 @@ __attribute__((target("avx2"))) static void grid_minima8(const float *e, uint32_
     /* the points beyond the grid */
     uint64_t v0 = g >= 64 ? ~0ull : (1ull << g) - 1, v1 = g > 64 ? (g >= 128 ? ~0ull : (1ull << (g - 64)) - 1) : 0;
     eq[0] &= v0, eq[1] &= v1, lm[0] &= v0, lm[1] &= v1;
-    uint32_t a = eq[0] ? (uint32_t)__builtin_ctzll(eq[0]) : eq[1] ? 64 + (uint32_t)__builtin_ctzll(eq[1]) : GS_NONE_U32;
-    if (a != GS_NONE_U32) lm[a >> 6] &= ~(1ull << (a & 63));
-    uint32_t b = GS_NONE_U32;
-    float bv = 0.0f;
-    for (int w = 0; w < 2; ++w)
-        for (uint64_t x = lm[w]; x; x &= x - 1) {
-            uint32_t i = 64 * (uint32_t)w + (uint32_t)__builtin_ctzll(x);
-            if (b == GS_NONE_U32 || e[i + 1] < bv) b = i, bv = e[i + 1];
-        }
-    *j1 = a, *j2 = b;
+    gs__grid_marks_pick(eq, lm, e + 1, j1, j2);
 }
 #endif
 
