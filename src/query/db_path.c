@@ -1228,24 +1228,32 @@ static int make_path(ctx *c, gs_path **out)
 #define CHEAP_CORRIDOR 100
 /* ... and on a rough stretch of surface: where the walk's vertices have
  * an angle defect |2 pi - angle sum| of at least ROUGH_DEFECT radians on
- * average and at least ROUGH_MEDIAN at ROUGH_SHARE of them (bumps and
- * spikes a few edges wide all along; smooth meshes: means of 0.003-0.05;
- * bunny-5k's ears, fandisk's corners: means up to 0.25 but medians mostly
- * below 0.08, 1-3 walks in 1,000 pass both; bumpy, spiky and noisy
- * meshes: means of 0.1-0.8, medians 0.09-0.85; sphere-spiky's and
- * sphere5-bumpy's walks 0.96% over the exact distance: means 0.11 and
- * 0.15, shares 0.47 and 0.5), the database's fits err by up to 2.6% and
+ * average and at least ROUGH_MEDIAN at half of them (bumps and spikes a
+ * few edges wide all along; smooth meshes: means of 0.003-0.05; bunny-5k's
+ * ears, fandisk's corners: means up to 0.25 but medians mostly below 0.08,
+ * 3 walks in 1,000 pass both; bumpy, spiky and noisy meshes: means of
+ * 0.12-0.8, medians 0.09-0.85), the database's fits err by up to 2.6% and
  * cannot tell the two sides of a bump apart, so the corridor is solved
  * whenever the path is not shorter than the database's distance, and where
  * the mean is at least ROUGH_STRONG whatever the lengths (sphere-spiky2:
  * a path 2.4% longer than the exact distance was 0.2% shorter than the
  * database's; on the milder meshes every path over 1% was at least 0.2%
- * longer than it), up to ROUGH_CORRIDOR vertices (about 4 ms). */
-#define ROUGH_DEFECT 0.105
+ * longer than it), up to ROUGH_CORRIDOR vertices (about 4 ms); and so
+ * from a mean of ROUGH_MILD and a share of ROUGH_MILD_SHARE where the
+ * defects are noise, not curvature: they differ from the mean of their
+ * neighbours' by ROUGH_NOISE on average (sphere-bumpy's paths 1.1-1.2%
+ * over the exact distance: means 0.107-0.118, shares 0.52-0.59, noise
+ * 0.13-0.15; bunny-5k's walks: noise 0.045 at the median, 0.12 at the
+ * 99th percentile, smooth meshes' below 0.03). The shares are counted
+ * over walks of MIN_SHARE_WALK interior vertices or more. */
+#define ROUGH_DEFECT 0.12
 #define ROUGH_MEDIAN 0.08
-#define ROUGH_SHARE 0.45
 #define ROUGH_STRONG 0.2
 #define ROUGH_CORRIDOR 2000
+#define ROUGH_MILD 0.105
+#define ROUGH_MILD_SHARE 0.45
+#define ROUGH_NOISE 0.125
+#define MIN_SHARE_WALK 10
 /* ... and, for a surface-point end, already at the reverse tolerance up to
  * POINT_CORRIDOR vertices (about a millisecond): the database's distance
  * between surface points interpolates its corners' (points.c) and errs
@@ -1260,17 +1268,31 @@ static int make_path(ctx *c, gs_path **out)
  * torus-thin's walks, 0.05-0.1 on knot-fat's and the bumpy spheres', up
  * to 0.01 on homer-60k's) */
 #define POINT_DEFECT 0.02
-/* ... and, up to POINT_CORRIDOR vertices, from SADDLE_LONGER over the
- * database's distance where at least SADDLE_SHARE of the walk's vertices
- * are saddles (an angle sum above 2 pi + SADDLE_DEFECT): a walk along the
- * inner side of a coarse tube or handle (knot-fat: every path over 1% in
- * 3,000 vertex and point pairs ran over 83-100% saddles, its database
- * distance 0.35-0.8% too long, the path 0.4-1% longer than it). Smooth
- * meshes' walks cross saddles and domes alike (bunny-5k, spot: at most
- * 86%, 1 walk in 3,000 at 80% and longer than SADDLE_LONGER; homer-60k's
- * vertices are too fine to count: at most 12%). */
+/* ... and, up to ANISO_CORRIDOR vertices, from ANISO_LONGER over the
+ * database's distance where at least ANISO_SHARE of the walk's vertices
+ * have an edge ANISO_RATIO times as long as another of theirs: long thin
+ * triangles (knot-fat, a tube of 24 x 60 vertices, triangles about 4.4
+ * times as long as wide), where the walk along the edges can follow the
+ * other side of the tube while the database's distance errs 0.3-0.8% high
+ * (every path over 1% in 10,000 vertex pairs and 4,000 point pairs: the
+ * path 0.25-1% longer than that distance, where no other check fires).
+ * Walks on meshes of rounder triangles pass few such vertices (bunny-5k,
+ * spot, homer, fandisk, homer-60k: 1-2 walks in 2,000 at ANISO_SHARE and
+ * longer than ANISO_LONGER; knot-fat: nearly all walks). */
+#define ANISO_RATIO 3.0
+#define ANISO_SHARE 0.7
+#define ANISO_LONGER 0.003 /* (for a surface-point end: any length above it) */
+#define ANISO_CORRIDOR 600
+/* ... and, up to POINT_CORRIDOR vertices, from SADDLE_LONGER where at
+ * least SADDLE_SHARE of the walk's vertices are saddles (an angle sum
+ * above 2 pi + SADDLE_DEFECT) and SADDLE_ANISO have such long edges: a
+ * walk along the inner side of such a tube, where the edges along it are
+ * shorter (3 of knot-fat's paths over 1% that the rule above misses:
+ * 97-100% saddles, 65-68% such vertices; bunny-5k: at most 1 walk in
+ * 2,000 with 80% saddles and 50% such vertices). */
 #define SADDLE_DEFECT 0.02
-#define SADDLE_SHARE 0.8
+#define SADDLE_SHARE 0.9
+#define SADDLE_ANISO 0.6
 #define SADDLE_LONGER 0.003
 
 /* ---- the check: a path much longer than the database's distance -------- */
@@ -1396,26 +1418,69 @@ static double corridor_size(const gs_mesh *mesh, double len, double d)
     return M_PI * a * sqrt(fmax(a * a - f * f, 0)) / (0.5 * sqrt(3.0) * e * e);
 }
 
-/* How rough the surface is where the walk runs: 0 if smooth, else the
- * mean angle defect |2 pi - angle sum| of its interior (non-boundary)
- * vertices when it is at least ROUGH_DEFECT radians and at least
- * ROUGH_SHARE of them have ROUGH_MEDIAN; *mean: that mean in any case;
- * *saddles: the share of them that are saddles (SADDLE_DEFECT). */
-static double walk_roughness(const ctx *c, double *mean, double *saddles)
+/* The shape of the surface along the walk c->vp, over its interior
+ * (non-boundary) vertices: their number, their mean angle defect
+ * |2 pi - angle sum|, the share with ROUGH_MEDIAN or more and the share
+ * of saddles (SADDLE_DEFECT). */
+typedef struct walk_shape {
+    size_t n;
+    double mean, big, saddles;
+} walk_shape;
+
+static walk_shape shape_of(const ctx *c)
 {
     const gs__topo *t = c->t;
-    double sum = 0;
-    size_t n = 0, big = 0, neg = 0;
+    walk_shape w = {0, 0, 0, 0};
     for (size_t i = 0; i < c->nvp; ++i) {
         uint32_t v = c->vp[i];
         if (t->vflag[v] & (GS_V_BOUNDARY | GS_V_UNUSED)) continue;
         double k = 2 * M_PI - t->vangle[v];
-        neg += k <= -SADDLE_DEFECT, k = fabs(k);
-        sum += k, ++n, big += k >= ROUGH_MEDIAN;
+        w.saddles += k <= -SADDLE_DEFECT, k = fabs(k);
+        w.mean += k, ++w.n, w.big += k >= ROUGH_MEDIAN;
     }
-    *mean = n ? sum / (double)n : 0;
-    *saddles = n ? (double)neg / (double)n : 0;
-    return n && sum >= ROUGH_DEFECT * (double)n && (double)big >= ROUGH_SHARE * (double)n ? sum / (double)n : 0;
+    if (w.n) w.mean /= (double)w.n, w.big /= (double)w.n, w.saddles /= (double)w.n;
+    return w;
+}
+
+/* How noisy the defects along the walk are: the mean over its interior
+ * vertices of |defect - the mean defect of its interior neighbours|
+ * (signed defects 2 pi - angle sum). */
+static double walk_noise(const ctx *c)
+{
+    const gs__topo *t = c->t;
+    double sum = 0;
+    size_t n = 0;
+    for (size_t i = 0; i < c->nvp; ++i) {
+        uint32_t v = c->vp[i];
+        if (t->vflag[v] & (GS_V_BOUNDARY | GS_V_UNUSED)) continue;
+        double nb = 0;
+        uint32_t m = 0;
+        for (uint32_t j = t->vc_start[v]; j < t->vc_start[v + 1]; ++j) {
+            uint32_t w = t->tri[gs__next(t->vc[j])];
+            if (!(t->vflag[w] & (GS_V_BOUNDARY | GS_V_UNUSED))) nb += 2 * M_PI - t->vangle[w], ++m;
+        }
+        if (m) sum += fabs(2 * M_PI - t->vangle[v] - nb / m), ++n;
+    }
+    return n ? sum / (double)n : 0;
+}
+
+/* The share of the walk's vertices whose longest edge is at least
+ * ANISO_RATIO times their shortest. */
+static double walk_anisotropy(const ctx *c)
+{
+    const gs__topo *t = c->t;
+    size_t n = 0, thin = 0;
+    for (size_t i = 0; i < c->nvp; ++i) {
+        uint32_t v = c->vp[i];
+        double lo = INFINITY, hi = 0;
+        for (uint32_t j = t->vc_start[v]; j < t->vc_start[v + 1]; ++j) { /* the edges of its corners */
+            uint32_t h = t->vc[j];
+            lo = fmin(lo, fmin(t->len[h], t->len[gs__prev(h)]));
+            hi = fmax(hi, fmax(t->len[h], t->len[gs__prev(h)]));
+        }
+        if (hi > 0) ++n, thin += hi >= ANISO_RATIO * lo;
+    }
+    return n ? (double)thin / (double)n : 0;
 }
 
 /* Whether the walk c->vp runs far off the database's shortest path: some
@@ -1890,12 +1955,23 @@ int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const g
     double lo = fmin(fmin(len1, len2), len3), hi = fmax(len1, len2);
     if (isfinite(len3)) hi = fmax(hi, len3);
     int two_routes = isfinite(len2) && hi - lo > 1e-9 * len;
-    double mean_defect, saddles, size = corridor_size(mesh, len, d), rough = walk_roughness(best, &mean_defect, &saddles);
+    double size = corridor_size(mesh, len, d), longer = len / d - 1;
+    walk_shape w = shape_of(best);
+    double rough = w.mean >= ROUGH_DEFECT && 2 * w.big >= 1 ? w.mean : 0;
+    int counted = w.n >= MIN_SHARE_WALK, corridor_ok = size <= ROUGH_CORRIDOR && (len >= d || w.mean >= ROUGH_STRONG);
+    if (!rough && counted && corridor_ok && w.mean >= ROUGH_MILD && w.big >= ROUGH_MILD_SHARE &&
+        walk_noise(best) >= ROUGH_NOISE)
+        rough = w.mean;
+    double thin = counted && size <= ANISO_CORRIDOR && longer > (point_end ? 0 : fmin(ANISO_LONGER, SADDLE_LONGER))
+                      ? walk_anisotropy(best)
+                      : 0;
     if (!rc && (len > d * (1 + (exact_db ? CHECK_TOL_EXACT : CHECK_TOL_APPROX)) ||
                 (two_routes && size <= (hi - lo > ROUTE_GAP * len ? SMALL_CORRIDOR : CHEAP_CORRIDOR)) ||
-                (point_end && len > d * (1 + reverse_tol) && mean_defect >= POINT_DEFECT && size <= POINT_CORRIDOR) ||
-                (saddles >= SADDLE_SHARE && len > d * (1 + SADDLE_LONGER) && size <= POINT_CORRIDOR) ||
-                (rough > 0 && (len >= d || rough >= ROUGH_STRONG) && size <= ROUGH_CORRIDOR))) {
+                (point_end && len > d * (1 + reverse_tol) && w.mean >= POINT_DEFECT && size <= POINT_CORRIDOR) ||
+                (thin >= ANISO_SHARE && longer > (point_end ? 0 : ANISO_LONGER)) ||
+                (thin >= SADDLE_ANISO && w.saddles >= SADDLE_SHARE && longer > SADDLE_LONGER &&
+                 size <= POINT_CORRIDOR) ||
+                (rough > 0 && corridor_ok))) {
         double px[3], py[3];
         q_position(t, &qx, px);
         q_position(t, &qy, py);
