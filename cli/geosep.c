@@ -31,7 +31,7 @@ static const char usage_generate[] =
     "usage: geosep generate SPEC -o OUT.obj\n"
     "  Write a generated mesh as OBJ. SPEC is one of:\n"
     "    grid:NX,NY[,W,H]  peaks:N[,W]  plate:N  cylinder:NU,NV[,R,H]  cone:NU,NV[,R,H]\n"
-    "    cube:N[,S]  torus:NU,NV[,R,r]  knot:NU,NV[,r]  sphere:N  two:N\n";
+    "    cube:N[,S]  torus:NU,NV[,R,r]  knot:NU,NV[,r]  sphere:N  two:N  graded:N[,P]\n";
 
 static const char usage_subdivide[] =
     "usage: geosep subdivide MESH -o OUT.obj [--times N]\n"

@@ -168,6 +168,9 @@ GS_API int gs_mesh_get_report(const gs_mesh *mesh, gs_mesh_report *report,
  *                             sin 3t): NU >= 8 rings of NV >= 3 vertices
  *   "sphere:N"                closed unit icosphere, N <= 9 subdivisions
  *   "two:N"                   two disjoint flat N x N grids (two components)
+ *   "graded:N[,P]"            flat N x N grid on the unit square graded towards
+ *                             the origin: vertex (i,j) at ((i/(N-1))^P,
+ *                             (j/(N-1))^P), 1 <= P <= 8 [3], N <= 4096
  * Integers are plain digits; sizes plain decimals ("2", "0.5", "1e-3") from
  * 1e-30 to 1e30, no blanks, signs, hex, inf or nan. Bad specs give GS_EARG
  * naming the spec and the bad argument, sizes over 2^26 vertices GS_ELIMIT.

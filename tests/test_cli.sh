@@ -255,9 +255,9 @@ cp "$T/grid.gsdb" "$T/flip.gsdb"
 printf '\x55' | dd of="$T/flip.gsdb" bs=1 seek=2000 conv=notrunc 2>/dev/null
 expect_fail 1 "flip.gsdb: section '(records|positions|curves|nodes|leaves|vertex_index)': checksum mismatch" "verify: a corrupted database is refused, naming the section" verify "$T/flip.gsdb"
 run verify "$T/grid.gsdb"
-{ [ "$rc" -eq 0 ] && grep -q "grid.gsdb: ok (format 5, 400 vertices" "$T/out"; }; verdict "verify: a good database is ok"
+{ [ "$rc" -eq 0 ] && grep -q "grid.gsdb: ok (format 6, 400 vertices" "$T/out"; }; verdict "verify: a good database is ok"
 printf '\x04' | dd of="$T/flip.gsdb" bs=1 seek=8 conv=notrunc 2>/dev/null
-expect_fail 1 "format_version 4; this geosep reads version 5 only \\(an older file: rebuild it with geosep build\\)" "query: another format version is named" query "$T/flip.gsdb" 0 1
+expect_fail 1 "format_version 4; this geosep reads versions 5 to 6 \\(an older file: rebuild it with geosep build\\)" "query: another format version is named" query "$T/flip.gsdb" 0 1
 expect_fail 2 "verify: need DB" "verify: no database" verify
 run field "$T/grid.gsdb" --source 0 -o "$T/f0.txt"
 { [ "$rc" -eq 0 ] && [ "$(wc -l <"$T/f0.txt")" -eq 400 ] && [ "$(head -1 "$T/f0.txt")" = "0" ]; }; verdict "field writes one distance per vertex"

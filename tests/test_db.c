@@ -1,4 +1,4 @@
-/* test_db.c - the database file (doc/database-format.md, version 5): a
+/* test_db.c - the database file (doc/database-format.md, version 6): a
  * hand-made tree and functions packed, saved, re-opened bit-exact; every
  * corruption (flips, truncation, absurd fields with valid checksums)
  * rejected cleanly, by the structural validation at open or by
@@ -95,7 +95,7 @@ static void test_round_trip(int leaf_exact)
         CHECK(memcmp(&i1, &i2, sizeof i1) == 0);
         CHECK(i1.n_vertices == FX_NV && i1.n_nodes == 5 && i1.n_leaves == 3 && i1.n_curves == 3);
         CHECK(i1.max_depth == 2 && i1.vmax == 2 && i1.mmax == 12 && i1.tol == 0.005 && i1.vertex_sources == 1);
-        CHECK(i1.leaf_exact == leaf_exact && i1.sampled == 0 && i1.file_bytes == n && i1.format_version == 5);
+        CHECK(i1.leaf_exact == leaf_exact && i1.sampled == 0 && i1.file_bytes == n && i1.format_version == 6);
         CHECK(i1.n_functions == 14 && i1.records_bytes > 0 && i1.records_bytes < n);
         CHECK(i1.sample_spacing == 0.25 && i1.seed == 7 && i1.max_samples == 64 && i1.solver.heat_time == 0.5 &&
               i1.solver.fmm_exact_start == 3 && i1.solver.heat_refine == 2 && i1.solver.dgg_eps == 0);
@@ -442,20 +442,22 @@ static void test_structure(void)
     memcpy(b, db->bytes, n);
     b[8] = 3; /* version 3 (f64 leaf tables, no aliases) is not read */
     reseal(b, n);
-    CHECK(open_bad(b, n, &err) == GS_EFORMAT && strstr(err.message, "format_version 3; this geosep reads version 5") &&
+    CHECK(open_bad(b, n, &err) == GS_EFORMAT &&
+          strstr(err.message, "format_version 3; this geosep reads versions 5 to 6") &&
           strstr(err.message, "rebuild it with geosep build"));
     memcpy(b, db->bytes, n);
     b[8] = 4; /* version 4 (float minima, 16-bit coefficients, records in 8-byte units) is not read */
     reseal(b, n);
-    CHECK(open_bad(b, n, &err) == GS_EFORMAT && strstr(err.message, "format_version 4; this geosep reads version 5") &&
+    CHECK(open_bad(b, n, &err) == GS_EFORMAT &&
+          strstr(err.message, "format_version 4; this geosep reads versions 5 to 6") &&
           strstr(err.message, "rebuild it with geosep build"));
     memcpy(b, db->bytes, n);
     b[8] = 2;
     CHECK(open_bad(b, n, &err) == GS_EFORMAT && strstr(err.message, "format_version 2") && strstr(err.message, "rebuild"));
     memcpy(b, db->bytes, n);
-    b[8] = 6;
+    b[8] = 7;
     reseal(b, n);
-    CHECK(open_bad(b, n, &err) == GS_EFORMAT && strstr(err.message, "format_version 6") && strstr(err.message, "newer"));
+    CHECK(open_bad(b, n, &err) == GS_EFORMAT && strstr(err.message, "format_version 7") && strstr(err.message, "newer"));
     /* files written before heat_refine have bits 2-3 of build_flags 0: read
      * as heat_refine 0 */
     memcpy(b, db->bytes, n);

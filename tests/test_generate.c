@@ -97,6 +97,7 @@ static void test_counts(void)
         {"sphere:0", 12, 20, 1, 0, 0, 59.9},
         {"sphere:3", 642, 1280, 1, 0, 0, 45},
         {"two:5", 50, 64, 2, 2, 0, 45},
+        {"graded:6", 36, 50, 1, 1, 0, 0},
     };
     for (size_t i = 0; i < sizeof ex / sizeof ex[0]; ++i) check_expect(&ex[i]);
 }
@@ -155,6 +156,14 @@ static void test_geometry(void)
     check_flat("grid:5,4", 1 - 1e-15, 1 + 1e-15);
     check_flat("grid:7,3,2,5", 10 - 1e-14, 10 + 1e-14);
     check_flat("two:4", 2 - 1e-15, 2 + 1e-15);
+    check_flat("graded:40,7", 1 - 1e-14, 1 + 1e-14);
+    gs_mesh *g = generate("graded:5,2"); /* vertex (i, j) at ((i/4)^2, (j/4)^2) */
+    if (g) {
+        const double *p = gs_mesh_positions(g);
+        CHECK(p[3 * 1] == 1.0 / 16 && p[3 * 1 + 1] == 0 && p[3 * 7] == 1.0 / 4 && p[3 * 7 + 1] == 1.0 / 16);
+        CHECK(p[3 * 24] == 1 && p[3 * 24 + 1] == 1 && p[3 * 24 + 2] == 0);
+        gs_mesh_free(g);
+    }
     /* polygonal holes are inscribed in their circles: a bit more area */
     check_flat("plate:1000", 1 - holes, 1 - holes + 0.01);
     check_closed("cube:4", 1, 1e-14);
@@ -246,7 +255,7 @@ static void test_bad_specs(void)
         "grid:5,5,nan,1", "grid:5,5,inf,1", "grid:5,5,1,1,1", " grid:5,5", "GRID:5,5", "blob:3",
         "grid:99999999999,5", "torus:10,10,1,2", "torus:10,10,1,1", "sphere:10", "cube:0",
         "cube:2,0", "plate:10", "peaks:1", "peaks:5,0", "peaks:5,-6", "peaks:5,6,6", "two:1", "cylinder:2,5", "cone:5,1", "torus:5,2", "sphere:-1", "knot:7,5",
-        "knot:10,10,0.6", "knot:10,10,0.4,1",
+        "knot:10,10,0.6", "knot:10,10,0.4,1", "graded:1", "graded:5,0.5", "graded:5,9", "graded:5000",
         "grid:5 ,5", "grid:5,5,1e400,1",
         /* strict sizes: blanks, signs, hex, inf/nan words, out of [1e-30, 1e30] */
         "grid:3,3, 1,1", "grid:3,3,1 ,1", "grid:3,3,1,\t1", "grid:3,3,+1,1", "grid:3,3,0x1p1,1",

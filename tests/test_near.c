@@ -6,7 +6,8 @@
  * crash; and on a generated mesh, what the build stores: exactly the
  * cross-leaf pairs nearer than the radius that the separators answer off by
  * more than 2%, each answered within its 16-bit rounding of the exact
- * distance. */
+ * distance (16 significant bits: also on a graded grid whose nearest pairs
+ * are 10^4 to 10^6 times nearer than the radius); a format 5 file read. */
 #include "check.h"
 #include "db/db_internal.h"
 
@@ -15,6 +16,38 @@
 #include <string.h>
 
 #include "db_fixture.h"
+
+/* ---- the section inside a file ------------------------------------------- */
+
+static unsigned char *table_entry(unsigned char *b, uint32_t id)
+{
+    uint32_t n_sec;
+    memcpy(&n_sec, b + GS__H_SECTIONS, 4);
+    for (uint32_t i = 0; i < n_sec; ++i) {
+        unsigned char *t = b + GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * i;
+        if (gs__get32(t) == id) return t;
+    }
+    return NULL;
+}
+
+static unsigned char *near_sec(unsigned char *b)
+{
+    return b + gs__get64(table_entry(b, GS__SEC_NEAR) + 8);
+}
+
+/* Recompute every checksum, so that only the checks of the structure and
+ * values can object. */
+static void reseal(unsigned char *b)
+{
+    uint32_t n_sec;
+    memcpy(&n_sec, b + GS__H_SECTIONS, 4);
+    for (uint32_t i = 0; i < n_sec; ++i) {
+        unsigned char *t = b + GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * i;
+        gs__put64(t + 24, gs__db_checksum(b + gs__get64(t + 8), (size_t)gs__get64(t + 16), NULL, 0));
+    }
+    gs__put64(b + GS__DB_CHECKSUM_AT,
+              gs__db_checksum(b, GS__DB_CHECKSUM_AT, b + GS__DB_HEADER_BYTES, GS__DB_ENTRY_BYTES * n_sec));
+}
 
 /* ---- the fixture with near pairs ---------------------------------------- */
 
@@ -75,6 +108,27 @@ static void test_fixture(void)
     for (int i = 0; i < 6; ++i) CHECK(out[i] == gs_db_distance(db, pairs[2 * i], pairs[2 * i + 1]));
     CHECK(gs_db_field(db, 2, field, &err) == GS_OK);
     for (uint32_t y = 0; y < FX_NV; ++y) CHECK(field[y] == gs_db_distance(db, 2, y));
+    /* format 5 (no shifts) is read: distances above radius / 2 need none
+     * (the same bytes), and (1, 2)'s is refused (test_corruptions) */
+    static const gs__near_pair FAR[] = {{0, 2, 0.75}, {2, 4, 0.9}};
+    gs_db *db6 = near_fixture(&g, FAR, 2), *old = NULL;
+    unsigned char *v5 = db6 ? malloc((size_t)db6->size) : NULL;
+    if (v5) {
+        memcpy(v5, db6->bytes, (size_t)db6->size);
+        v5[GS__H_VERSION] = 5;
+        reseal(v5);
+        CHECK_MSG(gs_db_open_memory(v5, (size_t)db6->size, &old, &err) == GS_OK, "format 5: %s", err.message);
+        CHECK(old && gs_db_get_info(old, &info, &err) == GS_OK && info.format_version == 5);
+        for (uint32_t x = 0; old && x < FX_NV; ++x)
+            for (uint32_t y = 0; y < FX_NV; ++y) {
+                double a = gs_db_distance(db6, x, y), c = gs_db_distance(old, x, y);
+                CHECK(memcmp(&a, &c, sizeof a) == 0);
+            }
+        CHECK(old && gs_db_distance(old, 0, 2) == gs_db_distance(db, 0, 2));
+        gs_db_free(old);
+        free(v5);
+    }
+    gs_db_free(db6);
     /* an empty section: answers as without it */
     gs_db *empty = near_fixture(&g, NULL, 0);
     for (uint32_t x = 0; empty && x < FX_NV; ++x)
@@ -91,36 +145,6 @@ static void test_fixture(void)
 
 /* ---- corruptions ---------------------------------------------------------- */
 
-static unsigned char *table_entry(unsigned char *b, uint32_t id)
-{
-    uint32_t n_sec;
-    memcpy(&n_sec, b + GS__H_SECTIONS, 4);
-    for (uint32_t i = 0; i < n_sec; ++i) {
-        unsigned char *t = b + GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * i;
-        if (gs__get32(t) == id) return t;
-    }
-    return NULL;
-}
-
-static unsigned char *near_sec(unsigned char *b)
-{
-    return b + gs__get64(table_entry(b, GS__SEC_NEAR) + 8);
-}
-
-/* Recompute every checksum, so that only the checks of the structure and
- * values can object. */
-static void reseal(unsigned char *b)
-{
-    uint32_t n_sec;
-    memcpy(&n_sec, b + GS__H_SECTIONS, 4);
-    for (uint32_t i = 0; i < n_sec; ++i) {
-        unsigned char *t = b + GS__DB_HEADER_BYTES + GS__DB_ENTRY_BYTES * i;
-        gs__put64(t + 24, gs__db_checksum(b + gs__get64(t + 8), (size_t)gs__get64(t + 16), NULL, 0));
-    }
-    gs__put64(b + GS__DB_CHECKSUM_AT,
-              gs__db_checksum(b, GS__DB_CHECKSUM_AT, b + GS__DB_HEADER_BYTES, GS__DB_ENTRY_BYTES * n_sec));
-}
-
 /* the section: head (radius, step, n, bits, 0), start[0..1] (nv 7: one
  * bucket), then entries of 8 bytes: y u32, q u16, xlow u8, 0 */
 #define ENT(b, i) (near_sec(b) + 32 + 8 + 8 * (i))
@@ -136,7 +160,8 @@ static void m_y_range(unsigned char *b) { gs__put32(ENT(b, 2), FX_NV); }
 static void m_x_not_below(unsigned char *b) { gs__put32(ENT(b, 0), 0); } /* (0, 0) */
 static void m_dup(unsigned char *b) { memcpy(ENT(b, 1), ENT(b, 0), 8); }  /* (0, 2) twice */
 static void m_xlow(unsigned char *b) { ENT(b, 1)[6] = 16; }
-static void m_ent_reserved(unsigned char *b) { ENT(b, 1)[7] = 1; }
+static void m_ent_shift(unsigned char *b) { ENT(b, 1)[7] = GS__NEAR_SHIFT_MAX + 1; }
+static void m_v5_shift(unsigned char *b) { b[GS__H_VERSION] = 5, ENT(b, 1)[7] = 1; } /* format 5: no shifts */
 static void m_size(unsigned char *b) { gs__put64(table_entry(b, GS__SEC_NEAR) + 16, 16); }
 static void m_flag_off(unsigned char *b) { gs__put32(b + GS__H_FLAGS, GS__DB_FLAG_LEAF_EXACT); }
 
@@ -163,7 +188,8 @@ static void test_corruptions(void)
         {m_x_not_below, 0, "entry 0 is the pair (0, 0)"},
         {m_dup, 0, "entry 1 (0, 2) is not after the entry before it"},
         {m_xlow, 0, "entry 1 is the pair (16, 2)"},
-        {m_ent_reserved, 0, "with reserved byte 1"},
+        {m_ent_shift, 0, "with shift 65"},
+        {m_v5_shift, 0, "with shift 1 (needs x < y < 7, shift <= 0 in format 5)"},
         {m_size, 1, "section table: sections end at"},
         {m_flag_off, 1, "n_sections 10 (flags require 9)"},
     };
@@ -219,11 +245,9 @@ static void test_corruptions(void)
 
 /* ---- what the build stores ------------------------------------------------ */
 
-static void test_build(const char *spec)
+static void test_build(const char *spec, gs_mesh *m)
 {
-    gs_mesh *m = NULL;
     gs_error err = {0};
-    CHECK_MSG(gs_mesh_generate(spec, &m, &err) == GS_OK, "%s: %s", spec, err.message);
     if (!m) return;
     uint32_t n = gs_mesh_num_vertices(m);
     gs_build_options o;
@@ -248,9 +272,10 @@ static void test_build(const char *spec)
     CHECK(info.file_bytes == i0.file_bytes + GS__DB_ENTRY_BYTES + info.near_bytes);
     gs_mesh_report rep;
     CHECK(gs_mesh_get_report(m, &rep, &err) == GS_OK);
-    double R = info.near_radius, R0 = 5 * rep.mean_edge, step = R / 65535;
+    double R = info.near_radius, R0 = 5 * rep.mean_edge;
     CHECK(R >= R0 * (1 - 1e-12));
     uint64_t found = 0, wide = 0;
+    double dmin = INFINITY;
     for (uint32_t x = 0; x < n; ++x) {
         gs_source src = gs_source_vertex(x);
         CHECK(gs_solver_solve(s, &src, 1, 0, exact, &err) == GS_OK);
@@ -263,7 +288,9 @@ static void test_build(const char *spec)
                 wide += d >= R0; /* beyond the base radius: a widened vertex */
                 CHECK_MSG(cross && d < R && fabs(a0 - d) > 0.02 * d, "%s: (%u, %u) stored: d %g, R %g, without %g",
                           spec, x, y, d, R, a0);
-                CHECK_MSG(fabs(a - d) <= 0.5 * step + 1e-12 * d, "%s: (%u, %u): %.17g, exact %.17g", spec, x, y, a, d);
+                /* 16 significant bits, however much nearer than R */
+                CHECK_MSG(fabs(a - d) <= 0x1p-16 * d + 1e-12 * d, "%s: (%u, %u): %.17g, exact %.17g", spec, x, y, a, d);
+                dmin = d < dmin ? d : dmin;
             } else {
                 CHECK_MSG(memcmp(&a, &a0, sizeof a) == 0, "%s: (%u, %u) not stored, answers differ", spec, x, y);
                 /* all within the base radius that needed it are stored */
@@ -273,8 +300,9 @@ static void test_build(const char *spec)
         }
     }
     CHECK(found == info.n_near_pairs);
-    printf("%s: %llu near pairs stored (%llu beyond the base radius), %.2f bytes/vertex\n", spec,
-           (unsigned long long)found, (unsigned long long)wide, (double)info.near_bytes / n);
+    printf("%s: %llu near pairs stored (%llu beyond the base radius, the nearest %.3g: radius / %.3g), %.2f "
+           "bytes/vertex\n",
+           spec, (unsigned long long)found, (unsigned long long)wide, dmin, R / dmin, (double)info.near_bytes / n);
     CHECK(found > 0);
 done:
     gs_solver_free(s);
@@ -285,10 +313,43 @@ done:
     gs_mesh_free(m);
 }
 
+/* A height field on the grid x = (i/(n-1))^p, y = (j/(n-1))^p: cells from
+ * (1/(n-1))^p to ~p/(n-1) wide (a boundary layer's grading), so that near
+ * pairs at the origin are 10^4 to 10^6 times nearer than the radius. */
+static gs_mesh *graded(uint32_t n, double p)
+{
+    double *xyz = malloc(3 * (size_t)n * n * sizeof *xyz);
+    uint32_t *tri = malloc(6 * (size_t)(n - 1) * (n - 1) * sizeof *tri), t = 0;
+    gs_mesh *m = NULL;
+    gs_error err = {0};
+    if (!xyz || !tri) goto done;
+    for (uint32_t j = 0; j < n; ++j)
+        for (uint32_t i = 0; i < n; ++i) {
+            double x = pow((double)i / (n - 1), p), y = pow((double)j / (n - 1), p);
+            double *v = xyz + 3 * ((size_t)j * n + i);
+            v[0] = x, v[1] = y, v[2] = 0.25 * sin(5 * x) * sin(5 * y);
+        }
+    for (uint32_t j = 0; j + 1 < n; ++j)
+        for (uint32_t i = 0; i + 1 < n; ++i) {
+            uint32_t a = j * n + i, b = a + 1, c = a + n, d = c + 1;
+            uint32_t q[6] = {a, b, d, a, d, c};
+            memcpy(tri + t, q, sizeof q), t += 6;
+        }
+    CHECK_MSG(gs_mesh_create(xyz, n * n, tri, t / 3, &m, &err) == GS_OK, "graded: %s", err.message);
+done:
+    free(xyz);
+    free(tri);
+    return m;
+}
+
 int main(void)
 {
     test_fixture();
     test_corruptions();
-    test_build("knot:120,12");
+    gs_mesh *m = NULL;
+    gs_error err = {0};
+    CHECK_MSG(gs_mesh_generate("knot:120,12", &m, &err) == GS_OK, "knot: %s", err.message);
+    test_build("knot:120,12", m);
+    test_build("graded 24 x 24, p = 5", graded(24, 5.0));
     return gs__test_finish("test_near");
 }

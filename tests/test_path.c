@@ -1,6 +1,6 @@
 /* test_path.c - exact geodesic paths (gs_solver_path, gs_solver_trace):
  * known geodesics on generated meshes (plane, prism cylinder, truncated
- * pyramid, cube, plate with holes), the invariants of every path (length
+ * pyramid, cube, plate with holes, graded needles flat and bent), the invariants of every path (length
  * equals the exact distance, points inside their faces, consecutive points
  * in one face, bends only at vertices on flat meshes, reverse paths as long),
  * errors, and the lengths of 1000 random paths per source against the shared
@@ -332,6 +332,69 @@ static void test_plate(void)
     close_ctx(&c);
 }
 
+/* Graded needles: `graded:40,7` (cells 7e-12 wide, 0.2 long, flat: every
+ * distance is the straight one) and the same grid bent by a wave (the walk
+ * unfolds needles that are not coplanar): random surface points both ways,
+ * every invariant of path_checked. */
+static void test_graded(void)
+{
+    ctx c;
+    if (open_ctx(&c, "graded:40,7", NULL)) return;
+    uint32_t nv = gs_mesh_num_vertices(c.m), nf = gs_mesh_num_faces(c.m);
+    const double *P = gs_mesh_positions(c.m);
+    double *xyz = malloc(3 * (size_t)nv * sizeof *xyz);
+    gs_mesh *wavy = NULL;
+    gs_error err;
+    if (xyz) {
+        memcpy(xyz, P, 3 * (size_t)nv * sizeof *xyz);
+        for (uint32_t v = 0; v < nv; ++v) xyz[3 * v + 2] = 0.25 * sin(5 * xyz[3 * v]) * sin(5 * xyz[3 * v + 1]);
+        CHECK(gs_mesh_create(xyz, nv, gs_mesh_faces(c.m), nf, &wavy, &err) == GS_OK);
+        free(xyz);
+    }
+    uint64_t rng = 3;
+    for (int i = 0; i < 300; ++i) {
+        gs_source e[2];
+        double x[2][3] = {{0}};
+        for (int k = 0; k < 2; ++k) {
+            double u[3];
+            for (int j = 0; j < 3; ++j) {
+                rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+                u[j] = (double)(rng >> 11) * 0x1p-53;
+            }
+            uint32_t f = (uint32_t)(u[0] * nf);
+            f = f < nf ? f : nf - 1;
+            if (u[1] + u[2] > 1) u[1] = 1 - u[1], u[2] = 1 - u[2];
+            e[k] = gs_source_point(f, u[1], u[2], 1 - u[1] - u[2]);
+            for (int j = 0; j < 3; ++j)
+                for (int d = 0; d < 3; ++d) x[k][d] += e[k].bary[j] * P[3 * gs_mesh_faces(c.m)[3 * f + j] + d];
+        }
+        char what[64];
+        snprintf(what, sizeof what, "graded:40,7 pair %d", i);
+        path_checked(&c, e[0], e[1], gs__test_dist3(x[0], x[1]), what);
+    }
+    close_ctx(&c);
+    if (!wavy || open_ctx(&c, "graded:40,7 bent", wavy)) return;
+    rng = 3;
+    for (int i = 0; i < 300; ++i) {
+        gs_source e[2];
+        for (int k = 0; k < 2; ++k) {
+            double u[3];
+            for (int j = 0; j < 3; ++j) {
+                rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+                u[j] = (double)(rng >> 11) * 0x1p-53;
+            }
+            uint32_t f = (uint32_t)(u[0] * nf);
+            f = f < nf ? f : nf - 1;
+            if (u[1] + u[2] > 1) u[1] = 1 - u[1], u[2] = 1 - u[2];
+            e[k] = gs_source_point(f, u[1], u[2], 1 - u[1] - u[2]);
+        }
+        char what[64];
+        snprintf(what, sizeof what, "graded:40,7 bent pair %d", i);
+        path_checked(&c, e[0], e[1], -1, what);
+    }
+    close_ctx(&c);
+}
+
 /* Shared meshes: lengths of random paths against the ground truth. */
 static void test_shared(int quick)
 {
@@ -408,6 +471,7 @@ int main(void)
     test_cone();
     test_cube();
     test_plate();
+    test_graded();
     test_shared(quick);
     return gs__test_finish("test_path");
 }

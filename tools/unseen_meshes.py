@@ -224,6 +224,7 @@ def main():
     write(p("aniso40"), *aniso(10, 300, 2, 2, 0.4))
     write(p("jitter"), *jitter(50, 0.9))
     write(p("graded"), *graded(50, 2.5))
+    write(p("graded5"), *graded(45, 5.0))
     write(p("polar"), *polar(64, 40, 0.005))
     write(p("multi"), *multi(p("sphere3"), p("torus40")))
     write(p("cube-1e-3"), *scaled(p("cube16"), 1e-3))

@@ -427,7 +427,7 @@ static PyMethodDef mesh_methods[] = {
      "vertex grid on the unit square), \"grid:NX,NY,W,H\", \"peaks:N\", \"plate:N\",\n"
      "\"cylinder:NU,NV[,R,H]\", \"cone:NU,NV[,R,H]\", \"cube:N[,S]\",\n"
      "\"torus:NU,NV[,R,r]\", \"sphere:N\" (icosphere, N subdivisions), \"two:N\" (two\n"
-     "components). A bad spec raises ValueError naming the bad argument."},
+     "components), \"graded:N[,P]\" (flat grid graded towards a corner). A bad spec raises ValueError naming the bad argument."},
     {"subdivide", (PyCFunction)mesh_subdivide, METH_NOARGS,
      "subdivide($self, /)\n--\n\n"
      "A new mesh with every face split into four at its edge midpoints (the same\n"

@@ -1,5 +1,5 @@
 /* db_internal.h - an opened database (struct gs_db): the file's bytes,
- * validated at attach (doc/database-format.md, format version 5) and used
+ * validated at attach (doc/database-format.md, format version 6) and used
  * in place; nothing is built at open. The packer the builder calls.
  * Internal. */
 #ifndef GS_DB_INTERNAL_H
@@ -22,6 +22,7 @@ struct gs_db {
     /* header */
     uint32_t nv, n_nodes, n_curves, n_leaves, max_depth;
     uint64_t n_functions, records_bytes, leaf_entries;
+    uint32_t version; /* the file's format version (GS__DB_VERSION_MIN..) */
     uint32_t flags, build_flags, method, vmax, mmax;
     double avg_depth, tol, cost;
     double sample_spacing, heat_time, fmm_exact_start, dgg_eps;

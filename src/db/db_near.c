@@ -34,17 +34,22 @@ void gs__db_near_write(unsigned char *sec, uint32_t nv, double radius, const gs_
     }
     for (k = 0; k < n; ++k) {
         unsigned char *e = ent + 8 * k;
-        double q = nearbyint(p[k].d / step);
+        /* the largest shift that keeps d 2^shift / step within 16 bits:
+         * then q >= 2^15 (d >= radius 2^-64), 16 significant bits */
+        double r = p[k].d / step;
+        uint32_t shift = 0;
+        while (r > 0 && shift < GS__NEAR_SHIFT_MAX && 2.0 * r <= GS__NEAR_QMAX) r *= 2.0, ++shift;
+        double q = nearbyint(r);
         uint16_t qq = (uint16_t)(q > GS__NEAR_QMAX ? GS__NEAR_QMAX : (q < 0 ? 0 : q));
         gs__put32(e, p[k].y);
         memcpy(e + 4, &qq, 2);
         e[6] = (unsigned char)(p[k].x & (BUCKET - 1));
-        e[7] = 0;
+        e[7] = (unsigned char)shift;
     }
 }
 
-int gs__db_near_attach(const unsigned char *sec, uint64_t size, uint32_t nv, const char *name, gs__db_near *out,
-                       gs_error *err)
+int gs__db_near_attach(const unsigned char *sec, uint64_t size, uint32_t nv, uint32_t version, const char *name,
+                       gs__db_near *out, gs_error *err)
 {
     memset(out, 0, sizeof *out);
     if (size < GS__NEAR_HEAD)
@@ -76,6 +81,7 @@ int gs__db_near_attach(const unsigned char *sec, uint64_t size, uint32_t nv, con
     out->radius = radius;
     out->radius2 = radius * radius;
     out->step = step;
+    out->version = version;
     out->n = n;
     out->nb = nb;
     out->start = start;
@@ -92,10 +98,11 @@ int gs__db_near_verify(const gs__db_near *nr, uint32_t nv, const char *name, gs_
             const unsigned char *e = nr->ent + 8 * (size_t)i;
             uint32_t y = gs__get32(e), xl = e[6];
             uint64_t x = (uint64_t)b * BUCKET + xl, key = ((uint64_t)xl << 32) | y;
-            if (xl >= BUCKET || e[7] != 0 || x >= y || y >= nv)
-                return BAD("%s: section 'near_pairs': entry %u is the pair (%llu, %u) with reserved byte %u "
-                           "(needs x < y < %u, reserved 0)",
-                           name, i, (unsigned long long)x, y, e[7], nv);
+            uint32_t shift_max = nr->version >= 6 ? GS__NEAR_SHIFT_MAX : 0;
+            if (xl >= BUCKET || e[7] > shift_max || x >= y || y >= nv)
+                return BAD("%s: section 'near_pairs': entry %u is the pair (%llu, %u) with shift %u "
+                           "(needs x < y < %u, shift <= %u in format %u)",
+                           name, i, (unsigned long long)x, y, e[7], nv, shift_max, nr->version);
             if (i > nr->start[b] && key <= prev)
                 return BAD("%s: section 'near_pairs': entry %u (%llu, %u) is not after the entry before it", name, i,
                            (unsigned long long)x, y);

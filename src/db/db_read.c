@@ -1,4 +1,4 @@
-/* db_read.c - the database reader (doc/database-format.md, version 5): map
+/* db_read.c - the database reader (doc/database-format.md, version 6): map
  * the file and validate its structure (header, section table, counts,
  * offsets, the tree and the record index: what makes every read of a
  * query land inside the file); the full check (checksums, every record and
@@ -35,10 +35,10 @@ static int check_ident(reader *r, const unsigned char *b, uint64_t size)
                    (unsigned long long)size, GS__DB_HEADER_BYTES);
     if (memcmp(b, GS__DB_MAGIC, 8) != 0) return BAD(r, "%s: header: bad magic (not a geosep database)", r->name);
     uint32_t v = gs__get32(b + GS__H_VERSION);
-    if (v != GS__DB_VERSION)
+    if (v < GS__DB_VERSION_MIN || v > GS__DB_VERSION)
         return gs__fail(r->err, GS_EFORMAT,
-                        "%s: header: format_version %u; this geosep reads version %u only%s", r->name, v,
-                        GS__DB_VERSION,
+                        "%s: header: format_version %u; this geosep reads versions %u to %u%s", r->name, v,
+                        GS__DB_VERSION_MIN, GS__DB_VERSION,
                         v < GS__DB_VERSION ? " (an older file: rebuild it with geosep build)" : " (a newer geosep wrote it)");
     if (gs__get32(b + GS__H_ENDIAN) != GS__DB_ENDIAN_TAG)
         return gs__fail(r->err, GS_EFORMAT, "%s: header: endian_tag 0x%08X (expected 0x%08X)", r->name,
@@ -48,6 +48,7 @@ static int check_ident(reader *r, const unsigned char *b, uint64_t size)
 
 static void read_header(gs_db *db, const unsigned char *b)
 {
+    db->version = gs__get32(b + GS__H_VERSION);
     db->flags = gs__get32(b + GS__H_FLAGS);
     db->nv = gs__get32(b + GS__H_NV);
     db->n_nodes = gs__get32(b + GS__H_NODES);
@@ -603,8 +604,8 @@ static int validate(reader *r, const unsigned char *b, uint64_t size, int verify
     if (!rc) rc = check_leaf_structure(r);
     if (!rc) rc = check_aliases(r);
     if (!rc && r->sec[GS__SEC_NEAR])
-        rc = gs__db_near_attach(r->sec[GS__SEC_NEAR], r->sec_size[GS__SEC_NEAR], r->db->nv, r->name, &r->db->near,
-                                r->err);
+        rc = gs__db_near_attach(r->sec[GS__SEC_NEAR], r->sec_size[GS__SEC_NEAR], r->db->nv, r->db->version,
+                                r->name, &r->db->near, r->err);
     if (!rc && verify) rc = check_values(r);
     return rc;
 }
@@ -700,7 +701,7 @@ int gs_db_get_info(const gs_db *db, gs_db_info *info, gs_error *err)
 {
     if (!db || !info) return gs__fail(err, GS_EARG, "gs_db_get_info: NULL argument");
     memset(info, 0, sizeof *info);
-    info->format_version = GS__DB_VERSION;
+    info->format_version = db->version;
     info->n_vertices = db->nv;
     info->n_nodes = db->n_nodes;
     info->n_leaves = db->n_leaves;

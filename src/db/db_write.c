@@ -1,5 +1,5 @@
 /* db_write.c - the database writer: packs a gs__db_content (paper sec. 3.1)
- * into format version 5 (doc/database-format.md) and attaches the bytes;
+ * into format version 6 (doc/database-format.md) and attaches the bytes;
  * the atomic save. Each function is stored compactly: integer coefficients
  * against the coarsest power-of-two step that keeps the stored function
  * within GS__DB_QREL of its minimum (int16 leading ones, int8 tail; else

@@ -1,4 +1,4 @@
-/* format.c - what the reader and the writer share of format version 5
+/* format.c - what the reader and the writer share of format version 6
  * (doc/database-format.md): the checksum, the section sizes and names. */
 #include "format.h"
 

@@ -1,4 +1,4 @@
-/* format.h - the on-disk layout of a geosep database, format version 5
+/* format.h - the on-disk layout of a geosep database, format version 6
  * (doc/database-format.md): constants, header offsets, section ids and
  * sizes, the checksum, and the encoding of a separator distance function's
  * block (paper sec. 3.1 items 2-3, stored compactly). Shared by the writer
@@ -15,7 +15,8 @@
 #include <string.h>
 
 #define GS__DB_MAGIC "GSEPDB\0\0"
-#define GS__DB_VERSION 5u
+#define GS__DB_VERSION 6u
+#define GS__DB_VERSION_MIN 5u /* the oldest version read (5: near pairs without shifts) */
 #define GS__DB_ENDIAN_TAG 0x0A0B0C0Du
 #define GS__DB_HEADER_BYTES 184u
 #define GS__DB_CHECKSUM_AT 176u /* header_checksum: the header's last field */

@@ -8,9 +8,10 @@
  * an edge of a face at v. The straight segment v -> S is walked through the
  * strip of faces it crosses, deciding every step by the side of the line
  * v -> S the next face's third vertex lies on (a fixed line: the walk cannot
- * wobble). It ends where it meets a vertex (within 1e-9 of the face's longest
- * edge: S itself when the window came from a vertex, or a vertex the line
- * passes through), and the backtrack continues from that vertex's own record
+ * wobble; the faces are unfolded with each entry edge's direction carried
+ * by rotations). It ends where it meets a vertex (within 1e-9 of the face's
+ * smallest height: S itself when the window came from a vertex, or a vertex
+ * the line passes through), and the backtrack continues from that vertex's own record
  * (its distance is the rest of the path's length: it lies on a shortest
  * path), or in the face of the point source, where it ends.
  *
@@ -23,8 +24,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* a vertex closer than this many face sizes to the line is on it */
+/* a vertex closer than this many of its face's smallest heights to the
+ * line is on it (and at least ON_LINE_ROUND times the line's length: what
+ * rounding leaves of an exact hit) */
 #define ON_LINE_REL 1e-9
+#define ON_LINE_ROUND 1e-14
 
 struct gs_path {
     uint32_t n;
@@ -144,6 +148,17 @@ static double face_size(const gs__topo *t, uint32_t g)
     return fmax(a, fmax(b, e));
 }
 
+/* How near the line l a vertex of face g is on it: a share of the face's
+ * smallest height, not of its longest edge, which on a needle (a graded
+ * mesh's cells 1e-11 wide and 0.1 long) is wider than the face, so that
+ * the walk took a vertex far along it for one on the line. */
+static double line_tol(const gs__topo *t, uint32_t g, const line *l)
+{
+    uint32_t h = 3 * g;
+    double area2 = t->len[h] * t->len[gs__prev(h)] * sin(t->angle[h]);
+    return fmax(ON_LINE_REL * area2 / face_size(t, g), ON_LINE_ROUND * l->len);
+}
+
 /* Is S (unfolded) inside the face with corners P[0..2] (counter-clockwise)? */
 static int inside(const v2 *P, v2 S, double tol)
 {
@@ -175,9 +190,15 @@ static int walk(tracer *c, v2 q0, uint32_t h, v2 S, uint32_t tag, uint32_t *next
     l.d.x /= l.len;
     l.d.y /= l.len;
     uint32_t g = h / 3;
-    double tol = ON_LINE_REL * face_size(t, g);
+    double tol = line_tol(t, g, &l);
     uint32_t e = h;
     v2 PA = {0, 0}, PB = {t->len[h], 0};
+    /* the unit direction PB -> PA of the entry edge, carried from face to
+     * face by rotations through the corner angles: taken from PA - PB
+     * instead, an edge 1e-11 long at coordinates ~0.1 (a graded mesh's
+     * needles) would point 1e-6 rad off, and its far corner lie off the
+     * line by more than the needle is wide */
+    double ux = -1.0, uy = 0.0;
     double oA = side(&l, PA), oB = side(&l, PB);
     /* the first edge: the line may run through one of its ends */
     if (fabs(oA) <= tol || fabs(oB) <= tol || (oA > 0) == (oB > 0)) {
@@ -204,12 +225,10 @@ static int walk(tracer *c, v2 q0, uint32_t h, v2 S, uint32_t tag, uint32_t *next
             return gs__fail(c->err, GS_EINTERNAL, "path: the walk passed its end (at face %u)", g);
         /* into the twin's face: tri[tw] is PB, tri[next(tw)] is PA */
         g = tw / 3;
-        tol = ON_LINE_REL * face_size(t, g);
-        double ux = PA.x - PB.x, uy = PA.y - PB.y, un = hypot(ux, uy);
-        ux /= un;
-        uy /= un;
+        tol = line_tol(t, g, &l);
         double lc = t->len[gs__prev(tw)], ca = cos(t->angle[tw]), sa = sin(t->angle[tw]);
-        v2 PC = {PB.x + lc * (ca * ux - sa * uy), PB.y + lc * (ca * uy + sa * ux)};
+        double bx = ca * ux - sa * uy, by = ca * uy + sa * ux; /* PB -> PC */
+        v2 PC = {PB.x + lc * bx, PB.y + lc * by};
         if (ps && g == ps->face) {
             v2 P[3];
             P[tw % 3] = PB;
@@ -229,16 +248,15 @@ static int walk(tracer *c, v2 q0, uint32_t h, v2 S, uint32_t tag, uint32_t *next
         /* new entry edge: A' = PB (oB), B' = PA (oA) */
         if ((oC > 0) == (oB > 0)) { /* C with A': leave by B' -> C */
             e = gs__next(tw);
-            v2 nA = PA;
-            double noA = oA;
-            PA = nA, oA = noA;
+            /* PC -> PA: PB -> PA turned by minus the angle at PA */
+            double aa = t->angle[gs__next(tw)], c2 = cos(aa), s2 = sin(aa), nx = c2 * ux + s2 * uy;
+            uy = c2 * uy - s2 * ux, ux = nx;
             PB = PC, oB = oC;
         } else { /* leave by C -> A' */
             e = gs__prev(tw);
-            v2 nB = PB;
-            double noB = oB;
+            /* PB -> PC */
+            ux = bx, uy = by;
             PA = PC, oA = oC;
-            PB = nB, oB = noB;
         }
     }
 }

@@ -1,7 +1,7 @@
 /* query.c - online point-to-point queries (paper sec. 3.2, eq. 4-5, Theorem
  * 2.1): same leaf -> Euclidean (or the stored exact table); otherwise the
  * minimum over the curves of the common ancestors, with the quick reject on
- * the stored minima. Reads the file's records in place (format version 5):
+ * the stored minima. Reads the file's records in place (format version 6):
  * each vertex's minima, then its functions' blocks, decoded as needed; the
  * two functions of a curve are tabulated on the pair's grid (pair_grid)
  * and their sum minimised (pair_min.c gs__fun_pair_min_grid_sum, or

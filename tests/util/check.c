@@ -116,24 +116,41 @@ double gs__test_dist3(const double *a, const double *b)
     return sqrt(dx * dx + dy * dy + dz * dz);
 }
 
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+static void cross3(const double *a, const double *b, double *o)
+{
+    o[0] = a[1] * b[2] - a[2] * b[1], o[1] = a[2] * b[0] - a[0] * b[2], o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* distance from x to the segment a b */
+static double segment_distance(const double *a, const double *b, const double *x)
+{
+    double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, r[3] = {x[0] - a[0], x[1] - a[1], x[2] - a[2]};
+    double ee = dot3(e, e), t = ee > 0 ? dot3(r, e) / ee : 0;
+    t = t < 0 ? 0 : (t > 1 ? 1 : t);
+    double q[3] = {a[0] + t * e[0], a[1] + t * e[1], a[2] + t * e[2]};
+    return gs__test_dist3(q, x);
+}
+
 int gs__test_in_face(const gs_mesh *m, uint32_t f, const double *x, double tol)
 {
     const double *P = gs_mesh_positions(m);
     const uint32_t *T = gs_mesh_faces(m) + 3 * (size_t)f;
     const double *a = P + 3 * T[0], *b = P + 3 * T[1], *c = P + 3 * T[2];
-    double e1[3], e2[3], r[3];
+    double e1[3], e2[3], r[3], n[3], t[3];
     for (int k = 0; k < 3; ++k) e1[k] = b[k] - a[k], e2[k] = c[k] - a[k], r[k] = x[k] - a[k];
-    double d11 = 0, d12 = 0, d22 = 0, r1 = 0, r2 = 0;
-    for (int k = 0; k < 3; ++k) {
-        d11 += e1[k] * e1[k], d12 += e1[k] * e2[k], d22 += e2[k] * e2[k];
-        r1 += r[k] * e1[k], r2 += r[k] * e2[k];
-    }
-    double det = d11 * d22 - d12 * d12;
-    double u = (d22 * r1 - d12 * r2) / det, v = (d11 * r2 - d12 * r1) / det;
-    double off = 0, scale = sqrt(fmax(d11, d22));
-    for (int k = 0; k < 3; ++k) {
-        double q = a[k] + u * e1[k] + v * e2[k];
-        off += (q - x[k]) * (q - x[k]);
-    }
-    return u >= -tol && v >= -tol && u + v <= 1 + tol && sqrt(off) <= tol * scale;
+    double scale = fmax(sqrt(dot3(e1, e1)), fmax(sqrt(dot3(e2, e2)), gs__test_dist3(b, c)));
+    cross3(e1, e2, n);
+    double nn = dot3(n, n), d;
+    /* weights from cross products (no Gram determinant: it cancels on needles) */
+    cross3(r, e2, t);
+    double u = nn > 0 ? dot3(t, n) / nn : -1;
+    cross3(e1, r, t);
+    double v = nn > 0 ? dot3(t, n) / nn : -1;
+    if (u >= 0 && v >= 0 && u + v <= 1) d = fabs(dot3(r, n)) / sqrt(nn); /* over the inside: off the plane */
+    else d = fmin(segment_distance(a, b, x), fmin(segment_distance(b, c, x), segment_distance(c, a, x)));
+    /* tol of the face's smallest height, but at least 1e-14 of its size
+     * (rounding): a needle's neighbour across is off by its width */
+    return d <= fmax(tol * sqrt(nn) / scale, 1e-14 * scale);
 }

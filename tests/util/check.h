@@ -74,8 +74,11 @@ gs__test_errs gs__test_db_errors(const struct gs_db *db, const uint32_t *src, ui
 /* Euclidean distance of two points (x, y, z). */
 double gs__test_dist3(const double *a, const double *b);
 
-/* Is x in face f of the mesh: its least-squares barycentric weights >= -tol
- * and its distance from the face's plane <= tol times the face's size? */
+/* Is x in face f of the mesh: its distance from the triangle (the nearest
+ * point of the face, edges included) at most tol times the face's smallest
+ * height (and at least 1e-14 of its longest edge: rounding)? Measured by
+ * distance, not by least-squares barycentric weights, which cancel on a
+ * needle 1e-11 wide. */
 struct gs_mesh;
 int gs__test_in_face(const struct gs_mesh *m, uint32_t f, const double *x, double tol);
 
