@@ -1238,11 +1238,31 @@ static int make_path(ctx *c, gs_path **out)
  * the mean is at least ROUGH_STRONG whatever the lengths (sphere-spiky2:
  * a path 2.4% longer than the exact distance was 0.2% shorter than the
  * database's; on the milder meshes every path over 1% was at least 0.2%
- * longer than it), up to ROUGH_CORRIDOR vertices (about 4 ms). */
+ * longer than it), up to ROUGH_CORRIDOR vertices (about 4 ms); and so
+ * from a mean of ROUGH_MILD and a share of ROUGH_MILD_SHARE where the
+ * defects are noise, not curvature: they differ from the mean of their
+ * neighbours' by ROUGH_NOISE on average (sphere-bumpy's paths 1.1-1.2%
+ * over the exact distance: means 0.107-0.118, shares 0.52-0.59, noise
+ * 0.13-0.15; bunny-5k's walks: noise 0.045 at the median, 0.12 at the
+ * 99th percentile, smooth meshes' below 0.03). This and the checks below
+ * read the walk's shape only on walks of MIN_SHARE_WALK interior vertices
+ * or more (the shares of shorter ones are noise themselves). */
 #define ROUGH_DEFECT 0.12
 #define ROUGH_MEDIAN 0.08
 #define ROUGH_STRONG 0.2
 #define ROUGH_CORRIDOR 2000
+#define ROUGH_MILD 0.105
+#define ROUGH_MILD_SHARE 0.45
+#define ROUGH_NOISE 0.125
+#define MIN_SHARE_WALK 10
+/* ... and, whatever the mean, from NOISY_LONGER over the database's
+ * distance up to NOISY_CORRIDOR vertices where the noise is ROUGH_NOISE
+ * or more (a sphere of 642 vertices moved radially by up to 4-5%: paths
+ * 1.0-1.4% over the exact distance with means of 0.096-0.14, noise
+ * 0.14-0.16, 0.45-0.5% over the database's distance; none of 2,000 walks
+ * on bunny-5k, spot, homer or fandisk). */
+#define NOISY_LONGER 0.003
+#define NOISY_CORRIDOR 300
 /* ... and, for a surface-point end, already at the reverse tolerance up to
  * POINT_CORRIDOR vertices (about a millisecond): the database's distance
  * between surface points interpolates its corners' (points.c) and errs
@@ -1257,6 +1277,36 @@ static int make_path(ctx *c, gs_path **out)
  * torus-thin's walks, 0.05-0.1 on knot-fat's and the bumpy spheres', up
  * to 0.01 on homer-60k's) */
 #define POINT_DEFECT 0.02
+/* ... and, up to ANISO_CORRIDOR vertices, from ANISO_LONGER over the
+ * database's distance where at least ANISO_SHARE of the walk's vertices
+ * have an edge ANISO_RATIO times as long as another of theirs: long thin
+ * triangles (knot-fat, a tube of 24 x 60 vertices, triangles about 4.4
+ * times as long as wide), where the walk along the edges can follow the
+ * other side of the tube while the database's distance errs 0.3-0.8% high
+ * (every path over 1% in 10,000 vertex pairs and 4,000 point pairs: the
+ * path 0.25-1% longer than that distance, where no other check fires).
+ * Walks on meshes of rounder triangles pass few such vertices (bunny-5k,
+ * spot, homer, fandisk, homer-60k: 1-2 walks in 2,000 at ANISO_SHARE and
+ * longer than ANISO_LONGER; knot-fat: nearly all walks). Only where the
+ * walk is curved (a mean defect of POINT_DEFECT or more: two routes
+ * enclose curvature): a flat or gently curved mesh of thin triangles
+ * (aniso40: triangles 35 times as long as wide, mean defects below
+ * 0.007, paths within 0.4%) does not need it. */
+#define ANISO_RATIO 3.0
+#define ANISO_SHARE 0.7
+#define ANISO_LONGER 0.003 /* (for a surface-point end: any length above it) */
+#define ANISO_CORRIDOR 600
+/* ... and, up to POINT_CORRIDOR vertices, from SADDLE_LONGER where at
+ * least SADDLE_SHARE of the walk's vertices are saddles (an angle sum
+ * above 2 pi + SADDLE_DEFECT) and SADDLE_ANISO have such long edges: a
+ * walk along the inner side of such a tube, where the edges along it are
+ * shorter (3 of knot-fat's paths over 1% that the rule above misses:
+ * 97-100% saddles, 65-68% such vertices; bunny-5k's walks: none in
+ * 2,200, the closest 88% and 53%). */
+#define SADDLE_DEFECT 0.02
+#define SADDLE_SHARE 0.9
+#define SADDLE_ANISO 0.6
+#define SADDLE_LONGER 0.003
 
 /* ---- the check: a path much longer than the database's distance -------- */
 
@@ -1381,23 +1431,69 @@ static double corridor_size(const gs_mesh *mesh, double len, double d)
     return M_PI * a * sqrt(fmax(a * a - f * f, 0)) / (0.5 * sqrt(3.0) * e * e);
 }
 
-/* How rough the surface is where the walk runs: 0 if smooth, else the
- * mean angle defect |2 pi - angle sum| of its interior (non-boundary)
- * vertices when it is at least ROUGH_DEFECT radians and at least half of
- * them have ROUGH_MEDIAN; *mean: that mean in any case. */
-static double walk_roughness(const ctx *c, double *mean)
+/* The shape of the surface along the walk c->vp, over its interior
+ * (non-boundary) vertices: their number, their mean angle defect
+ * |2 pi - angle sum|, the share with ROUGH_MEDIAN or more and the share
+ * of saddles (SADDLE_DEFECT). */
+typedef struct walk_shape {
+    size_t n;
+    double mean, big, saddles;
+} walk_shape;
+
+static walk_shape shape_of(const ctx *c)
 {
     const gs__topo *t = c->t;
-    double sum = 0;
-    size_t n = 0, big = 0;
+    walk_shape w = {0, 0, 0, 0};
     for (size_t i = 0; i < c->nvp; ++i) {
         uint32_t v = c->vp[i];
         if (t->vflag[v] & (GS_V_BOUNDARY | GS_V_UNUSED)) continue;
-        double k = fabs(2 * M_PI - t->vangle[v]);
-        sum += k, ++n, big += k >= ROUGH_MEDIAN;
+        double k = 2 * M_PI - t->vangle[v];
+        w.saddles += k <= -SADDLE_DEFECT, k = fabs(k);
+        w.mean += k, ++w.n, w.big += k >= ROUGH_MEDIAN;
     }
-    *mean = n ? sum / (double)n : 0;
-    return n && sum >= ROUGH_DEFECT * (double)n && 2 * big >= n ? sum / (double)n : 0;
+    if (w.n) w.mean /= (double)w.n, w.big /= (double)w.n, w.saddles /= (double)w.n;
+    return w;
+}
+
+/* How noisy the defects along the walk are: the mean over its interior
+ * vertices of |defect - the mean defect of its interior neighbours|
+ * (signed defects 2 pi - angle sum). */
+static double walk_noise(const ctx *c)
+{
+    const gs__topo *t = c->t;
+    double sum = 0;
+    size_t n = 0;
+    for (size_t i = 0; i < c->nvp; ++i) {
+        uint32_t v = c->vp[i];
+        if (t->vflag[v] & (GS_V_BOUNDARY | GS_V_UNUSED)) continue;
+        double nb = 0;
+        uint32_t m = 0;
+        for (uint32_t j = t->vc_start[v]; j < t->vc_start[v + 1]; ++j) {
+            uint32_t w = t->tri[gs__next(t->vc[j])];
+            if (!(t->vflag[w] & (GS_V_BOUNDARY | GS_V_UNUSED))) nb += 2 * M_PI - t->vangle[w], ++m;
+        }
+        if (m) sum += fabs(2 * M_PI - t->vangle[v] - nb / m), ++n;
+    }
+    return n ? sum / (double)n : 0;
+}
+
+/* The share of the walk's vertices whose longest edge is at least
+ * ANISO_RATIO times their shortest. */
+static double walk_anisotropy(const ctx *c)
+{
+    const gs__topo *t = c->t;
+    size_t n = 0, thin = 0;
+    for (size_t i = 0; i < c->nvp; ++i) {
+        uint32_t v = c->vp[i];
+        double lo = INFINITY, hi = 0;
+        for (uint32_t j = t->vc_start[v]; j < t->vc_start[v + 1]; ++j) { /* the edges of its corners */
+            uint32_t h = t->vc[j];
+            lo = fmin(lo, fmin(t->len[h], t->len[gs__prev(h)]));
+            hi = fmax(hi, fmax(t->len[h], t->len[gs__prev(h)]));
+        }
+        if (hi > 0) ++n, thin += hi >= ANISO_RATIO * lo;
+    }
+    return n ? (double)thin / (double)n : 0;
 }
 
 /* Whether the walk c->vp runs far off the database's shortest path: some
@@ -1872,11 +1968,25 @@ int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const g
     double lo = fmin(fmin(len1, len2), len3), hi = fmax(len1, len2);
     if (isfinite(len3)) hi = fmax(hi, len3);
     int two_routes = isfinite(len2) && hi - lo > 1e-9 * len;
-    double mean_defect, size = corridor_size(mesh, len, d), rough = walk_roughness(best, &mean_defect);
+    double size = corridor_size(mesh, len, d), longer = len / d - 1;
+    walk_shape w = shape_of(best);
+    double rough = w.mean >= ROUGH_DEFECT && 2 * w.big >= 1 ? w.mean : 0;
+    int counted = w.n >= MIN_SHARE_WALK, corridor_ok = size <= ROUGH_CORRIDOR && (len >= d || w.mean >= ROUGH_STRONG);
+    int mild = counted && corridor_ok && w.mean >= ROUGH_MILD && w.big >= ROUGH_MILD_SHARE;
+    int noisy_ok = counted && longer > NOISY_LONGER && size <= NOISY_CORRIDOR;
+    double noise = !rough && (mild || noisy_ok) ? walk_noise(best) : 0;
+    if (mild && noise >= ROUGH_NOISE) rough = w.mean;
+    double thin = counted && w.mean >= POINT_DEFECT && size <= ANISO_CORRIDOR &&
+                          longer > (point_end ? 0 : fmin(ANISO_LONGER, SADDLE_LONGER))
+                      ? walk_anisotropy(best)
+                      : 0;
     if (!rc && (len > d * (1 + (exact_db ? CHECK_TOL_EXACT : CHECK_TOL_APPROX)) ||
                 (two_routes && size <= (hi - lo > ROUTE_GAP * len ? SMALL_CORRIDOR : CHEAP_CORRIDOR)) ||
-                (point_end && len > d * (1 + reverse_tol) && mean_defect >= POINT_DEFECT && size <= POINT_CORRIDOR) ||
-                (rough > 0 && (len >= d || rough >= ROUGH_STRONG) && size <= ROUGH_CORRIDOR))) {
+                (point_end && len > d * (1 + reverse_tol) && w.mean >= POINT_DEFECT && size <= POINT_CORRIDOR) ||
+                (thin >= ANISO_SHARE && longer > (point_end ? 0 : ANISO_LONGER)) ||
+                (thin >= SADDLE_ANISO && w.saddles >= SADDLE_SHARE && longer > SADDLE_LONGER &&
+                 size <= POINT_CORRIDOR) ||
+                (noisy_ok && noise >= ROUGH_NOISE) || (rough > 0 && corridor_ok))) {
         double px[3], py[3];
         q_position(t, &qx, px);
         q_position(t, &qy, py);
