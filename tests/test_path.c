@@ -332,6 +332,19 @@ static void test_plate(void)
     close_ctx(&c);
 }
 
+/* A random point of one of nf faces (uniform face, uniform in it). */
+static gs_source random_point(uint64_t *rng, uint32_t nf)
+{
+    double u[3];
+    for (int j = 0; j < 3; ++j) {
+        *rng = *rng * 6364136223846793005ull + 1442695040888963407ull;
+        u[j] = (double)(*rng >> 11) * 0x1p-53;
+    }
+    uint32_t f = (uint32_t)(u[0] * nf);
+    if (u[1] + u[2] > 1) u[1] = 1 - u[1], u[2] = 1 - u[2];
+    return gs_source_point(f < nf ? f : nf - 1, u[1], u[2], 1 - u[1] - u[2]);
+}
+
 /* Graded needles: `graded:40,7` (cells 7e-12 wide, 0.2 long, flat: every
  * distance is the straight one) and the same grid bent by a wave (the walk
  * unfolds needles that are not coplanar): random surface points both ways,
@@ -353,21 +366,11 @@ static void test_graded(void)
     }
     uint64_t rng = 3;
     for (int i = 0; i < 300; ++i) {
-        gs_source e[2];
+        gs_source e[2] = {random_point(&rng, nf), random_point(&rng, nf)};
         double x[2][3] = {{0}};
-        for (int k = 0; k < 2; ++k) {
-            double u[3];
-            for (int j = 0; j < 3; ++j) {
-                rng = rng * 6364136223846793005ull + 1442695040888963407ull;
-                u[j] = (double)(rng >> 11) * 0x1p-53;
-            }
-            uint32_t f = (uint32_t)(u[0] * nf);
-            f = f < nf ? f : nf - 1;
-            if (u[1] + u[2] > 1) u[1] = 1 - u[1], u[2] = 1 - u[2];
-            e[k] = gs_source_point(f, u[1], u[2], 1 - u[1] - u[2]);
+        for (int k = 0; k < 2; ++k)
             for (int j = 0; j < 3; ++j)
-                for (int d = 0; d < 3; ++d) x[k][d] += e[k].bary[j] * P[3 * gs_mesh_faces(c.m)[3 * f + j] + d];
-        }
+                for (int d = 0; d < 3; ++d) x[k][d] += e[k].bary[j] * P[3 * gs_mesh_faces(c.m)[3 * e[k].face + j] + d];
         char what[64];
         snprintf(what, sizeof what, "graded:40,7 pair %d", i);
         path_checked(&c, e[0], e[1], gs__test_dist3(x[0], x[1]), what);
@@ -376,18 +379,7 @@ static void test_graded(void)
     if (!wavy || open_ctx(&c, "graded:40,7 bent", wavy)) return;
     rng = 3;
     for (int i = 0; i < 300; ++i) {
-        gs_source e[2];
-        for (int k = 0; k < 2; ++k) {
-            double u[3];
-            for (int j = 0; j < 3; ++j) {
-                rng = rng * 6364136223846793005ull + 1442695040888963407ull;
-                u[j] = (double)(rng >> 11) * 0x1p-53;
-            }
-            uint32_t f = (uint32_t)(u[0] * nf);
-            f = f < nf ? f : nf - 1;
-            if (u[1] + u[2] > 1) u[1] = 1 - u[1], u[2] = 1 - u[2];
-            e[k] = gs_source_point(f, u[1], u[2], 1 - u[1] - u[2]);
-        }
+        gs_source e[2] = {random_point(&rng, nf), random_point(&rng, nf)};
         char what[64];
         snprintf(what, sizeof what, "graded:40,7 bent pair %d", i);
         path_checked(&c, e[0], e[1], -1, what);
