@@ -27,16 +27,41 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static void write_stderr(const char *text)
+/* Keep the exception being raised in p (the first one only), to be raised
+ * when the build returns; nothing more is drawn or called after it. */
+static void keep_exception(progress_state *p)
 {
-    /* through sys.stderr, so that it follows redirection (pytest, Jupyter) */
+    if (p->exc_type) {
+        PyErr_Clear();
+        return;
+    }
+#if PY_VERSION_HEX >= 0x030C0000 /* PyErr_Fetch is deprecated from 3.12 */
+    p->exc = PyErr_GetRaisedException();
+    p->exc_type = p->exc ? Py_NewRef((PyObject *)Py_TYPE(p->exc)) : Py_NewRef(PyExc_SystemError);
+#else
+    PyErr_Fetch(&p->exc_type, &p->exc, &p->exc_tb);
+    if (!p->exc_type) p->exc_type = Py_NewRef(PyExc_SystemError);
+#endif
+}
+
+/* Write through sys.stderr, so that it follows redirection (pytest,
+ * Jupyter). A broken stderr (an Exception) must not break the build: it is
+ * cleared. Anything else is a signal handler that ran during the write (a
+ * KeyboardInterrupt from Ctrl-C): kept, and raised when the build returns. */
+static void write_stderr(progress_state *p, const char *text)
+{
+    if (p->exc_type) return;
     PyObject *err = PySys_GetObject("stderr"); /* borrowed */
     if (!err || err == Py_None) return;
     PyObject *r = PyObject_CallMethod(err, "write", "s", text);
-    Py_XDECREF(r);
-    if (r) r = PyObject_CallMethod(err, "flush", NULL);
-    Py_XDECREF(r);
-    PyErr_Clear(); /* a broken stderr must not break the build */
+    if (r) {
+        Py_DECREF(r);
+        r = PyObject_CallMethod(err, "flush", NULL);
+        Py_XDECREF(r);
+    }
+    if (!PyErr_Occurred()) return;
+    if (PyErr_ExceptionMatches(PyExc_Exception)) PyErr_Clear();
+    else keep_exception(p);
 }
 
 static void show_bar(progress_state *p, double fraction)
@@ -46,7 +71,7 @@ static void show_bar(progress_state *p, double fraction)
     for (int i = 0; i < w; i++) bar[i] = i < k ? '#' : ' ';
     bar[w] = 0;
     PyOS_snprintf(line, sizeof line, "\r%-7s [%s] %3d%% %6.1f s", p->stage, bar, p->percent, now() - p->t_stage);
-    write_stderr(line);
+    write_stderr(p, line);
 }
 
 static void on_progress(void *user, const char *stage, double fraction)
@@ -61,24 +86,15 @@ static void on_progress(void *user, const char *stage, double fraction)
     if (p->callback) {
         if (!p->exc_type) {
             PyObject *r = PyObject_CallFunction(p->callback, "sd", stage, fraction);
-            if (r) {
-                Py_DECREF(r);
-            } else {
-#if PY_VERSION_HEX >= 0x030C0000 /* PyErr_Fetch is deprecated from 3.12 */
-                p->exc = PyErr_GetRaisedException();
-                p->exc_type = p->exc ? Py_NewRef((PyObject *)Py_TYPE(p->exc)) : Py_NewRef(PyExc_SystemError);
-#else
-                PyErr_Fetch(&p->exc_type, &p->exc, &p->exc_tb);
-                if (!p->exc_type) p->exc_type = Py_NewRef(PyExc_SystemError);
-#endif
-            }
+            if (r) Py_DECREF(r);
+            else keep_exception(p);
         }
     } else if (new_stage && p->stage[0]) { /* the previous stage is done: one line per stage */
         if (p->percent < 100) {
             p->percent = 100;
             show_bar(p, 1.0);
         }
-        write_stderr("\n");
+        write_stderr(p, "\n");
     }
     if (new_stage) {
         PyOS_snprintf(p->stage, sizeof p->stage, "%s", stage);
@@ -183,8 +199,8 @@ static PyObject *db_build(PyObject *cls, PyObject *args, PyObject *kwargs)
     Py_BEGIN_ALLOW_THREADS
     rc = gs_db_build(((gspy_Mesh *)mesh)->mesh, &o, &db, &stats, &err);
     Py_END_ALLOW_THREADS
-    if (o.progress && !ps.callback && ps.stage[0]) write_stderr("\n");
-    if (ps.exc_type) { /* the callback's exception wins */
+    if (o.progress && !ps.callback && ps.stage[0]) write_stderr(&ps, "\n");
+    if (ps.exc_type) { /* the callback's exception (or a Ctrl-C during the bar's drawing) wins */
         gs_db_free(db);
 #if PY_VERSION_HEX >= 0x030C0000
         Py_DECREF(ps.exc_type);

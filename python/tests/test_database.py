@@ -1,6 +1,7 @@
 """geosep.Database: known answers, agreement with exact fields, numpy
 broadcasting, pairwise, fields, surface points, files, options and every
 error class."""
+import sys
 import numpy as np
 import pytest
 
@@ -291,3 +292,35 @@ def test_progress(plane, capsys):
 
     with pytest.raises(RuntimeError, match="stop here"):
         geosep.Database.build(plane, progress=fail)
+
+
+def test_progress_bar_stderr(plane, monkeypatch):
+    """The bar draws through sys.stderr: a broken stderr does not stop the
+    build; a KeyboardInterrupt raised while it draws (a Ctrl-C whose handler
+    ran inside write) is not swallowed: the build raises it."""
+
+    class Broken:
+        def write(self, text):
+            raise OSError("stderr is gone")
+
+        def flush(self):
+            pass
+
+    monkeypatch.setattr(sys, "stderr", Broken())
+    assert geosep.Database.build(plane, progress=True).n_vertices == plane.n_vertices
+
+    class CtrlC:
+        writes = 0
+
+        def write(self, text):
+            CtrlC.writes += 1
+            if CtrlC.writes == 2:
+                raise KeyboardInterrupt
+
+        def flush(self):
+            pass
+
+    monkeypatch.setattr(sys, "stderr", CtrlC())
+    with pytest.raises(KeyboardInterrupt):
+        geosep.Database.build(plane, progress=True)
+    assert CtrlC.writes == 2  # nothing drawn after it
