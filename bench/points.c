@@ -53,6 +53,68 @@ static void add(errs *s, double got, double want)
     s->e[s->n++] = fabs(got - want) / want;
 }
 
+/* The worst pairs (env GS_BENCH_WORST=K: list the K worst of each kind):
+ * the point's face and weights, the target, the exact distance in mean
+ * edge lengths, the target's distance in edges from the point's face. */
+typedef struct worst {
+    double e, got, want;
+    uint32_t face, target, hops;
+    double b[3];
+} worst;
+static int n_worst;
+static worst *worst_list;
+static int n_listed;
+
+static void note(double got, double want, uint32_t face, const double *b, uint32_t target, uint32_t hops)
+{
+    if (!n_worst || !(want > 0) || !isfinite(want)) return;
+    double e = fabs(got - want) / want;
+    if (n_listed == n_worst && e <= worst_list[n_worst - 1].e) return;
+    int i = n_listed < n_worst ? n_listed++ : n_worst - 1;
+    while (i > 0 && worst_list[i - 1].e < e) worst_list[i] = worst_list[i - 1], --i;
+    worst_list[i] = (worst){e, got, want, face, target, hops, {b[0], b[1], b[2]}};
+}
+
+static void list_worst(const char *what, double edge)
+{
+    if (!n_worst) return;
+    printf("  worst %s:\n", what);
+    for (int i = 0; i < n_listed; ++i) {
+        const worst *w = &worst_list[i];
+        printf("    %6.2f%%  got %.6g exact %.6g (%.2f edges)  face %u (%.3f %.3f %.3f) -> %u, %u edge hops\n",
+               100 * w->e, w->got, w->want, w->want / edge, w->face, w->b[0], w->b[1], w->b[2], w->target, w->hops);
+    }
+    n_listed = 0;
+}
+
+/* Edge hops from the face's corners to every vertex (BFS). */
+static void hops_from(const gs_mesh *m, const uint32_t *c, uint32_t *h)
+{
+    uint32_t n = gs_mesh_num_vertices(m), nf = gs_mesh_num_faces(m);
+    const uint32_t *t = gs_mesh_faces(m);
+    for (uint32_t v = 0; v < n; ++v) h[v] = UINT32_MAX;
+    for (int i = 0; i < 3; ++i) h[c[i]] = 0;
+    for (uint32_t r = 0, changed = 1; changed; ++r) {
+        changed = 0;
+        for (uint32_t f = 0; f < nf; ++f)
+            for (int i = 0; i < 3; ++i)
+                if (h[t[3 * f + i]] == r)
+                    for (int j = 0; j < 3; ++j)
+                        if (h[t[3 * f + j]] == UINT32_MAX) h[t[3 * f + j]] = r + 1, changed = 1;
+    }
+}
+
+static double mean_edge(const gs_mesh *m)
+{
+    const uint32_t *t = gs_mesh_faces(m);
+    const double *x = gs_mesh_positions(m);
+    uint32_t nf = gs_mesh_num_faces(m);
+    double s = 0;
+    for (uint32_t f = 0; f < nf; ++f)
+        for (int i = 0; i < 3; ++i) s += sqrt(dist2(x + 3 * (size_t)t[3 * f + i], x + 3 * (size_t)t[3 * f + (i + 1) % 3]));
+    return s / (3.0 * nf);
+}
+
 static void show(const char *what, errs *s)
 {
     double sum = 0;
@@ -115,8 +177,10 @@ static void point_to_vertex(const gs_mesh *m, const gs_db *db, int np)
     double *ex = malloc(sizeof *ex * n), *f = malloc(sizeof *f * n), *ev[3], *dv[3];
     for (int i = 0; i < 3; ++i) ev[i] = malloc(sizeof *ev[i] * n), dv[i] = malloc(sizeof *dv[i] * n);
     errs api = {0}, floor_ = {0}, plain = {0}, vv = {0};
+    uint32_t *hop = malloc(sizeof *hop * n);
     for (int k = 0; k < np; ++k) {
         pt p = random_point(m, NULL);
+        if (n_worst) hops_from(m, p.c, hop);
         gs_source src = gs_source_point(p.face, p.b[0], p.b[1], p.b[2]);
         gs_surface_point q = sp(&p);
         if (gs_solver_solve(s, &src, 1, 0, ex, &e)) die("solve", &e);
@@ -130,6 +194,7 @@ static void point_to_vertex(const gs_mesh *m, const gs_db *db, int np)
             double lo = sqrt(dist2(p.x, xyz + 3 * (size_t)y)), se = -cross, sd = -cross;
             for (int i = 0; i < 3; ++i) se += p.b[i] * ev[i][y] * ev[i][y], sd += p.b[i] * dv[i][y] * dv[i][y];
             add(&api, f[y], ex[y]);
+            note(f[y], ex[y], p.face, p.b, y, n_worst ? hop[y] : 0);
             add(&floor_, fmax(se > 0 ? sqrt(se) : 0, lo), ex[y]);
             add(&plain, fmax(sd > 0 ? sqrt(sd) : 0, lo), ex[y]);
             add(&vv, dv[0][y], ev[0][y]);
@@ -140,6 +205,8 @@ static void point_to_vertex(const gs_mesh *m, const gs_db *db, int np)
     show("same formula, every corner pair a vertex query", &plain);
     show("same formula with exact vertex distances (its own error)", &floor_);
     show("vertex -> vertex, database, from each point's first corner", &vv);
+    list_worst("point -> vertex", mean_edge(m));
+    free(hop);
     free(ex);
     free(f);
     for (int i = 0; i < 3; ++i) free(ev[i]), free(dv[i]);
@@ -178,8 +245,10 @@ static void point_to_point(const gs_mesh *m, const gs_db *db, int np)
         die("split mesh", &e);
     double *ex = malloc(sizeof *ex * (n + np)), *ec = malloc(sizeof *ec * (n + np)), tq = 0;
     errs api = {0}, vv = {0};
+    uint32_t *hop = malloc(sizeof *hop * n);
     for (int k = 0; k < np; ++k) {
         pt p = random_point(m, taken); /* not a split face: same face id in m2 */
+        if (n_worst) hops_from(m, p.c, hop);
         gs_source src = gs_source_point(p.face, p.b[0], p.b[1], p.b[2]), sv = gs_source_vertex(p.c[0]);
         if (gs_solver_solve(s, &src, 1, 0, ex, &e) || gs_solver_solve(s, &sv, 1, 0, ec, &e)) die("solve", &e);
         gs_surface_point a = sp(&p);
@@ -188,12 +257,19 @@ static void point_to_point(const gs_mesh *m, const gs_db *db, int np)
             double t = now(), d = gs_db_point_distance(db, &a, &b);
             tq += now() - t;
             add(&api, d, ex[n + j]);
+            if (n_worst) {
+                uint32_t h = UINT32_MAX;
+                for (int i = 0; i < 3; ++i) h = hop[q[j].c[i]] < h ? hop[q[j].c[i]] : h;
+                note(d, ex[n + j], p.face, p.b, q[j].face, h);
+            }
             add(&vv, gs_db_distance(db, p.c[0], q[j].c[0]), ec[q[j].c[0]]);
         }
     }
     printf("point -> point (%d x %d random points, exact distances on the mesh with the second set inserted):\n", np, np);
     show("database (gs_db_point_distance)", &api);
     show("vertex -> vertex, database, first corner to first corner", &vv);
+    list_worst("point -> point (target: the second point's face; hops: to its nearest corner)", mean_edge(m));
+    free(hop);
     printf("  (%.0f ns per point pair, timed with the exact pairs in between: see bench_query)\n",
            1e9 * tq / ((double)np * np));
     free(ex);
@@ -224,6 +300,10 @@ int main(int argc, char **argv)
                argv[0]);
         return 2;
     }
+    const char *w = getenv("GS_BENCH_WORST");
+    n_worst = w ? atoi(w) : 0;
+    if (n_worst > 0) worst_list = malloc(sizeof *worst_list * n_worst);
+    else n_worst = 0;
     rng_state = 0x9E3779B97F4A7C15ull ^ (seed * 0xD1B54A32D192ED03ull);
     gs_error e = {0};
     gs_mesh *m = NULL;
