@@ -257,6 +257,30 @@ static void point_to_point(const gs_mesh *m, const gs_db *db, int np)
             double t = now(), d = gs_db_point_distance(db, &a, &b);
             tq += now() - t;
             add(&api, d, ex[n + j]);
+            if (getenv("GS_BENCH_CHECK")) { /* the exact answer against the triangle inequality through q's corners */
+                double hi = INFINITY, lo = 0;
+                for (int i = 0; i < 3; ++i) {
+                    double g = sqrt(dist2(q[j].x, xyz + 3 * (size_t)q[j].c[i]));
+                    hi = fmin(hi, ex[q[j].c[i]] + g), lo = fmax(lo, ex[q[j].c[i]] - g);
+                }
+                if (fabs(d - ex[n + j]) > 0.04 * ex[n + j]) {
+                    printf("    pair face %u -> face %u (%.3f %.3f %.3f): got %g exact %g\n", p.face, q[j].face, q[j].b[0], q[j].b[1], q[j].b[2], d, ex[n + j]);
+                    for (int i = 0; i < 3; ++i) {
+                        gs_surface_point w = gs_surface_point_vertex(q[j].c[i]);
+                        printf("      p -> q corner %u: got %g exact %g\n", q[j].c[i], gs_db_point_distance(db, &a, &w), ex[q[j].c[i]]);
+                    }
+                    double *fv = malloc(sizeof *fv * (n + np));
+                    for (int i = 0; i < 3; ++i) {
+                        gs_source sv2 = gs_source_vertex(p.c[i]);
+                        gs_surface_point w = gs_surface_point_vertex(p.c[i]);
+                        gs_solver_solve(s, &sv2, 1, 0, fv, &e);
+                        printf("      p corner %u -> q: got %g exact %g  (p corner -> q corners exact %g %g %g)\n", p.c[i], gs_db_point_distance(db, &w, &b), fv[n + j], fv[q[j].c[0]], fv[q[j].c[1]], fv[q[j].c[2]]);
+                    }
+                    free(fv);
+                }
+                if (ex[n + j] > hi * (1 + 1e-9) || ex[n + j] < lo * (1 - 1e-9))
+                    printf("    exact %g outside [%g, %g]: face %u -> face %u\n", ex[n + j], lo, hi, p.face, q[j].face);
+            }
             if (n_worst) {
                 uint32_t h = UINT32_MAX;
                 for (int i = 0; i < 3; ++i) h = hop[q[j].c[i]] < h ? hop[q[j].c[i]] : h;

@@ -635,12 +635,13 @@ static void test_far(void)
            "one face %.3g, %.3g, %.3g (at the origin, z = 1e90, x = 1e6)\n",
            ev[0], ev[1], ev[2], ep[0], ep[1], ep[2], ef[0], ef[1], ef[2]);
     /* as good as at the origin (another tree: rounding moves the cuts), or
-     * within the fits' certified error (fit.h: GS_FIT_MAX_ERR 2%; measured
+     * (vertex and point pairs alike) within the fits' certified error (fit.h: GS_FIT_MAX_ERR 2%; measured
      * 0.74% at z = 1e90 and 0.27% at the origin) */
     for (int i = 1; i < 3; ++i) {
         CHECK_MSG(ev[i] <= fmax(2 * ev[0], 0.01) + 1e-9, "far (%d): vertex pairs %.3g, at the origin %.3g", i, ev[i],
                   ev[0]);
-        CHECK_MSG(ep[i] <= 2 * ep[0] + 1e-9, "far (%d): point pairs %.3g, at the origin %.3g", i, ep[i], ep[0]);
+        CHECK_MSG(ep[i] <= fmax(2 * ep[0], 0.01) + 1e-9, "far (%d): point pairs %.3g, at the origin %.3g", i, ep[i],
+                  ep[0]);
     }
     CHECK_MSG(ef[1] <= 1e-12, "far: points of one face at z = 1e90 are %.3g from |p - q|", ef[1]);
     CHECK_MSG(ef[2] <= 1e-8, "far: points of one face at x = 1e6 are %.3g from |p - q|", ef[2]);

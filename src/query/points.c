@@ -202,13 +202,76 @@ static double gap(const gs_db *db, const spt *a, const spt *b)
     return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
 }
 
-/* sum_{i<k} w_i w_k |v_i - v_k|^2: the point's own edge term */
-static double edge_term(const gs_db *db, const spt *s)
+/* A point's own geometry, computed once per query: the offsets to its
+ * corners, its edge term, and per edge of its face (n == 3) the point and
+ * the third corner in a frame where the edge runs from (0,0) to (L,0). */
+typedef struct frame {
+    double gap[3]; /* |p - v_i| (straight: inside the face)              */
+    double edge;   /* sum_{i<k} w_i w_k |v_i - v_k|^2                    */
+    int unfold;    /* the per-edge frames below are valid                */
+    double L[3], xm[3], ym[3], px[3], py[3]; /* edge (i, i+1), third corner i+2 */
+} frame;
+
+static void make_frame(const gs_db *db, const spt *s, frame *f)
 {
-    double c = 0.0;
-    for (uint32_t i = 0; i < s->n; ++i)
-        for (uint32_t k = i + 1; k < s->n; ++k) c += s->w[i] * s->w[k] * dist2(pos(db, s->v[i]), pos(db, s->v[k]));
-    return c;
+    f->edge = 0.0, f->unfold = 0;
+    for (uint32_t k = 0; k < s->n; ++k) { /* from the other corners' offsets to v_k */
+        const double *r = pos(db, s->v[k]);
+        double d[3] = {0.0, 0.0, 0.0};
+        for (uint32_t i = 0; i < s->n; ++i)
+            if (i != k)
+                for (int c = 0; c < 3; ++c) d[c] += s->w[i] * (pos(db, s->v[i])[c] - r[c]);
+        f->gap[k] = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        for (uint32_t i = k + 1; i < s->n; ++i) f->edge += s->w[k] * s->w[i] * dist2(r, pos(db, s->v[i]));
+    }
+    if (s->n < 3) return;
+    for (uint32_t i = 0; i < 3; ++i) {
+        uint32_t k = (i + 1) % 3, m = (i + 2) % 3;
+        const double *vi = pos(db, s->v[i]), *vk = pos(db, s->v[k]), *vm = pos(db, s->v[m]);
+        double ek[3], em[3];
+        for (int c = 0; c < 3; ++c) ek[c] = vk[c] - vi[c], em[c] = vm[c] - vi[c];
+        double L = sqrt(ek[0] * ek[0] + ek[1] * ek[1] + ek[2] * ek[2]);
+        double xm = (em[0] * ek[0] + em[1] * ek[1] + em[2] * ek[2]) / L;
+        double ym2 = em[0] * em[0] + em[1] * em[1] + em[2] * em[2] - xm * xm;
+        if (!(L > 0.0) || !(ym2 > 0.0)) return; /* a degenerate face: no unfolding */
+        f->L[i] = L, f->xm[i] = xm, f->ym[i] = sqrt(ym2);
+        f->px[i] = s->w[k] * L + s->w[m] * xm, f->py[i] = s->w[m] * f->ym[i];
+    }
+    f->unfold = 1;
+}
+
+/* d(p, y) for the point p = s (frame f) from its corners' distances
+ * dist[i] to y: the planar identity (sum_i w_i dist_i^2 - the edge term),
+ * or the shorter unfolding across an edge (v_i, v_k) of the face (y placed
+ * in the face's plane beyond the edge at distances dist_i, dist_k, where
+ * the segment from it to p crosses the edge: the identity also uses the
+ * third corner, whose own geodesic may bend around a vertex); then within
+ * the triangle inequality through each corner:
+ * dist_i - |p - v_i| <= d(p, y) <= dist_i + |p - v_i| (the identity
+ * misses the upper bound where geodesics bend around a saddle vertex, the
+ * lower where the face straddles y's cut locus). */
+static double one_sided(const spt *s, const frame *f, const double *dist)
+{
+    if (s->n == 1) return dist[0];
+    double t = -f->edge, lo = 0.0, hi = INFINITY;
+    for (uint32_t i = 0; i < s->n; ++i) {
+        t += s->w[i] * dist[i] * dist[i];
+        if (dist[i] + f->gap[i] < hi) hi = dist[i] + f->gap[i];
+        if (dist[i] - f->gap[i] > lo) lo = dist[i] - f->gap[i];
+    }
+    double r = t > 0.0 ? sqrt(t) : 0.0;
+    for (uint32_t i = 0; f->unfold && i < 3; ++i) {
+        uint32_t k = (i + 1) % 3;
+        double L = f->L[i], px = f->px[i], py = f->py[i];
+        double yx = (dist[i] * dist[i] - dist[k] * dist[k] + L * L) / (2.0 * L), h2 = dist[i] * dist[i] - yx * yx;
+        if (!(h2 > 0.0)) continue;
+        double h = sqrt(h2), xc = px + py / (py + h) * (yx - px);
+        if (!(xc >= 0.0 && xc <= L)) continue;
+        double c = sqrt((px - yx) * (px - yx) + (py + h) * (py + h));
+        if (c < r) r = c;
+    }
+    if (r > hi) r = hi;
+    return r > lo ? r : lo;
 }
 
 /* The estimate for a <= b (compare order), a != b. */
@@ -229,22 +292,36 @@ static double estimate(const gs_db *db, const spt *a, const spt *b, vdist_fn vd,
     if (a->n == 1 && b->n == 1) return d[0]; /* two vertices: the vertex query itself */
     for (uint32_t k = 0; k < m; ++k)
         if (d[k] == INFINITY) return INFINITY;
-    double s = 0.0;
+    /* D[i][j]: corner pair (i, j)'s distance, an edge's straight length or
+     * the database's */
+    double D[3][3];
     int straight = 1;
     for (uint32_t i = 0; i < a->n; ++i)
         for (uint32_t j = 0; j < b->n; ++j) {
-            double e2 = dist2(pos(db, a->v[i]), pos(db, b->v[j])), d2 = e2;
-            if (q[i][j] >= 0) { /* a database distance */
-                double dk = d[q[i][j]];
-                straight &= dk <= sqrt(e2);
-                d2 = dk * dk;
+            D[i][j] = sqrt(dist2(pos(db, a->v[i]), pos(db, b->v[j])));
+            if (q[i][j] >= 0) {
+                straight &= d[q[i][j]] <= D[i][j];
+                D[i][j] = d[q[i][j]];
             }
-            s += a->w[i] * b->w[j] * d2;
         }
     double e = gap(db, a, b);
     if (straight) return e;
-    s = s - edge_term(db, a) - edge_term(db, b);
-    double r = s > 0.0 ? sqrt(s) : 0.0;
+    frame fa, fb;
+    make_frame(db, a, &fa);
+    double r;
+    if (b->n == 1) { /* a point and a vertex */
+        double col[3] = {D[0][0], a->n > 1 ? D[1][0] : 0.0, a->n > 2 ? D[2][0] : 0.0};
+        r = one_sided(a, &fa, col);
+    } else { /* both sides: d(p, q) from d(p, w_j), and from d(v_i, q) */
+        make_frame(db, b, &fb);
+        double P[3], Q[3], col[3];
+        for (uint32_t j = 0; j < b->n; ++j) {
+            for (uint32_t i = 0; i < a->n; ++i) col[i] = D[i][j];
+            P[j] = one_sided(a, &fa, col);
+        }
+        for (uint32_t i = 0; i < a->n; ++i) Q[i] = one_sided(b, &fb, D[i]);
+        r = 0.5 * (one_sided(b, &fb, P) + one_sided(a, &fa, Q));
+    }
     return r < e ? e : r;
 }
 
