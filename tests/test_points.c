@@ -3,7 +3,9 @@
  * vertices give the vertex queries bit for bit; symmetry, d(p,p) = 0, an
  * edge point named by either face; the flat grid against |p - q|; Peaks and
  * a cylinder against the exact solver started at the point; the cylinder's
- * point pairs against the unrolled closed form; every bad input; the field
+ * point pairs against the unrolled closed form; point->vertex answers within
+ * the triangle inequality through the corners (a cube, Peaks); every bad
+ * input; the field
  * against single queries; unreachable points; two threads. */
 #include "check.h"
 #include "geosep.h"
@@ -293,6 +295,59 @@ done:
     free(ve.e);
     gs_solver_free(s);
     gs_patch_free(whole);
+    gs_db_free(db);
+    gs_mesh_free(m);
+}
+
+/* (e) The triangle inequality through the point's corners: with d the
+ * database's own vertex distances (the straight length for the face's own
+ * corners), a point p of face (v_0, v_1, v_2) and any vertex y satisfy
+ *   max_i d(v_i, y) - |p - v_i|  <=  d(p, y)  <=  min_i d(v_i, y) + |p - v_i|.
+ * The planar identity alone breaks both where geodesics bend around a cone
+ * or saddle vertex next to the face, or the face straddles y's cut locus
+ * (on cube:4 by up to 13% of the distance, peaks:20 4%); the answer keeps them.
+ * An exact database (consistent distances: they satisfy the triangle
+ * inequality) up to its tables' rounding step, diameter / 131068. */
+static void test_corner_bounds(const char *spec)
+{
+    gs_mesh *m = generate(spec);
+    gs_db *db = m ? build_ex(m, spec, 1) : NULL;
+    if (!db) goto done;
+    uint32_t n = gs_mesh_num_vertices(m);
+    const double *xyz = gs_mesh_positions(m);
+    double *f = malloc(sizeof *f * n), *dv[3];
+    for (int i = 0; i < 3; ++i) dv[i] = malloc(sizeof *dv[i] * n);
+    double worst = 0.0, diam = 0.0;
+    size_t outside = 0, checked = 0;
+    for (int k = 0; k < 40 && f && dv[0] && dv[1] && dv[2]; ++k) {
+        rpoint a = random_point(m);
+        gs_error e = {0};
+        CHECK_MSG(gs_db_point_field(db, &a.p, f, &e) == GS_OK, "%s: %s", spec, e.message);
+        for (int i = 0; i < 3; ++i) CHECK(gs_db_field(db, a.p.corner[i], dv[i], NULL) == GS_OK);
+        for (uint32_t y = 0; y < n; ++y) diam = fmax(diam, dv[0][y]);
+        double step = 4 * diam / 131068;
+        for (uint32_t y = 0; y < n; ++y) {
+            double lo = 0, hi = INFINITY;
+            for (int i = 0; i < 3; ++i) {
+                const double *v = xyz + 3 * (size_t)a.p.corner[i];
+                double g = gs__test_dist3(a.x, v), d = dv[i][y];
+                for (int j = 0; j < 3; ++j)
+                    if (a.p.corner[j] == y && j != i) d = gs__test_dist3(v, xyz + 3 * (size_t)y);
+                lo = fmax(lo, d - g), hi = fmin(hi, d + g);
+            }
+            double off = fmax(lo - f[y], f[y] - hi);
+            checked++;
+            if (off > step) outside++;
+            if (off > 0 && hi > 0) worst = fmax(worst, off / hi);
+        }
+    }
+    printf("  %s (exact database): %zu of %zu point->vertex answers outside the corners' triangle inequality "
+           "(worst by %.3g of the distance)\n", spec, outside, checked, worst);
+    CHECK_MSG(outside == 0, "%s: %zu point->vertex answers outside the corners' triangle inequality, worst by %.3g",
+              spec, outside, worst);
+    free(f);
+    for (int i = 0; i < 3; ++i) free(dv[i]);
+done:
     gs_db_free(db);
     gs_mesh_free(m);
 }
@@ -690,6 +745,8 @@ int main(void)
     test_vs_exact("cylinder:31,12,1,2", 1, cyl31_ex);
     test_cylinder_pairs(0, pairs_db);
     test_cylinder_pairs(1, pairs_ex);
+    test_corner_bounds("cube:4");
+    test_corner_bounds("peaks:20");
     test_bad_input();
     test_components();
     test_threads();
