@@ -203,18 +203,28 @@ static double gap(const gs_db *db, const spt *a, const spt *b)
 }
 
 /* A point's own geometry, computed once per query: the offsets to its
- * corners, its edge term, and per edge of its face (n == 3) the point and
- * the third corner in a frame where the edge runs from (0,0) to (L,0). */
+ * corners, its edge term, and (on first use, for targets near the face)
+ * per edge of its face (n == 3) the point and the third corner in a frame
+ * where the edge runs from (0,0) to (L,0). */
 typedef struct frame {
+    const gs_db *db;
     double gap[3]; /* |p - v_i| (straight: inside the face)              */
     double edge;   /* sum_{i<k} w_i w_k |v_i - v_k|^2                    */
-    int unfold;    /* the per-edge frames below are valid                */
+    double near;   /* targets nearer than this to a corner are unfolded   */
+    int unfold;    /* -1: not yet made; 0: none (an edge point, a degenerate face); 1: below */
     double L[3], xm[3], ym[3], px[3], py[3]; /* edge (i, i+1), third corner i+2 */
 } frame;
 
+/* Beyond GS__UNFOLD_NEAR times the face's longest edge from its corners,
+ * the unfolding across an edge and the planar identity agree to well
+ * within the vertex queries' error (they differ where the geodesics from
+ * the three corners part around a vertex next to the face). */
+#define GS__UNFOLD_NEAR 4.0
+
 static void make_frame(const gs_db *db, const spt *s, frame *f)
 {
-    f->edge = 0.0, f->unfold = 0;
+    f->db = db, f->edge = 0.0, f->unfold = s->n == 3 ? -1 : 0;
+    double e2max = 0.0;
     for (uint32_t k = 0; k < s->n; ++k) { /* from the other corners' offsets to v_k */
         const double *r = pos(db, s->v[k]);
         double d[3] = {0.0, 0.0, 0.0};
@@ -222,12 +232,21 @@ static void make_frame(const gs_db *db, const spt *s, frame *f)
             if (i != k)
                 for (int c = 0; c < 3; ++c) d[c] += s->w[i] * (pos(db, s->v[i])[c] - r[c]);
         f->gap[k] = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        for (uint32_t i = k + 1; i < s->n; ++i) f->edge += s->w[k] * s->w[i] * dist2(r, pos(db, s->v[i]));
+        for (uint32_t i = k + 1; i < s->n; ++i) {
+            double e2 = dist2(r, pos(db, s->v[i]));
+            f->edge += s->w[k] * s->w[i] * e2;
+            if (e2 > e2max) e2max = e2;
+        }
     }
-    if (s->n < 3) return;
+    f->near = GS__UNFOLD_NEAR * sqrt(e2max);
+}
+
+static void make_unfold(const spt *s, frame *f)
+{
+    f->unfold = 0;
     for (uint32_t i = 0; i < 3; ++i) {
         uint32_t k = (i + 1) % 3, m = (i + 2) % 3;
-        const double *vi = pos(db, s->v[i]), *vk = pos(db, s->v[k]), *vm = pos(db, s->v[m]);
+        const double *vi = pos(f->db, s->v[i]), *vk = pos(f->db, s->v[k]), *vm = pos(f->db, s->v[m]);
         double ek[3], em[3];
         for (int c = 0; c < 3; ++c) ek[c] = vk[c] - vi[c], em[c] = vm[c] - vi[c];
         double L = sqrt(ek[0] * ek[0] + ek[1] * ek[1] + ek[2] * ek[2]);
@@ -250,17 +269,19 @@ static void make_frame(const gs_db *db, const spt *s, frame *f)
  * dist_i - |p - v_i| <= d(p, y) <= dist_i + |p - v_i| (the identity
  * misses the upper bound where geodesics bend around a saddle vertex, the
  * lower where the face straddles y's cut locus). */
-static double one_sided(const spt *s, const frame *f, const double *dist)
+static double one_sided(const spt *s, frame *f, const double *dist)
 {
     if (s->n == 1) return dist[0];
-    double t = -f->edge, lo = 0.0, hi = INFINITY;
+    double t = -f->edge, lo = 0.0, hi = INFINITY, dmin = INFINITY;
     for (uint32_t i = 0; i < s->n; ++i) {
         t += s->w[i] * dist[i] * dist[i];
         if (dist[i] + f->gap[i] < hi) hi = dist[i] + f->gap[i];
         if (dist[i] - f->gap[i] > lo) lo = dist[i] - f->gap[i];
+        if (dist[i] < dmin) dmin = dist[i];
     }
     double r = t > 0.0 ? sqrt(t) : 0.0;
-    for (uint32_t i = 0; f->unfold && i < 3; ++i) {
+    if (f->unfold < 0 && dmin < f->near) make_unfold(s, f);
+    for (uint32_t i = 0; f->unfold > 0 && dmin < f->near && i < 3; ++i) {
         uint32_t k = (i + 1) % 3;
         double L = f->L[i], px = f->px[i], py = f->py[i];
         double yx = (dist[i] * dist[i] - dist[k] * dist[k] + L * L) / (2.0 * L), h2 = dist[i] * dist[i] - yx * yx;
