@@ -302,7 +302,8 @@ done:
 /* (e) The triangle inequality through the point's corners: with d the
  * database's own vertex distances (the straight length for the face's own
  * corners), a point p of face (v_0, v_1, v_2) and any vertex y satisfy
- *   max_i d(v_i, y) - |p - v_i|  <=  d(p, y)  <=  min_i d(v_i, y) + |p - v_i|.
+ *   max_i d(v_i, y) - |p - v_i|  <=  d(p, y)  <=  min_i d(v_i, y) + |p - v_i|
+ * (the lower bound taken 0.5% short: doc/surface-points.md).
  * The planar identity alone breaks both where geodesics bend around a cone
  * or saddle vertex next to the face, or the face straddles y's cut locus
  * (on cube:4 by up to 13% of the distance, peaks:20 4%); the answer keeps them.
@@ -333,7 +334,7 @@ static void test_corner_bounds(const char *spec)
                 double g = gs__test_dist3(a.x, v), d = dv[i][y];
                 for (int j = 0; j < 3; ++j)
                     if (a.p.corner[j] == y && j != i) d = gs__test_dist3(v, xyz + 3 * (size_t)y);
-                lo = fmax(lo, d - g), hi = fmin(hi, d + g);
+                lo = fmax(lo, 0.995 * (d - g)), hi = fmin(hi, d + g);
             }
             double off = fmax(lo - f[y], f[y] - hi);
             checked++;

@@ -220,6 +220,11 @@ typedef struct frame {
  * within the vertex queries' error (they differ where the geodesics from
  * the three corners part around a vertex next to the face). */
 #define GS__UNFOLD_NEAR 4.0
+/* The lower bound d_i - |p - v_i| is taken 0.5% short: next to a corner
+ * (|p - v_i| small) it is as tight as d_i, so the vertex query's own error
+ * would otherwise pass straight into the answer on flat meshes, where the
+ * identity averages it out. */
+#define GS__LOWER_SLACK 0.995
 
 static void make_frame(const gs_db *db, const spt *s, frame *f)
 {
@@ -266,7 +271,8 @@ static void make_unfold(const spt *s, frame *f)
  * the segment from it to p crosses the edge: the identity also uses the
  * third corner, whose own geodesic may bend around a vertex); then within
  * the triangle inequality through each corner:
- * dist_i - |p - v_i| <= d(p, y) <= dist_i + |p - v_i| (the identity
+ * dist_i - |p - v_i| <= d(p, y) <= dist_i + |p - v_i| (the lower bound
+ * taken GS__LOWER_SLACK short; the identity
  * misses the upper bound where geodesics bend around a saddle vertex, the
  * lower where the face straddles y's cut locus). */
 static double one_sided(const spt *s, frame *f, const double *dist)
@@ -276,7 +282,7 @@ static double one_sided(const spt *s, frame *f, const double *dist)
     for (uint32_t i = 0; i < s->n; ++i) {
         t += s->w[i] * dist[i] * dist[i];
         if (dist[i] + f->gap[i] < hi) hi = dist[i] + f->gap[i];
-        if (dist[i] - f->gap[i] > lo) lo = dist[i] - f->gap[i];
+        if (GS__LOWER_SLACK * (dist[i] - f->gap[i]) > lo) lo = GS__LOWER_SLACK * (dist[i] - f->gap[i]);
         if (dist[i] < dmin) dmin = dist[i];
     }
     double r = t > 0.0 ? sqrt(t) : 0.0;
