@@ -111,6 +111,9 @@ def test_interrupt_during_build():
         import os, signal, threading, time
         import geosep
         mesh = geosep.Mesh.generate("sphere:3")
+        # Python leaves SIGINT alone when it starts with SIGINT ignored (a
+        # background job of a non-interactive shell): install the handler
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         threading.Timer(0.1, os.kill, (os.getpid(), signal.SIGINT)).start()
         try:
             db = geosep.Database.build(mesh, threads=1, progress=True)
