@@ -1,7 +1,7 @@
 /* db_path.c - geodesic paths from a database (doc/paths.md, "From a
  * database"): a path between two vertices or surface points of the mesh the
  * database was built from, without solving a field.
- * One file (about 1,900 lines) on purpose: the four stages below share one
+ * One file (about 2,000 lines) on purpose: the four stages below share one
  * path context (the descent's distance cache, the sleeve, the unfolding)
  * and each hands the next its half-built state; split, every part would
  * export that context.
@@ -1882,6 +1882,35 @@ static void reverse_points(ctx *c)
     if (n > 1) c->q[n - 1].seg = c->q[n - 2].seg;
 }
 
+/* Step 4's question: does the exact corridor check the path best found
+ * (length len, the database's distance d)? gap: how far apart the walks'
+ * lengths are when they found two routes (0: one route). Each rule above,
+ * the walk's shape read only when the cheaper ones did not decide. */
+static int wants_corridor(const ctx *best, const gs_mesh *mesh, double len, double d, double gap, int point_end,
+                          int exact_db)
+{
+    if (len > d * (1 + (exact_db ? CHECK_TOL_EXACT : CHECK_TOL_APPROX))) return 1;
+    double size = corridor_size(mesh, len, d), longer = len / d - 1;
+    if (gap > 0 && size <= (gap > ROUTE_GAP * len ? SMALL_CORRIDOR : CHEAP_CORRIDOR)) return 1;
+    walk_shape w = shape_of(best);
+    if (point_end && len > d * (1 + (exact_db ? REVERSE_TOL_EXACT : REVERSE_TOL_APPROX)) && w.mean >= POINT_DEFECT &&
+        size <= POINT_CORRIDOR)
+        return 1;
+    int counted = w.n >= MIN_SHARE_WALK;
+    if (counted && w.mean >= POINT_DEFECT && size <= ANISO_CORRIDOR &&
+        longer > (point_end ? 0 : fmin(ANISO_LONGER, SADDLE_LONGER))) {
+        double thin = walk_anisotropy(best);
+        if (thin >= ANISO_SHARE && longer > (point_end ? 0 : ANISO_LONGER)) return 1;
+        if (thin >= SADDLE_ANISO && w.saddles >= SADDLE_SHARE && longer > SADDLE_LONGER && size <= POINT_CORRIDOR)
+            return 1;
+    }
+    int corridor_ok = size <= ROUGH_CORRIDOR && (len >= d || w.mean >= ROUGH_STRONG);
+    if (w.mean >= ROUGH_DEFECT && w.big >= 0.5) return corridor_ok; /* rough */
+    int mild = counted && corridor_ok && w.mean >= ROUGH_MILD && w.big >= ROUGH_MILD_SHARE;
+    int noisy_ok = counted && longer > NOISY_LONGER && size <= NOISY_CORRIDOR;
+    return (mild || noisy_ok) && walk_noise(best) >= ROUGH_NOISE;
+}
+
 int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const gs_source *y, gs_path **out,
                gs_error *err)
 {
@@ -1968,25 +1997,7 @@ int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const g
     double lo = fmin(fmin(len1, len2), len3), hi = fmax(len1, len2);
     if (isfinite(len3)) hi = fmax(hi, len3);
     int two_routes = isfinite(len2) && hi - lo > 1e-9 * len;
-    double size = corridor_size(mesh, len, d), longer = len / d - 1;
-    walk_shape w = shape_of(best);
-    double rough = w.mean >= ROUGH_DEFECT && 2 * w.big >= 1 ? w.mean : 0;
-    int counted = w.n >= MIN_SHARE_WALK, corridor_ok = size <= ROUGH_CORRIDOR && (len >= d || w.mean >= ROUGH_STRONG);
-    int mild = counted && corridor_ok && w.mean >= ROUGH_MILD && w.big >= ROUGH_MILD_SHARE;
-    int noisy_ok = counted && longer > NOISY_LONGER && size <= NOISY_CORRIDOR;
-    double noise = !rough && (mild || noisy_ok) ? walk_noise(best) : 0;
-    if (mild && noise >= ROUGH_NOISE) rough = w.mean;
-    double thin = counted && w.mean >= POINT_DEFECT && size <= ANISO_CORRIDOR &&
-                          longer > (point_end ? 0 : fmin(ANISO_LONGER, SADDLE_LONGER))
-                      ? walk_anisotropy(best)
-                      : 0;
-    if (!rc && (len > d * (1 + (exact_db ? CHECK_TOL_EXACT : CHECK_TOL_APPROX)) ||
-                (two_routes && size <= (hi - lo > ROUTE_GAP * len ? SMALL_CORRIDOR : CHEAP_CORRIDOR)) ||
-                (point_end && len > d * (1 + reverse_tol) && w.mean >= POINT_DEFECT && size <= POINT_CORRIDOR) ||
-                (thin >= ANISO_SHARE && longer > (point_end ? 0 : ANISO_LONGER)) ||
-                (thin >= SADDLE_ANISO && w.saddles >= SADDLE_SHARE && longer > SADDLE_LONGER &&
-                 size <= POINT_CORRIDOR) ||
-                (noisy_ok && noise >= ROUGH_NOISE) || (rough > 0 && corridor_ok))) {
+    if (!rc && wants_corridor(best, mesh, len, d, two_routes ? hi - lo : 0, point_end, exact_db)) {
         double px[3], py[3];
         q_position(t, &qx, px);
         q_position(t, &qy, py);
