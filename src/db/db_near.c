@@ -48,8 +48,8 @@ void gs__db_near_write(unsigned char *sec, uint32_t nv, double radius, const gs_
     }
 }
 
-int gs__db_near_attach(const unsigned char *sec, uint64_t size, uint32_t nv, uint32_t version, const char *name,
-                       gs__db_near *out, gs_error *err)
+int gs__db_near_attach(const unsigned char *sec, uint64_t size, uint32_t nv, const char *name, gs__db_near *out,
+                       gs_error *err)
 {
     memset(out, 0, sizeof *out);
     if (size < GS__NEAR_HEAD)
@@ -81,7 +81,6 @@ int gs__db_near_attach(const unsigned char *sec, uint64_t size, uint32_t nv, uin
     out->radius = radius;
     out->radius2 = radius * radius;
     out->step = step;
-    out->version = version;
     out->n = n;
     out->nb = nb;
     out->start = start;
@@ -89,7 +88,7 @@ int gs__db_near_attach(const unsigned char *sec, uint64_t size, uint32_t nv, uin
     return GS_OK;
 }
 
-int gs__db_near_verify(const gs__db_near *nr, uint32_t nv, const char *name, gs_error *err)
+int gs__db_near_verify(const gs__db_near *nr, uint32_t nv, uint32_t version, const char *name, gs_error *err)
 {
     if (!nr->start) return GS_OK;
     for (uint32_t b = 0; b < nr->nb; ++b) {
@@ -98,11 +97,11 @@ int gs__db_near_verify(const gs__db_near *nr, uint32_t nv, const char *name, gs_
             const unsigned char *e = nr->ent + 8 * (size_t)i;
             uint32_t y = gs__get32(e), xl = e[6];
             uint64_t x = (uint64_t)b * BUCKET + xl, key = ((uint64_t)xl << 32) | y;
-            uint32_t shift_max = nr->version >= 6 ? GS__NEAR_SHIFT_MAX : 0;
+            uint32_t shift_max = version >= 6 ? GS__NEAR_SHIFT_MAX : 0;
             if (xl >= BUCKET || e[7] > shift_max || x >= y || y >= nv)
                 return BAD("%s: section 'near_pairs': entry %u is the pair (%llu, %u) with shift %u "
                            "(needs x < y < %u, shift <= %u in format %u)",
-                           name, i, (unsigned long long)x, y, e[7], nv, shift_max, nr->version);
+                           name, i, (unsigned long long)x, y, e[7], nv, shift_max, version);
             if (i > nr->start[b] && key <= prev)
                 return BAD("%s: section 'near_pairs': entry %u (%llu, %u) is not after the entry before it", name, i,
                            (unsigned long long)x, y);

@@ -34,7 +34,6 @@
 /* The section as the query reads it (in place; start NULL: no section). */
 typedef struct gs__db_near {
     double radius, step;
-    uint32_t version;          /* the file's format version               */
     double radius2;            /* radius^2 (0 without the section)        */
     uint64_t n;
     uint32_t nb;
@@ -58,15 +57,14 @@ uint64_t gs__db_near_bytes(uint32_t nv, uint64_t n);
 void gs__db_near_write(unsigned char *sec, uint32_t nv, double radius, const gs__near_pair *p, uint64_t n);
 
 /* Structure at open, O(nv / 16): the head, the size, the bucket starts
- * (what keeps every lookup inside the section). Fills *out; version: the
- * file's format version. */
-int gs__db_near_attach(const unsigned char *sec, uint64_t size, uint32_t nv, uint32_t version, const char *name,
-                       gs__db_near *out, gs_error *err);
+ * (what keeps every lookup inside the section). Fills *out. */
+int gs__db_near_attach(const unsigned char *sec, uint64_t size, uint32_t nv, const char *name, gs__db_near *out,
+                       gs_error *err);
 
 /* Every entry (gs_db_verify): x < y < nv, sorted in its bucket, shift at
  * most GS__NEAR_SHIFT_MAX (0 in format 5); any q: q * step <= radius by
- * the head's check. */
-int gs__db_near_verify(const gs__db_near *nr, uint32_t nv, const char *name, gs_error *err);
+ * the head's check. version: the file's format version. */
+int gs__db_near_verify(const gs__db_near *nr, uint32_t nv, uint32_t version, const char *name, gs_error *err);
 
 /* The stored distance of the pair (x, y), x < y, if stored: 1 and *d. */
 static inline int gs__db_near_find(const gs__db_near *nr, uint32_t x, uint32_t y, double *d)

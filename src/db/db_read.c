@@ -554,7 +554,7 @@ static int check_values(reader *r)
     for (uint32_t x = 0; x < db->nv && !rc; ++x) rc = check_record(r, x, path);
     free(path);
     if (!rc) rc = check_leaf_values(r);
-    if (!rc) rc = gs__db_near_verify(&db->near, db->nv, r->name, r->err);
+    if (!rc) rc = gs__db_near_verify(&db->near, db->nv, db->version, r->name, r->err);
     return rc;
 }
 
@@ -604,8 +604,8 @@ static int validate(reader *r, const unsigned char *b, uint64_t size, int verify
     if (!rc) rc = check_leaf_structure(r);
     if (!rc) rc = check_aliases(r);
     if (!rc && r->sec[GS__SEC_NEAR])
-        rc = gs__db_near_attach(r->sec[GS__SEC_NEAR], r->sec_size[GS__SEC_NEAR], r->db->nv, r->db->version,
-                                r->name, &r->db->near, r->err);
+        rc = gs__db_near_attach(r->sec[GS__SEC_NEAR], r->sec_size[GS__SEC_NEAR], r->db->nv, r->name, &r->db->near,
+                                r->err);
     if (!rc && verify) rc = check_values(r);
     return rc;
 }
