@@ -145,8 +145,9 @@ def test_load_errors(tmp_path):
         geosep.Mesh.load(bad)
     with pytest.raises(ValueError, match="format"):
         geosep.Mesh.load(bad, format="xyz")
-    with pytest.raises(OSError):
+    with pytest.raises(OSError) as e:
         geosep.Mesh.load(tmp_path)  # a directory
+    assert str(tmp_path) in str(e.value) and "None" not in str(e.value)
 
 
 def test_generate_and_subdivide():
