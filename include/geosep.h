@@ -668,6 +668,12 @@ GS_API int gs_db_verify(const gs_db *db, gs_error *err);
  * (copied: the database owns its copy). */
 GS_API int gs_db_open_memory(const void *data, size_t size, gs_db **out, gs_error *err);
 
+/* Borrowed: the database's file image, the bytes gs_db_save writes (for a
+ * database held elsewhere than in a file: a blob store, a pickle; open it
+ * again with gs_db_open_memory). *size (may be NULL) receives its length.
+ * Valid while db lives; NULL and 0 for a NULL db. Thread-safe. */
+GS_API const void *gs_db_file_bytes(const gs_db *db, size_t *size);
+
 GS_API void gs_db_free(gs_db *db);
 
 typedef struct gs_db_info {
