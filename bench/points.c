@@ -121,6 +121,12 @@ static double mean_edge(const gs_mesh *m)
 static void show(const char *what, errs *s)
 {
     double sum = 0;
+    if (s->n == 0) { /* a tiny mesh: no pair of this kind (e.g. every point within a face's corners) */
+        printf("  %-58s no pairs\n", what);
+        free(s->e);
+        memset(s, 0, sizeof *s);
+        return;
+    }
     qsort(s->e, s->n, sizeof *s->e, cmp_double);
     for (size_t i = 0; i < s->n; ++i) sum += s->e[i];
     printf("  %-58s mean %.3f%%  p99 %.3f%%  p99.9 %.3f%%  max %.2f%%  (%zu pairs)\n", what, 100 * sum / s->n,

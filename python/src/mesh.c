@@ -201,9 +201,11 @@ static PyObject *mesh_save(gspy_Mesh *self, PyObject *path_obj)
 static PyObject *mesh_random_vertices(gspy_Mesh *self, PyObject *args, PyObject *kwargs)
 {
     static char *kw[] = {"k", "seed", NULL};
-    unsigned int k;
+    PyObject *k_obj;
     unsigned long long seed = 1;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "I|K:random_vertices", kw, &k, &seed)) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|K:random_vertices", kw, &k_obj, &seed)) return NULL;
+    uint32_t k;
+    if (gspy_opt_u32(k_obj, 0, "k", &k) < 0) return NULL; /* -1 is refused, not 2^32 - 1 */
     npy_intp dims[1] = {k};
     PyObject *out = PyArray_SimpleNew(1, dims, NPY_UINT32);
     if (!out) return NULL;

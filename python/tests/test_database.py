@@ -113,6 +113,9 @@ def test_field_threads_same_answers(sphere_db):
         sphere_db.field(0, 2)  # threads is keyword-only
     with pytest.raises(TypeError):
         sphere_db.field(0, threads="two")
+    for bad in (-1, 1025, 2**32):  # -1 used to wrap to 2^32 - 1 threads
+        with pytest.raises(ValueError, match="threads"):
+            sphere_db.field(0, threads=bad)
 
 
 def test_unreachable_is_inf(two, two_db):
@@ -239,6 +242,11 @@ def test_corrupt_database(tmp_path, sphere_db):
         geosep.Database.open(tmp_path / "missing.gsdb")
     with pytest.raises(OSError):
         sphere_db.save(tmp_path / "no" / "such" / "folder.gsdb")
+    # errors without an errno keep their message (not "[Errno None] None: ...")
+    for call in (lambda: sphere_db.save(tmp_path), lambda: geosep.Database.open(tmp_path)):
+        with pytest.raises(OSError) as e:
+            call()
+        assert str(tmp_path) in str(e.value) and "regular file" in str(e.value) and "None" not in str(e.value)
 
 
 def test_build_options(plane):

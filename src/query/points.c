@@ -212,6 +212,8 @@ typedef struct frame {
     double edge;   /* sum_{i<k} w_i w_k |v_i - v_k|^2                    */
     double near;   /* targets nearer than this to a corner are unfolded   */
     int unfold;    /* -1: not yet made; 0: none (an edge point, a degenerate face); 1: below */
+    int chords;    /* the corners' distances are straight chords that fold:  */
+                   /*   an unfolding is taken over the identity (estimate)   */
     double L[3], xm[3], ym[3], px[3], py[3]; /* edge (i, i+1), third corner i+2 */
 } frame;
 
@@ -228,7 +230,7 @@ typedef struct frame {
 
 static void make_frame(const gs_db *db, const spt *s, frame *f)
 {
-    f->db = db, f->edge = 0.0, f->unfold = s->n == 3 ? -1 : 0;
+    f->db = db, f->edge = 0.0, f->unfold = s->n == 3 ? -1 : 0, f->chords = 0;
     double e2max = 0.0;
     for (uint32_t k = 0; k < s->n; ++k) { /* from the other corners' offsets to v_k */
         const double *r = pos(db, s->v[k]);
@@ -274,7 +276,11 @@ static void make_unfold(const spt *s, frame *f)
  * dist_i - |p - v_i| <= d(p, y) <= dist_i + |p - v_i| (the lower bound
  * taken GS__LOWER_SLACK short; the identity
  * misses the upper bound where geodesics bend around a saddle vertex, the
- * lower where the face straddles y's cut locus). */
+ * lower where the face straddles y's cut locus). With f->chords (every
+ * corner distance a straight chord, the corners not in one plane) the
+ * identity is the chord |p - y| through the solid, and an unfolding, the
+ * folded path, is taken wherever there is one (a point on a cube's or a
+ * tetrahedron's face and a vertex of the next face: 45% short before). */
 static double one_sided(const spt *s, frame *f, const double *dist)
 {
     if (s->n == 1) return dist[0];
@@ -285,7 +291,7 @@ static double one_sided(const spt *s, frame *f, const double *dist)
         if (GS__LOWER_SLACK * (dist[i] - f->gap[i]) > lo) lo = GS__LOWER_SLACK * (dist[i] - f->gap[i]);
         if (dist[i] < dmin) dmin = dist[i];
     }
-    double r = t > 0.0 ? sqrt(t) : 0.0;
+    double r = t > 0.0 ? sqrt(t) : 0.0, u = INFINITY;
     if (f->unfold < 0 && dmin < f->near) make_unfold(s, f);
     for (uint32_t i = 0; f->unfold > 0 && dmin < f->near && i < 3; ++i) {
         uint32_t k = (i + 1) % 3;
@@ -295,10 +301,52 @@ static double one_sided(const spt *s, frame *f, const double *dist)
         double h = sqrt(h2), xc = px + py / (py + h) * (yx - px);
         if (!(xc >= 0.0 && xc <= L)) continue;
         double c = sqrt((px - yx) * (px - yx) + (py + h) * (py + h));
-        if (c < r) r = c;
+        if (c < u) u = c;
     }
+    if (u < r || (f->chords && u < INFINITY)) r = u;
     if (r > hi) r = hi;
     return r > lo ? r : lo;
+}
+
+/* Whether the corners of a and b (at most 6 points) lie in one plane, to
+ * GS__PLANE_TOL of their largest spread: then corner distances that are
+ * all straight make |p - q| the answer (p and q in one face, or in faces
+ * of one flat region). Not so where they fold: on a tetrahedron every
+ * corner pair is an edge, yet a point and the opposite vertex are a folded
+ * path apart, not the chord through the solid (which the identity gives
+ * for straight corner distances: it is exact in space). */
+#define GS__PLANE_TOL 1e-9
+static int coplanar(const gs_db *db, const spt *a, const spt *b)
+{
+    const double *P[6];
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < a->n; ++i) P[n++] = pos(db, a->v[i]);
+    for (uint32_t j = 0; j < b->n; ++j)
+        if (!has(a, b->v[j])) P[n++] = pos(db, b->v[j]);
+    if (n <= 3) return 1;
+    /* the plane through P[0] and the pair of offsets with the largest normal */
+    double best = 0.0, nrm[3] = {0.0, 0.0, 0.0}, span2 = 0.0;
+    for (uint32_t i = 1; i < n; ++i) {
+        double u[3];
+        for (int c = 0; c < 3; ++c) u[c] = P[i][c] - P[0][c];
+        double u2 = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+        if (u2 > span2) span2 = u2;
+        for (uint32_t k = i + 1; k < n; ++k) {
+            double w[3], x[3];
+            for (int c = 0; c < 3; ++c) w[c] = P[k][c] - P[0][c];
+            x[0] = u[1] * w[2] - u[2] * w[1], x[1] = u[2] * w[0] - u[0] * w[2], x[2] = u[0] * w[1] - u[1] * w[0];
+            double x2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+            if (x2 > best) best = x2, nrm[0] = x[0], nrm[1] = x[1], nrm[2] = x[2];
+        }
+    }
+    if (!(best > 0.0)) return 1; /* collinear */
+    double len = sqrt(best), tol = GS__PLANE_TOL * sqrt(span2);
+    for (uint32_t i = 1; i < n; ++i) {
+        double h = 0.0;
+        for (int c = 0; c < 3; ++c) h += nrm[c] * (P[i][c] - P[0][c]);
+        if (fabs(h) / len > tol) return 0;
+    }
+    return 1;
 }
 
 /* The estimate for a <= b (compare order), a != b. */
@@ -332,15 +380,18 @@ static double estimate(const gs_db *db, const spt *a, const spt *b, vdist_fn vd,
             }
         }
     double e = gap(db, a, b);
-    if (straight) return e;
+    int chords = straight && !coplanar(db, a, b);
+    if (straight && !chords) return e;
     frame fa, fb;
     make_frame(db, a, &fa);
+    fa.chords = chords;
     double r;
     if (b->n == 1) { /* a point and a vertex */
         double col[3] = {D[0][0], a->n > 1 ? D[1][0] : 0.0, a->n > 2 ? D[2][0] : 0.0};
         r = one_sided(a, &fa, col);
     } else { /* both sides: d(p, q) from d(p, w_j), and from d(v_i, q) */
         make_frame(db, b, &fb);
+        fb.chords = chords;
         double P[3], Q[3], col[3];
         for (uint32_t j = 0; j < b->n; ++j) {
             for (uint32_t i = 0; i < a->n; ++i) col[i] = D[i][j];
