@@ -2061,18 +2061,26 @@ static int second_route(ctx *c, const qpt *qx, const qpt *qy, int reversed, doub
     double g = INFINITY, girth = INFINITY;
     const double *xp = vpos(c, c->target), *yp = vpos(c, c->origin);
     for (int k = 0; k < 3; ++k) centre[k] = 0.5 * (xp[k] + yp[k]);
-    double *val = malloc(CUT_KEEP * (2 * sizeof *val + 2 * sizeof(uint32_t))), *arc = val + CUT_KEEP;
+    /* the cut's edges, sums, vertices and lengths along it (a tube's on the stack) */
+    size_t keep = open ? CUT_KEEP : TUBE_EDGES + 1;
+    double local[2 * (TUBE_EDGES + 1)], *val = open ? malloc(keep * (2 * sizeof *val + 2 * sizeof(uint32_t))) : local;
+    uint32_t local_hs[2 * (TUBE_EDGES + 1)];
     if (!val) return oom(c);
-    uint32_t *hs = (uint32_t *)(arc + CUT_KEEP), *arg = hs + CUT_KEEP, w = GS_NONE, nh;
+    double *arc = val + keep;
+    uint32_t *hs = open ? (uint32_t *)(arc + keep) : local_hs, *arg = hs + keep, w = GS_NONE, nh;
     int rc = GS_OK;
+    if (open) { /* only where the path's own crossing is outside the corridor */
+        cut_walk(c, p, n, o, f0, 0, SECOND_REACH * *len, centre, 0.5 * bound, 1, hs, arc, &nh, &girth);
+        if (nh && !(rc = cut_sums(c, hs, 1, bound, val, arg)) && val[0] < bound) nh = 0;
+        if (rc || !nh) {
+            free(val);
+            return rc;
+        }
+    }
     for (int side = 0; side < 2 && !rc; ++side) {
         int closed = cut_walk(c, p, n, o, f0, side, SECOND_REACH * *len, centre, 0.5 * bound,
                               open ? CUT_KEEP : TUBE_EDGES + 1, hs, arc, &nh, &girth);
         if (closed == open) break;
-        if (open && nh && side == 0) { /* only where the path's middle is outside the corridor */
-            if ((rc = cut_sums(c, hs, 1, bound, val, arg))) break;
-            if (val[0] < bound) break;
-        }
         uint32_t i = 0, end = nh;
         if (closed) { /* a tube: its far half, if it is wide enough and coarse */
             if (girth < TUBE_MIN * *len || nh > TUBE_EDGES) break;
@@ -2086,7 +2094,7 @@ static int second_route(ctx *c, const qpt *qx, const qpt *qy, int reversed, doub
             if (val[i] < g) g = val[i], w = arg[i];
         if (closed) break;
     }
-    free(val);
+    if (open) free(val);
     if (rc || w == GS_NONE || (open && !(g < *len - shift))) return rc;
     ctx c4;
     memset(&c4, 0, sizeof c4);
