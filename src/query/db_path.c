@@ -1,7 +1,7 @@
 /* db_path.c - geodesic paths from a database (doc/paths.md, "From a
  * database"): a path between two vertices or surface points of the mesh the
  * database was built from, without solving a field.
- * One file (about 2,000 lines) on purpose: the four stages below share one
+ * One file (about 2,250 lines) on purpose: the four stages below share one
  * path context (the descent's distance cache, the sleeve, the unfolding)
  * and each hands the next its half-built state; split, every part would
  * export that context.
@@ -1850,6 +1850,26 @@ static void reverse_points(ctx *c);
 static int second_route(ctx *c, const qpt *qx, const qpt *qy, int reversed, double d, double *len, gs_path **out,
                         int open);
 
+/* A walk through vertex w (via; c's ends qx, qy), *out replaced and *len
+ * lowered if it is shorter. reversed: c runs from Y to X, *out from X to
+ * Y. */
+static int walk_via(const ctx *c, const qpt *qx, const qpt *qy, int reversed, uint32_t w, double *len, gs_path **out)
+{
+    ctx c3;
+    memset(&c3, 0, sizeof c3);
+    c3.db = c->db, c3.t = c->t, c3.err = c->err;
+    double len3;
+    int rc = via(&c3, c, qx, qy, w, &len3);
+    if (!rc && len3 < *len) {
+        gs_path *p = NULL;
+        if (reversed) reverse_points(&c3);
+        rc = make_path(&c3, &p);
+        if (!rc) gs_path_free(*out), *out = p, *len = len3;
+    }
+    ctx_free(&c3);
+    return rc;
+}
+
 /* The third walk (above) when the walk c's triangle excess calls for it:
  * *out replaced and *len lowered if it is shorter. reversed: c runs from
  * Y to X (qx, qy: c's ends, Y and X), *out from X to Y. */
@@ -1863,21 +1883,8 @@ static int detour(ctx *c, const gs_mesh *mesh, const qpt *qx, const qpt *qy, int
     uint32_t w[DETOUR_NRINGS];
     double sum[DETOUR_NRINGS], len0 = *len;
     if ((rc = waypoints(c, len0 * (1 - DETOUR_GAIN), w, sum))) return rc;
-    for (int k = 0; k < DETOUR_NRINGS && !rc; ++k) {
-        if (w[k] == GS_NONE) continue;
-        ctx c3;
-        memset(&c3, 0, sizeof c3);
-        c3.db = c->db, c3.t = c->t, c3.err = c->err;
-        double len3;
-        rc = via(&c3, c, qx, qy, w[k], &len3);
-        if (!rc && len3 < *len) {
-            gs_path *p = NULL;
-            if (reversed) reverse_points(&c3);
-            rc = make_path(&c3, &p);
-            if (!rc) gs_path_free(*out), *out = p, *len = len3;
-        }
-        ctx_free(&c3);
-    }
+    for (int k = 0; k < DETOUR_NRINGS && !rc; ++k)
+        if (w[k] != GS_NONE) rc = walk_via(c, qx, qy, reversed, w[k], len, out);
     /* and across the middle, beyond the path's own run */
     return rc ? rc : second_route(c, qx, qy, reversed, d, len, out, 1);
 }
@@ -2048,9 +2055,10 @@ static int cut_sums(ctx *c, const uint32_t *hs, uint32_t nh, double bound, doubl
 }
 
 /* The walk through a second route (above) when c's path (length *len, the
- * database's distance d) may have one: *out replaced and *len lowered if
- * it is shorter. reversed: c runs from Y to X (qx, qy: c's ends, Y and
- * X), *out from X to Y. */
+ * database's distance d) may have one: round a tube (open 0: from step 4
+ * for every path) or across an open cut (open 1: from the detour). *out
+ * replaced and *len lowered if it is shorter. reversed: c runs from Y to
+ * X (qx, qy: c's ends, Y and X), *out from X to Y. */
 static int second_route(ctx *c, const qpt *qx, const qpt *qy, int reversed, double d, double *len, gs_path **out,
                         int open)
 {
@@ -2096,19 +2104,7 @@ static int second_route(ctx *c, const qpt *qx, const qpt *qy, int reversed, doub
     }
     if (open) free(val);
     if (rc || w == GS_NONE || (open && !(g < *len - shift))) return rc;
-    ctx c4;
-    memset(&c4, 0, sizeof c4);
-    c4.db = c->db, c4.t = c->t, c4.err = c->err;
-    double len4;
-    rc = via(&c4, c, qx, qy, w, &len4);
-    if (!rc && len4 < *len) {
-        gs_path *q = NULL;
-        if (reversed) reverse_points(&c4);
-        rc = make_path(&c4, &q);
-        if (!rc) gs_path_free(*out), *out = q, *len = len4;
-    }
-    ctx_free(&c4);
-    return rc;
+    return walk_via(c, qx, qy, reversed, w, len, out);
 }
 
 /* Step 4's question: does the exact corridor check the path best found
