@@ -367,7 +367,7 @@ static void point_ends(void)
 /* sphere:3 with each vertex moved radially by a factor 1 + amp (u - 1/2),
  * u uniform in [0, 1) from the generator seeded with seed (NULL on
  * failure). */
-static gs_mesh *spiky_sphere(double amp, uint64_t seed)
+static gs_mesh *spiky_sphere(double amp, uint64_t seed, double freq)
 {
     gs_mesh *g = NULL, *m = NULL;
     gs_error err = {0};
@@ -378,8 +378,11 @@ static gs_mesh *spiky_sphere(double amp, uint64_t seed)
     uint64_t x = seed;
     for (uint32_t v = 0; xyz && v < nv; ++v) {
         x = x * 6364136223846793005ULL + 1442695040888963407ULL;
-        double s = 1 + amp * ((double)(x >> 11) / 9007199254740992.0 - 0.5);
-        for (int k = 0; k < 3; ++k) xyz[3 * v + k] = s * gs_mesh_positions(g)[3 * v + k];
+        const double *p = gs_mesh_positions(g) + 3 * (size_t)v;
+        double u = (double)(x >> 11) / 9007199254740992.0 - 0.5;
+        double s = freq > 0 ? 1 + amp * sin(freq * p[0]) * sin(freq * p[1]) * sin(freq * p[2]) + 0.3 * amp * u
+                            : 1 + amp * u;
+        for (int k = 0; k < 3; ++k) xyz[3 * v + k] = s * p[k];
     }
     CHECK(xyz && gs_mesh_create(xyz, nv, gs_mesh_faces(g), nf, &m, &err) == GS_OK);
     free(xyz);
@@ -402,7 +405,7 @@ static void noisy_spheres(void)
     double worst = 1;
     char what[96];
     for (size_t i = 0; i < sizeof pair / sizeof *pair; ++i) {
-        gs_mesh *m = spiky_sphere(pair[i].amp, pair[i].seed);
+        gs_mesh *m = spiky_sphere(pair[i].amp, pair[i].seed, 0);
         env e;
         if (!m || env_open(&e, "noisy sphere:3", m)) {
             if (m) env_close(&e);
@@ -417,6 +420,32 @@ static void noisy_spheres(void)
     printf("%-22s longest path %.4f%% over the exact distance\n", "noisy spheres:3", 100 * (worst - 1));
 }
 
+/* A coarse bumpy sphere (sphere:3 moved radially by 5% of
+ * sin(8x) sin(8y) sin(8z) and up to 1.5% of noise): the database's 1%
+ * corridor is only 6-8 vertices wide per vertex of the walk, the routes an
+ * edge or two apart (the sides of a bump) differ by about the database's
+ * error, and the walk took the longer (1.04-1.27%; db_path.c, "coarse"). */
+static void sine_sphere(void)
+{
+    static const uint32_t pair[][2] = {{41, 110}, {165, 112}, {579, 283}};
+    gs_mesh *m = spiky_sphere(0.1, 5, 8);
+    env e;
+    if (!m || env_open(&e, "bumpy sphere:3", m)) {
+        if (m) env_close(&e);
+        return;
+    }
+    double worst = 1;
+    char what[96];
+    for (size_t i = 0; i < sizeof pair / sizeof *pair; ++i)
+        for (int k = 0; k < 2; ++k) {
+            uint32_t a = pair[i][k], b = pair[i][1 - k];
+            snprintf(what, sizeof what, "sphere:3, sine bumps: %u -> %u", a, b);
+            worst = fmax(worst, db_path_checked(&e, gs_source_vertex(a), gs_source_vertex(b), what));
+        }
+    printf("%-22s longest path %.4f%% over the exact distance\n", "sine-bumped sphere:3", 100 * (worst - 1));
+    env_close(&e);
+}
+
 /* A spiky sphere (sphere:3, each vertex moved radially by up to 10%):
  * the database errs by up to 2.5% there and cannot tell the two sides of
  * a spike apart, so a walk's geodesic round the wrong side (1-2.3% longer
@@ -425,7 +454,7 @@ static void noisy_spheres(void)
  * source. */
 static void rough_sphere(void)
 {
-    gs_mesh *m = spiky_sphere(0.2, 12345);
+    gs_mesh *m = spiky_sphere(0.2, 12345, 0);
     gs_error err = {0};
     env e;
     if (!m || env_open(&e, "spiky sphere:3", m)) {
@@ -689,6 +718,7 @@ int main(void)
     every_pair("torus:24,12,1,0.35");
     rough_sphere();
     noisy_spheres();
+    sine_sphere();
     fat_knot();
     second_routes();
     point_ends();

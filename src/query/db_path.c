@@ -1,7 +1,7 @@
 /* db_path.c - geodesic paths from a database (doc/paths.md, "From a
  * database"): a path between two vertices or surface points of the mesh the
  * database was built from, without solving a field.
- * One file (about 2,000 lines) on purpose: the four stages below share one
+ * One file (about 2,250 lines) on purpose: the four stages below share one
  * path context (the descent's distance cache, the sleeve, the unfolding)
  * and each hands the next its half-built state; split, every part would
  * export that context.
@@ -1307,6 +1307,17 @@ static int make_path(ctx *c, gs_path **out)
 #define SADDLE_SHARE 0.9
 #define SADDLE_ANISO 0.6
 #define SADDLE_LONGER 0.003
+/* ... and, whatever else, on a coarse mesh: where the corridor (as
+ * estimated, corridor_size) holds at most COARSE_WIDTH vertices per vertex
+ * of the walk (the database's 1% corridor only a few edges wide) on a
+ * curved walk (a mean defect of POINT_DEFECT or more). Routes an edge or
+ * two apart (the two sides of a vertex or a bump) then differ by about the
+ * database's error, and the walk cannot tell them apart (sphere:3 with
+ * +-5% sine bumps: paths 1.04-1.27% longer than the exact distance, walks
+ * of 7-19 vertices and corridors of 44-150, 6-8 per vertex; bunny-5k:
+ * 11.7 at the first percentile, none of 2,200 sampled paths on
+ * homer-60k); and there the exact solve costs about as much as the walk. */
+#define COARSE_WIDTH 8
 
 /* ---- the check: a path much longer than the database's distance -------- */
 
@@ -1836,6 +1847,28 @@ static int via(ctx *c, const ctx *base, const qpt *qx, const qpt *qy, uint32_t w
 }
 
 static void reverse_points(ctx *c);
+static int second_route(ctx *c, const qpt *qx, const qpt *qy, int reversed, double d, double *len, gs_path **out,
+                        int open);
+
+/* A walk through vertex w (via; c's ends qx, qy), *out replaced and *len
+ * lowered if it is shorter. reversed: c runs from Y to X, *out from X to
+ * Y. */
+static int walk_via(const ctx *c, const qpt *qx, const qpt *qy, int reversed, uint32_t w, double *len, gs_path **out)
+{
+    ctx c3;
+    memset(&c3, 0, sizeof c3);
+    c3.db = c->db, c3.t = c->t, c3.err = c->err;
+    double len3;
+    int rc = via(&c3, c, qx, qy, w, &len3);
+    if (!rc && len3 < *len) {
+        gs_path *p = NULL;
+        if (reversed) reverse_points(&c3);
+        rc = make_path(&c3, &p);
+        if (!rc) gs_path_free(*out), *out = p, *len = len3;
+    }
+    ctx_free(&c3);
+    return rc;
+}
 
 /* The third walk (above) when the walk c's triangle excess calls for it:
  * *out replaced and *len lowered if it is shorter. reversed: c runs from
@@ -1850,22 +1883,10 @@ static int detour(ctx *c, const gs_mesh *mesh, const qpt *qx, const qpt *qy, int
     uint32_t w[DETOUR_NRINGS];
     double sum[DETOUR_NRINGS], len0 = *len;
     if ((rc = waypoints(c, len0 * (1 - DETOUR_GAIN), w, sum))) return rc;
-    for (int k = 0; k < DETOUR_NRINGS && !rc; ++k) {
-        if (w[k] == GS_NONE) continue;
-        ctx c3;
-        memset(&c3, 0, sizeof c3);
-        c3.db = c->db, c3.t = c->t, c3.err = c->err;
-        double len3;
-        rc = via(&c3, c, qx, qy, w[k], &len3);
-        if (!rc && len3 < *len) {
-            gs_path *p = NULL;
-            if (reversed) reverse_points(&c3);
-            rc = make_path(&c3, &p);
-            if (!rc) gs_path_free(*out), *out = p, *len = len3;
-        }
-        ctx_free(&c3);
-    }
-    return rc;
+    for (int k = 0; k < DETOUR_NRINGS && !rc; ++k)
+        if (w[k] != GS_NONE) rc = walk_via(c, qx, qy, reversed, w[k], len, out);
+    /* and across the middle, beyond the path's own run */
+    return rc ? rc : second_route(c, qx, qy, reversed, d, len, out, 1);
 }
 
 /* The points of a path from Y to X as the path from X to Y (each point with
@@ -1884,10 +1905,45 @@ static void reverse_points(ctx *c)
 
 /* ---- a second route across the middle ----------------------------------- */
 
-/* SECOND_DOC */
+/* Both walks may follow one locally shortest route while another, across
+ * the path's middle, is shorter by 1% or more, and no check above fires:
+ * - round a tube (knot:300,6,0.1; knot:200,10,0.15): the shortest path
+ *   winds round it one way, another locally shortest path the other way.
+ *   Where the ends are nearly opposite, the two lengths differ by about as
+ *   much as the database's distances err, and on a tube a few edges round
+ *   the database ranks the windings wrongly by more (knot:200,10,0.15: its
+ *   sums put the other winding 1.7% above the path's, which is 1% longer;
+ *   paths 1.0-1.25% longer than the exact distance and 0.3-0.85% longer
+ *   than the database's). The shortening keeps a path's winding (it moves
+ *   the path one vertex at a time), so the other winding needs a walk of
+ *   its own. Unrolled, a tube of girth C is a strip of width C, the path
+ *   of length len offset y0 round it (y0 <= C), the other winding offset
+ *   C - y0: that one is shorter only if y0 > C / 2, so only if
+ *   C < SECOND_REACH len, and 1% shorter only if C >= TUBE_MIN len (the
+ *   offsets' squares must differ by 2% of len squared); at the middle it
+ *   passes the tube's far half.
+ * - round the other side of a hill (peaks:50, 1.05%): the path's own
+ *   middle lies outside the database's corridor (its sums there are more
+ *   than CORRIDOR_TOL above the path's length), and a second run of the
+ *   corridor crosses the middle farther out.
+ * The plane across the path's middle cuts the surface in a curve
+ * (cut_walk). Where it closes round a tube (as above, and at most
+ * TUBE_EDGES edges round: on finer tubes the database ranks the windings
+ * well, on homer-60k's body 16 walks round its other side in 2,200 paths
+ * found none shorter) and the path is not shorter than the database's
+ * distance (one 1% too long is not, where the database errs less than 1%
+ * high), a walk (`via`) through the vertex of the curve's far half (a
+ * quarter to three quarters of the way round) where the database's
+ * d(X, v) + d(v, Y) is least, if within CORRIDOR_TOL of the path's length;
+ * where it is open, with the detour's walks (detour: the path much longer
+ * than the database's distance and off its shortest path) and where the
+ * path's own crossing is outside the corridor, a walk through the vertex
+ * of least sum past the path's own run below the corridor's bound, if
+ * the database sees it shorter than the path. The shorter path is kept. */
 #define CUT_KEEP 512 /* at most so many cut edges read each way */
-#define SECOND_REACH 2.0
+#define SECOND_REACH 2.0 /* also the reach of the curve on an open cut */
 #define TUBE_MIN 0.14
+#define TUBE_EDGES 64
 
 /* Which side of the plane n . x = o vertex v is on (on it: in front). */
 static int cut_side(const gs__topo *t, const double n[3], double o, uint32_t v)
@@ -1933,13 +1989,14 @@ static int cut_plane(const ctx *c, double p[3], double n[3], double *o, uint32_t
 /* The curve in which that plane cuts the surface, marched from p face to
  * face (a vertex on the plane counts as in front of it: every face the
  * cut enters has exactly two cut edges), leaving f0 by its `side`-th cut
- * edge: the half-edges cut, in order, into hs (*nh, at most CUT_KEEP;
- * arc: how far along the curve),
+ * edge: the half-edges cut, in order, into hs (*nh, at most cap <=
+ * CUT_KEEP; arc: how far along the curve),
  * until the curve has run `budget` long or left the ball (centre,
  * radius), meets the boundary, or closes (back in f0: returns 1, *girth
  * its length). */
 static int cut_walk(const ctx *c, const double p[3], const double n[3], double o, uint32_t f0, int side, double budget,
-                    const double centre[3], double radius, uint32_t *hs, double *arc, uint32_t *nh, double *girth)
+                    const double centre[3], double radius, uint32_t cap, uint32_t *hs, double *arc, uint32_t *nh,
+                    double *girth)
 {
     const gs__topo *t = c->t;
     uint32_t h = GS_NONE;
@@ -1950,7 +2007,7 @@ static int cut_walk(const ctx *c, const double p[3], const double n[3], double o
     if (h == GS_NONE) return 0;
     cut_point(t, n, o, h, prev);
     len = dist3(p, prev);
-    while (*nh < CUT_KEEP && len <= budget && dist3(prev, centre) <= radius) {
+    while (*nh < cap && len <= budget && dist3(prev, centre) <= radius) {
         arc[*nh] = len, hs[(*nh)++] = h;
         uint32_t e = t->opp[h], h2 = GS_NONE;
         if (e == GS_NONE) return 0;
@@ -1969,63 +2026,72 @@ static int cut_walk(const ctx *c, const double p[3], const double n[3], double o
     return 0;
 }
 
-/* The database's d(X, v) + d(v, Y) (c's two ends) of the ends of the
- * half-edges hs[0..nh) into val (the smaller end's, per half-edge),
- * infinity where not below bound: asked only of ends whose straight
- * distances to the ends sum below it, d(v, Y) only where d(X, v) + |v - Y|
- * is below it. */
+/* The database's d(X, v) + d(v, Y) (c's two ends) at the start v of each
+ * half-edge hs[0..nh) into val (arg: v), infinity where not below bound:
+ * asked only where the straight distances to the ends sum below it, and
+ * d(v, Y) only where d(X, v) + |v - Y| is below it. */
 static int cut_sums(ctx *c, const uint32_t *hs, uint32_t nh, double bound, double *val, uint32_t *arg)
 {
     const double *xp = vpos(c, c->target), *yp = vpos(c, c->origin);
     for (int which = 0; which < 2; ++which)
         for (uint32_t i = 0; i < nh;) {
             uint32_t v[MAX_FAN], m = 0;
-            for (; i < nh && m + 2 <= MAX_FAN; ++i)
-                for (int k = 0; k < 2; ++k) {
-                    uint32_t u = c->t->tri[k ? gs__next(hs[i]) : hs[i]];
-                    double e = dist3(vpos(c, u), xp) + dist3(vpos(c, u), yp);
-                    if (which == 1) {
-                        uint32_t sl = gs__idmap_get(&c->dmap, u);
-                        if (sl == GS_NONE || !(c->dval[2 * sl] + dist3(vpos(c, u), yp) < bound)) e = INFINITY;
-                    }
-                    if (e < bound) v[m++] = u;
-                }
+            for (; i < nh && m < MAX_FAN; ++i) {
+                uint32_t u = c->t->tri[hs[i]], sl = gs__idmap_get(&c->dmap, u);
+                double e = which == 0 ? dist3(vpos(c, u), xp) : sl == GS_NONE ? INFINITY : c->dval[2 * sl];
+                if (e + dist3(vpos(c, u), yp) < bound) v[m++] = u;
+            }
             int rc = fetch(c, v, m, which, INFINITY);
             if (rc) return rc;
         }
     for (uint32_t i = 0; i < nh; ++i) {
-        val[i] = INFINITY, arg[i] = GS_NONE;
-        for (int k = 0; k < 2; ++k) {
-            uint32_t u = c->t->tri[k ? gs__next(hs[i]) : hs[i]], sl = gs__idmap_get(&c->dmap, u);
-            if (sl == GS_NONE) continue;
-            double g = c->dval[2 * sl] + c->dval[2 * sl + 1];
-            if (g < bound && g < val[i]) val[i] = g, arg[i] = u;
-        }
+        uint32_t u = c->t->tri[hs[i]], sl = gs__idmap_get(&c->dmap, u);
+        double g = sl == GS_NONE || !(c->dval[2 * sl] >= 0 && c->dval[2 * sl + 1] >= 0)
+                       ? INFINITY
+                       : c->dval[2 * sl] + c->dval[2 * sl + 1];
+        val[i] = g < bound ? g : INFINITY, arg[i] = g < bound ? u : GS_NONE;
     }
     return GS_OK;
 }
 
 /* The walk through a second route (above) when c's path (length *len, the
- * database's distance d) may have one: *out replaced and *len lowered if
- * it is shorter. reversed: c runs from Y to X (qx, qy: c's ends, Y and
- * X), *out from X to Y. */
-static int second_route(ctx *c, const qpt *qx, const qpt *qy, int reversed, double d, double *len, gs_path **out)
+ * database's distance d) may have one: round a tube (open 0: from step 4
+ * for every path) or across an open cut (open 1: from the detour). *out
+ * replaced and *len lowered if it is shorter. reversed: c runs from Y to
+ * X (qx, qy: c's ends, Y and X), *out from X to Y. */
+static int second_route(ctx *c, const qpt *qx, const qpt *qy, int reversed, double d, double *len, gs_path **out,
+                        int open)
 {
     double p[3], n[3], o, centre[3];
     uint32_t f0;
     if (*len < d || !cut_plane(c, p, n, &o, &f0)) return GS_OK;
-    double bound = *len * (1 + CORRIDOR_TOL) - (d - gs_db_distance(c->db, c->target, c->origin)), g = INFINITY, girth;
+    double shift = d - gs_db_distance(c->db, c->target, c->origin), bound = *len * (1 + CORRIDOR_TOL) - shift;
+    double g = INFINITY, girth = INFINITY;
     const double *xp = vpos(c, c->target), *yp = vpos(c, c->origin);
     for (int k = 0; k < 3; ++k) centre[k] = 0.5 * (xp[k] + yp[k]);
-    double *val = malloc(CUT_KEEP * (2 * sizeof *val + 2 * sizeof(uint32_t))), *arc = val + CUT_KEEP;
+    /* the cut's edges, sums, vertices and lengths along it (a tube's on the stack) */
+    size_t keep = open ? CUT_KEEP : TUBE_EDGES + 1;
+    double local[2 * (TUBE_EDGES + 1)], *val = open ? malloc(keep * (2 * sizeof *val + 2 * sizeof(uint32_t))) : local;
+    uint32_t local_hs[2 * (TUBE_EDGES + 1)];
     if (!val) return oom(c);
-    uint32_t *hs = (uint32_t *)(arc + CUT_KEEP), *arg = hs + CUT_KEEP, w = GS_NONE, nh;
+    double *arc = val + keep;
+    uint32_t *hs = open ? (uint32_t *)(arc + keep) : local_hs, *arg = hs + keep, w = GS_NONE, nh;
     int rc = GS_OK;
+    if (open) { /* only where the path's own crossing is outside the corridor */
+        cut_walk(c, p, n, o, f0, 0, SECOND_REACH * *len, centre, 0.5 * bound, 1, hs, arc, &nh, &girth);
+        if (nh && !(rc = cut_sums(c, hs, 1, bound, val, arg)) && val[0] < bound) nh = 0;
+        if (rc || !nh) {
+            free(val);
+            return rc;
+        }
+    }
     for (int side = 0; side < 2 && !rc; ++side) {
-        int closed = cut_walk(c, p, n, o, f0, side, SECOND_REACH * *len, centre, 0.5 * bound, hs, arc, &nh, &girth);
+        int closed = cut_walk(c, p, n, o, f0, side, SECOND_REACH * *len, centre, 0.5 * bound,
+                              open ? CUT_KEEP : TUBE_EDGES + 1, hs, arc, &nh, &girth);
+        if (closed == open) break;
         uint32_t i = 0, end = nh;
-        if (closed) { /* a tube: its far half, if it is wide enough */
-            if (girth < TUBE_MIN * *len) break;
+        if (closed) { /* a tube: its far half, if it is wide enough and coarse */
+            if (girth < TUBE_MIN * *len || nh > TUBE_EDGES) break;
             while (i < nh && arc[i] < 0.25 * girth) ++i;
             while (end > i && arc[end - 1] > 0.75 * girth) --end;
         }
@@ -2036,21 +2102,9 @@ static int second_route(ctx *c, const qpt *qx, const qpt *qy, int reversed, doub
             if (val[i] < g) g = val[i], w = arg[i];
         if (closed) break;
     }
-    free(val);
-    if (rc || w == GS_NONE) return rc;
-    ctx c4;
-    memset(&c4, 0, sizeof c4);
-    c4.db = c->db, c4.t = c->t, c4.err = c->err;
-    double len4;
-    rc = via(&c4, c, qx, qy, w, &len4);
-    if (!rc && len4 < *len) {
-        gs_path *q = NULL;
-        if (reversed) reverse_points(&c4);
-        rc = make_path(&c4, &q);
-        if (!rc) gs_path_free(*out), *out = q, *len = len4;
-    }
-    ctx_free(&c4);
-    return rc;
+    if (open) free(val);
+    if (rc || w == GS_NONE || (open && !(g < *len - shift))) return rc;
+    return walk_via(c, qx, qy, reversed, w, len, out);
 }
 
 /* Step 4's question: does the exact corridor check the path best found
@@ -2075,6 +2129,7 @@ static int wants_corridor(const ctx *best, const gs_mesh *mesh, double len, doub
         if (thin >= SADDLE_ANISO && w.saddles >= SADDLE_SHARE && longer > SADDLE_LONGER && size <= POINT_CORRIDOR)
             return 1;
     }
+    if (w.mean >= POINT_DEFECT && size <= COARSE_WIDTH * (double)best->nvp) return 1; /* coarse */
     int corridor_ok = size <= ROUGH_CORRIDOR && (len >= d || w.mean >= ROUGH_STRONG);
     if (w.mean >= ROUGH_DEFECT && w.big >= 0.5) return corridor_ok; /* rough */
     int mild = counted && corridor_ok && w.mean >= ROUGH_MILD && w.big >= ROUGH_MILD_SHARE;
@@ -2165,7 +2220,7 @@ int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const g
     if (!rc) rc = best == &c2 ? detour(&c2, mesh, &qy, &qx, 1, d, &len, out) : detour(&c, mesh, &qx, &qy, 0, d, &len, out);
     /* on a tube: round its other side too */
     if (!rc)
-        rc = best == &c ? second_route(&c, &qx, &qy, 0, d, &len, out) : second_route(best, &qy, &qx, 1, d, &len, out);
+        rc = best == &c ? second_route(&c, &qx, &qy, 0, d, &len, out, 0) : second_route(best, &qy, &qx, 1, d, &len, out, 0);
     /* still much longer (or the walks found two routes and the corridor is
      * small): the exact path inside the corridor of shorter ones */
     double lo = fmin(fmin(len1, len2), len3), hi = fmax(len1, len2);
