@@ -55,6 +55,10 @@ GS_API const char *gs_version_string(void);
 
 #define GS_NONE UINT32_MAX
 
+/* The largest thread count a call takes (gs_build_options.threads,
+ * gs_db_field_threads, gs_db_radius_matrix); above it: GS_EARG. */
+#define GS_MAX_THREADS 1024u
+
 /* ---- status codes (pinned: values never change) ------------------------ */
 enum {
     GS_OK = 0,
@@ -555,7 +559,7 @@ typedef struct gs_build_options {
     double tol;              /* fit mean relative error target at the root     */
                              /*   [0.003], 1.5x looser per tree level, at most */
                              /*   max(tol, 2%)                                 */
-    uint32_t threads;        /* 0: all cores [0]                               */
+    uint32_t threads;        /* 0: all cores, at most GS_MAX_THREADS [0]       */
     int vertex_sources;      /* 1: fields from the corners of the triangles    */
                              /*   holding samples + barycentric interpolation  */
                              /*   (the paper); 0: from the samples; -1: by the */
@@ -664,6 +668,12 @@ GS_API int gs_db_verify(const gs_db *db, gs_error *err);
  * (copied: the database owns its copy). */
 GS_API int gs_db_open_memory(const void *data, size_t size, gs_db **out, gs_error *err);
 
+/* Borrowed: the database's file image, the bytes gs_db_save writes (for a
+ * database held elsewhere than in a file: a blob store, a pickle; open it
+ * again with gs_db_open_memory). *size (may be NULL) receives its length.
+ * Valid while db lives; NULL and 0 for a NULL db. Thread-safe. */
+GS_API const void *gs_db_file_bytes(const gs_db *db, size_t *size);
+
 GS_API void gs_db_free(gs_db *db);
 
 typedef struct gs_db_info {
@@ -717,8 +727,9 @@ GS_API int gs_db_field(const gs_db *db, uint32_t x, double *out, gs_error *err);
  * 1: gs_db_field): the targets in chunks of consecutive vertex ids (at
  * most 4096), each thread with its own copy of x's decoded functions. The same answers, bit for bit,
  * for any number of threads. out: n_vertices doubles (the caller's); the
- * work arrays are freed before returning. GS_EARG for a NULL argument or x
- * out of range; GS_ENOMEM. Thread-safe (the database is only read). */
+ * work arrays are freed before returning. GS_EARG for a NULL argument, x
+ * out of range or threads > GS_MAX_THREADS; GS_ENOMEM. Thread-safe (the
+ * database is only read). */
 GS_API int gs_db_field_threads(const gs_db *db, uint32_t x, double *out, uint32_t threads, gs_error *err);
 
 /* ---- Neighbourhoods (src/query/within.c, radius.c) --------------------- */
@@ -783,7 +794,8 @@ GS_API void gs_csr_free(gs_csr *m);
  * n_vertices). Rows are computed on `threads` OpenMP threads (0: the
  * library's default count); the result does not depend on the count.
  * *out: new matrix (gs_csr_free), NULL on error. GS_EARG for a NULL
- * argument, a bad r or a source out of range (named); GS_ENOMEM.
+ * argument, a bad r, a source out of range (named) or threads >
+ * GS_MAX_THREADS; GS_ENOMEM.
  * Thread-safe (the database is only read). */
 GS_API int gs_db_radius_matrix(const gs_db *db, const uint32_t *sources, uint32_t n_sources, double r,
                                uint32_t threads, gs_csr **out, gs_error *err);

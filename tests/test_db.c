@@ -80,6 +80,13 @@ static void test_round_trip(int leaf_exact)
     size_t n = 0;
     unsigned char *bytes = read_file(path, &n);
     CHECK(bytes && n == db->size && memcmp(bytes, db->bytes, n) == 0);
+    {   /* the file image without a file: what gs_db_save wrote */
+        size_t m = 0;
+        const void *img = gs_db_file_bytes(db, &m);
+        CHECK(img && bytes && m == n && memcmp(img, bytes, n) == 0);
+        CHECK(gs_db_file_bytes(db, NULL) == img);
+        CHECK(gs_db_file_bytes(NULL, &m) == NULL && m == 0);
+    }
     gs_db *db2 = NULL, *db3 = NULL;
     CHECK_MSG(gs_db_open(path, &db2, &err) == GS_OK, "%s", err.message);
     CHECK(gs_db_open_memory(bytes, n, &db3, &err) == GS_OK);

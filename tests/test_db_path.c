@@ -252,6 +252,35 @@ static void fat_knot(void)
     env_close(&e);
 }
 
+/* A second locally shortest route across the path's middle that the
+ * walks missed (db_path.c, second_route): round the other side of a thin
+ * tube (knot:300,6,0.1 and knot:200,10,0.15: the other winding, 1.25% and
+ * 1.03% shorter, while the database errs 0.4% and 0.7% high there) and
+ * round the other side of a hill (peaks:50: 1.05% shorter). */
+static void second_routes(void)
+{
+    static const struct {
+        const char *spec;
+        uint32_t x, y;
+    } pair[] = {{"knot:300,6,0.1", 1220, 1168}, {"knot:200,10,0.15", 906, 1176}, {"peaks:50", 1034, 861}};
+    double worst = 1;
+    char what[128];
+    for (size_t i = 0; i < sizeof pair / sizeof *pair; ++i) {
+        env e;
+        if (env_open(&e, pair[i].spec, NULL)) {
+            env_close(&e);
+            continue;
+        }
+        for (int k = 0; k < 2; ++k) {
+            uint32_t a = k ? pair[i].y : pair[i].x, b = k ? pair[i].x : pair[i].y;
+            snprintf(what, sizeof what, "%s: %u -> %u", pair[i].spec, a, b);
+            worst = fmax(worst, db_path_checked(&e, gs_source_vertex(a), gs_source_vertex(b), what));
+        }
+        env_close(&e);
+    }
+    printf("%-22s second routes: longest path %.4f%% over the exact distance\n", "knots, peaks", 100 * (worst - 1));
+}
+
 /* Surface-point ends between which the walk from the corners first chosen
  * (each end's corner best placed towards the other) follows a locally
  * shortest route 1-1.3% longer than the exact path, round the other side
@@ -661,6 +690,7 @@ int main(void)
     rough_sphere();
     noisy_spheres();
     fat_knot();
+    second_routes();
     point_ends();
     approximate("peaks:30", GS_METHOD_GRAPH, 1.10, pairs);
     approximate("cylinder:24,10,1,2", GS_METHOD_GRAPH, 1.10, pairs);

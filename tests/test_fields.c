@@ -89,6 +89,8 @@ static void check(const gs_db *db, const char *what, gs_method method, uint32_t 
         CHECK(gs_db_field_threads(db, n, f, 2, &e) == GS_EARG && strstr(e.message, "n_vertices"));
         CHECK(gs_db_field_threads(db, 0, NULL, 2, &e) == GS_EARG && strstr(e.message, "NULL"));
         CHECK(gs_db_field_threads(NULL, 0, f, 2, &e) == GS_EARG);
+        CHECK(gs_db_field_threads(db, 0, f, UINT32_MAX, &e) == GS_EARG && strstr(e.message, "threads"));
+        CHECK(gs_db_field_threads(db, 0, f, GS_MAX_THREADS + 1, &e) == GS_EARG && strstr(e.message, "threads"));
     }
     CHECK_MSG(threads_differ == 0, "%s (%s): %llu values of gs_db_field_threads differ from gs_db_field", what,
               gs_method_name(method), (unsigned long long)threads_differ);

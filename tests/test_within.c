@@ -208,6 +208,13 @@ static void bad_arguments(const gs_db *db, uint32_t n)
     CHECK(gs_db_radius_matrix(db, bad, 2, 1.0, 1, &m, &e) == GS_EARG && m == NULL && strstr(e.message, "source 1"));
     CHECK(gs_db_radius_matrix(db, c, 2, -0.5, 1, &m, &e) == GS_EARG && strstr(e.message, "radius"));
     CHECK(gs_db_radius_matrix(db, NULL, 2, 1.0, 1, &m, &e) == GS_EARG);
+    /* a thread count OpenMP cannot start (a negative count cast to unsigned
+     * made libgomp abort the process) */
+    CHECK(gs_db_radius_matrix(db, c, 2, 1.0, UINT32_MAX, &m, &e) == GS_EARG && m == NULL &&
+          strstr(e.message, "threads"));
+    CHECK(gs_db_radius_matrix(db, c, 2, 1.0, GS_MAX_THREADS + 1, &m, &e) == GS_EARG && strstr(e.message, "threads"));
+    CHECK(gs_db_radius_matrix(db, c, 2, 1.0, GS_MAX_THREADS, &m, &e) == GS_OK && m && m->n_rows == 2);
+    gs_csr_free(m);
     CHECK(gs_db_radius_matrix(db, NULL, 0, 1.0, 1, &m, &e) == GS_OK && m && m->n_rows == 0 && m->nnz == 0 &&
           m->indptr[0] == 0);
     gs_csr_free(m);

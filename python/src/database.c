@@ -244,6 +244,39 @@ static PyObject *db_open(PyObject *cls, PyObject *args, PyObject *kwargs)
     return r;
 }
 
+static PyObject *db_from_bytes(PyObject *cls, PyObject *data)
+{
+    Py_buffer view;
+    if (PyObject_GetBuffer(data, &view, PyBUF_SIMPLE) < 0) return NULL;
+    gs_db *db = NULL;
+    gs_error err = {0};
+    int rc;
+    Py_BEGIN_ALLOW_THREADS
+    rc = gs_db_open_memory(view.buf, (size_t)view.len, &db, &err);
+    Py_END_ALLOW_THREADS
+    PyBuffer_Release(&view);
+    return rc ? gspy_raise(rc, &err, GSPY_CTX_DB, NULL, 0) : wrap_db((PyTypeObject *)cls, db, NULL);
+}
+
+static PyObject *db_to_bytes(gspy_Database *self, PyObject *Py_UNUSED(ignored))
+{
+    size_t n = 0;
+    const void *p = gs_db_file_bytes(self->db, &n);
+    return PyBytes_FromStringAndSize(p, (Py_ssize_t)n);
+}
+
+/* pickle: Database.from_bytes(the file image); the unpickled database is
+ * like an opened file (no mesh, no build_stats) */
+static PyObject *db_reduce(gspy_Database *self, PyObject *Py_UNUSED(ignored))
+{
+    PyObject *from = PyObject_GetAttrString((PyObject *)Py_TYPE(self), "from_bytes");
+    PyObject *bytes = from ? db_to_bytes(self, NULL) : NULL;
+    PyObject *r = bytes ? Py_BuildValue("(O(O))", from, bytes) : NULL;
+    Py_XDECREF(from);
+    Py_XDECREF(bytes);
+    return r;
+}
+
 static PyObject *db_save(gspy_Database *self, PyObject *path_obj)
 {
     PyObject *path = gspy_path(path_obj);
@@ -346,15 +379,17 @@ static PyMethodDef db_methods[] = {
      "Returns a new Database.\n\n"
      "Build the query database of a Mesh (the paper's preprocessing): a nested\n"
      "bisection tree with separator curves, distance fields by `method`\n"
-     "(\"exact\", \"fmm\", \"heat\" or \"graph\") and per-vertex distance functions.\n"
+     "(\"exact\", \"fmm\", \"heat\", \"dgg\" or \"graph\") and per-vertex distance\n"
+     "functions.\n"
      "threads: 0 = all cores. progress=True draws a progress bar on stderr (one\n"
      "line per stage); a callable is called as progress(stage, fraction)\n"
      "instead, whenever the percentage changes (an exception it raises is\n"
      "raised when the build ends: builds are not cancelled). Options, as the command line's build options (None: default):\n"
      "  vmax (leaf size, 30), mmax (max polynomial degree, 20), tol (fit error\n"
-     "  target, 0.002), spacing (sample spacing in mean edge lengths, 0.5),\n"
-     "  vertex_sources (bool; None: by the method), sampled (store sampled\n"
-     "  values, False), leaf_exact (exact distances inside leaves, False),\n"
+     "  target at the root, 0.003), spacing (sample spacing in mean edge\n"
+     "  lengths, 0.5), vertex_sources (bool; None: by the method), sampled\n"
+     "  (store sampled values, False), leaf_exact (exact distances inside\n"
+     "  leaves, True),\n"
      "  seed (partitioning seed, 1), max_samples (per curve, 192; 0: no cap),\n"
      "  field_memory (MiB per block of fields, 384), heat_time, heat_refine\n"
      "  (0..3 or \"auto\", the default), fmm_start, dgg_eps (method \"dgg\"),\n"
@@ -374,6 +409,18 @@ static PyMethodDef db_methods[] = {
      "value (it reads the whole file; geosep verify DB does the same): without\n"
      "it, a file damaged inside a coefficient opens and may answer wrongly for\n"
      "the pairs that use it (never crashes)."},
+    {"from_bytes", (PyCFunction)db_from_bytes, METH_O | METH_CLASS,
+     "from_bytes($type, data, /)\n--\n\n"
+     "Returns the Database whose file image is data (bytes or any buffer, as\n"
+     "to_bytes() gives or a .gsdb file holds). The bytes are copied and fully\n"
+     "checked (checksums and stored values, as open(path, verify=True)): a\n"
+     "corrupt or incompatible image raises DatabaseError."},
+    {"to_bytes", (PyCFunction)db_to_bytes, METH_NOARGS,
+     "to_bytes($self, /)\n--\n\n"
+     "Returns the database's file image as bytes (what save() writes).\n"
+     "Databases pickle as this image (pickle, multiprocessing, joblib): the\n"
+     "unpickled one is like an opened file (mesh and build_stats are None)."},
+    {"__reduce__", (PyCFunction)db_reduce, METH_NOARGS, NULL},
     {"save", (PyCFunction)db_save, METH_O,
      "save($self, path, /)\n--\n\nWrite the database to a file, atomically (a temporary file, then a rename)."},
     {"info", (PyCFunction)db_info, METH_NOARGS,

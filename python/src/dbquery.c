@@ -167,17 +167,17 @@ const char gspy_db_field_doc[] =
     "Returns an (n_vertices,) float64 array:\n"
     "the distances from vertex x to every vertex (+inf where unreachable), the\n"
     "same values as distance(x, y) for each y. threads: how many threads share\n"
-    "the targets (0 = all cores; the answers are the same for any count). Runs\n"
-    "without the GIL.";
+    "the targets (0 = all cores, at most 1024; the answers are the same for any\n"
+    "count; a negative or larger count raises ValueError). Runs without the GIL.";
 
 PyObject *gspy_db_field(PyObject *self_obj, PyObject *args, PyObject *kwargs)
 {
     gspy_Database *self = (gspy_Database *)self_obj;
     static char *kw[] = {"", "threads", NULL};
-    PyObject *x_obj;
-    unsigned int threads = 1;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|$I:field", kw, &x_obj, &threads)) return NULL;
-    uint32_t x;
+    PyObject *x_obj, *t_obj = NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|$O:field", kw, &x_obj, &t_obj)) return NULL;
+    uint32_t x, threads;
+    if (gspy_opt_u32(t_obj, 1, "threads", &threads) < 0) return NULL;
     if (gspy_index(x_obj, self->n_vertices, "vertex id", &x) < 0) return NULL;
     npy_intp dims[1] = {self->n_vertices};
     PyObject *out = PyArray_SimpleNew(1, dims, NPY_DOUBLE);

@@ -146,18 +146,19 @@ const char gspy_db_radius_matrix_doc[] =
     "vertex ids and data float64 distances; scipy.sparse.csr_matrix((data,\n"
     "indices, indptr), shape=(len(sources), n_vertices)) makes the matrix\n"
     "(its zeros: a source's own entry is stored, at 0). threads: 0 = the\n"
-    "library's default; the result does not depend on it. IndexError for an\n"
-    "id out of range, ValueError for a negative or NaN r. Runs without the\n"
-    "GIL.";
+    "library's default, at most 1024; the result does not depend on it.\n"
+    "IndexError for an id out of range, ValueError for a negative or NaN r or\n"
+    "a thread count out of range. Runs without the GIL.";
 
 PyObject *gspy_db_radius_matrix(PyObject *self_obj, PyObject *args, PyObject *kwargs)
 {
     gspy_Database *self = (gspy_Database *)self_obj;
     static char *kw[] = {"sources", "r", "threads", NULL};
-    PyObject *s_obj, *r_obj;
-    unsigned int threads = 0;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "OO|$I:radius_matrix", kw, &s_obj, &r_obj, &threads))
+    PyObject *s_obj, *r_obj, *t_obj = NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "OO|$O:radius_matrix", kw, &s_obj, &r_obj, &t_obj))
         return NULL;
+    uint32_t threads;
+    if (gspy_opt_u32(t_obj, 0, "threads", &threads) < 0) return NULL;
     double r;
     if (get_radius(r_obj, &r) < 0) return NULL;
     npy_intp ns = 0;

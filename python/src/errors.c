@@ -8,11 +8,13 @@ static PyObject *oserror(const char *message, const char *path, int saved_errno)
 {
     /* OSError(errno, message) becomes the matching subclass (ENOENT:
      * FileNotFoundError, ...); the message already names the file, which
-     * is also kept in .filename. */
+     * is also kept in .filename when the errno is known (an OSError with a
+     * filename prints "[Errno E] strerror: filename", which without an
+     * errno is "[Errno None] None: 'x'": the message would be lost). */
     PyObject *exc = saved_errno ? PyObject_CallFunction(PyExc_OSError, "is", saved_errno, message)
                                 : PyObject_CallFunction(PyExc_OSError, "s", message);
     if (!exc) return NULL;
-    if (path) {
+    if (path && saved_errno) {
         PyObject *fn = PyUnicode_DecodeFSDefault(path);
         if (!fn || PyObject_SetAttrString(exc, "filename", fn) < 0) {
             Py_XDECREF(fn);

@@ -201,9 +201,11 @@ static PyObject *mesh_save(gspy_Mesh *self, PyObject *path_obj)
 static PyObject *mesh_random_vertices(gspy_Mesh *self, PyObject *args, PyObject *kwargs)
 {
     static char *kw[] = {"k", "seed", NULL};
-    unsigned int k;
+    PyObject *k_obj;
     unsigned long long seed = 1;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "I|K:random_vertices", kw, &k, &seed)) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|K:random_vertices", kw, &k_obj, &seed)) return NULL;
+    uint32_t k;
+    if (gspy_opt_u32(k_obj, 0, "k", &k) < 0) return NULL; /* -1 is refused, not 2^32 - 1 */
     npy_intp dims[1] = {k};
     PyObject *out = PyArray_SimpleNew(1, dims, NPY_UINT32);
     if (!out) return NULL;
@@ -410,7 +412,25 @@ static PyGetSetDef mesh_getset[] = {
      NULL},
     {NULL, NULL, NULL, NULL, NULL}};
 
+/* pickle: Mesh(V, F) again (validated as any new Mesh). A repaired mesh
+ * is refused: its vertex map to the input would be lost. */
+static PyObject *mesh_reduce(gspy_Mesh *self, PyObject *Py_UNUSED(ignored))
+{
+    if (self->repair) {
+        PyErr_SetString(PyExc_TypeError, "a repaired Mesh cannot be pickled (its map to the input's vertex ids "
+                                         "would be lost): pickle the input arrays and repair them again");
+        return NULL;
+    }
+    PyObject *v = mesh_vertices(self, NULL), *f = v ? mesh_faces(self, NULL) : NULL;
+    PyObject *vc = f ? PyArray_NewCopy((PyArrayObject *)v, NPY_CORDER) : NULL;
+    PyObject *fc = vc ? PyArray_NewCopy((PyArrayObject *)f, NPY_CORDER) : NULL;
+    PyObject *r = fc ? Py_BuildValue("(O(OO))", (PyObject *)Py_TYPE(self), vc, fc) : NULL;
+    Py_XDECREF(v), Py_XDECREF(f), Py_XDECREF(vc), Py_XDECREF(fc);
+    return r;
+}
+
 static PyMethodDef mesh_methods[] = {
+    {"__reduce__", (PyCFunction)mesh_reduce, METH_NOARGS, NULL},
     {"load", (PyCFunction)(void (*)(void))mesh_load, METH_VARARGS | METH_KEYWORDS | METH_CLASS,
      "load($type, /, path, format=None, repair=False)\n--\n\n"
      "Read and validate a mesh file (.obj, .off, .ply, .stl; format=None: by the\n"

@@ -113,6 +113,9 @@ def test_field_threads_same_answers(sphere_db):
         sphere_db.field(0, 2)  # threads is keyword-only
     with pytest.raises(TypeError):
         sphere_db.field(0, threads="two")
+    for bad in (-1, 1025, 2**32):  # -1 used to wrap to 2^32 - 1 threads
+        with pytest.raises(ValueError, match="threads"):
+            sphere_db.field(0, threads=bad)
 
 
 def test_unreachable_is_inf(two, two_db):
@@ -239,6 +242,11 @@ def test_corrupt_database(tmp_path, sphere_db):
         geosep.Database.open(tmp_path / "missing.gsdb")
     with pytest.raises(OSError):
         sphere_db.save(tmp_path / "no" / "such" / "folder.gsdb")
+    # errors without an errno keep their message (not "[Errno None] None: ...")
+    for call in (lambda: sphere_db.save(tmp_path), lambda: geosep.Database.open(tmp_path)):
+        with pytest.raises(OSError) as e:
+            call()
+        assert str(tmp_path) in str(e.value) and "regular file" in str(e.value) and "None" not in str(e.value)
 
 
 def test_build_options(plane):
@@ -324,3 +332,37 @@ def test_progress_bar_stderr(plane, monkeypatch):
     with pytest.raises(KeyboardInterrupt):
         geosep.Database.build(plane, progress=True)
     assert CtrlC.writes == 2  # nothing drawn after it
+
+
+def test_bytes_and_pickle(sphere, sphere_db, tmp_path):
+    import pickle
+
+    data = sphere_db.to_bytes()
+    p = tmp_path / "s.gsdb"
+    sphere_db.save(p)
+    assert data == p.read_bytes()
+    n = sphere_db.n_vertices
+    pairs = np.arange(0, n, 7)
+    want = sphere_db.distance(pairs, pairs[::-1])
+    for db in (geosep.Database.from_bytes(data), geosep.Database.from_bytes(bytearray(data)),
+               geosep.Database.from_bytes(memoryview(data)), pickle.loads(pickle.dumps(sphere_db))):
+        assert isinstance(db, geosep.Database) and db.n_vertices == n and db.mesh is None
+        assert np.array_equal(db.distance(pairs, pairs[::-1]), want)
+        assert np.array_equal(db.field(3), sphere_db.field(3))
+    bad = bytearray(data)
+    bad[len(bad) // 2] ^= 0x40  # a flipped bit: the image is checked in full
+    with pytest.raises(geosep.DatabaseError):
+        geosep.Database.from_bytes(bad)
+    with pytest.raises(geosep.DatabaseError):
+        geosep.Database.from_bytes(data[: len(data) // 3])
+    with pytest.raises(TypeError):
+        geosep.Database.from_bytes("not bytes")
+    m = pickle.loads(pickle.dumps(sphere))
+    assert np.array_equal(m.vertices, sphere.vertices) and np.array_equal(m.faces, sphere.faces)
+    assert np.array_equal(sphere_db.path(0, n - 1, mesh=m), sphere_db.path(0, n - 1, mesh=sphere))
+    V = np.array(sphere.vertices)
+    F = np.array(sphere.faces).astype(np.int64)
+    F2 = np.vstack([F, F[:1]])  # a duplicated face: repaired, and then not picklable
+    rep = geosep.Mesh(V, F2, repair=True)
+    with pytest.raises(TypeError, match="repaired"):
+        pickle.dumps(rep)

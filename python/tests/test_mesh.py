@@ -145,8 +145,9 @@ def test_load_errors(tmp_path):
         geosep.Mesh.load(bad)
     with pytest.raises(ValueError, match="format"):
         geosep.Mesh.load(bad, format="xyz")
-    with pytest.raises(OSError):
+    with pytest.raises(OSError) as e:
         geosep.Mesh.load(tmp_path)  # a directory
+    assert str(tmp_path) in str(e.value) and "None" not in str(e.value)
 
 
 def test_generate_and_subdivide():
@@ -167,3 +168,8 @@ def test_random_vertices():
     np.testing.assert_array_equal(a, m.random_vertices(10, seed=3))
     with pytest.raises(ValueError):
         m.random_vertices(m.n_vertices + 1)
+    with pytest.raises(ValueError, match="k must be"):  # not 2^32 - 1 (a 16 GB array first)
+        m.random_vertices(-1)
+    with pytest.raises(TypeError):
+        m.random_vertices(2.5)
+    assert m.random_vertices(0).shape == (0,)

@@ -113,6 +113,9 @@ def test_bad_arguments(plane_db):
         plane_db.radius_matrix([0, n], 0.1)
     with pytest.raises(TypeError):
         plane_db.radius_matrix([0], 0.1, 2)  # threads is keyword-only
+    for bad in (-1, 1025):  # -1 used to reach OpenMP as 2^32 - 1 threads: the process aborted
+        with pytest.raises(ValueError, match="threads"):
+            plane_db.radius_matrix([0], 0.1, threads=bad)
 
 
 def test_threads(sphere_db):

@@ -497,6 +497,12 @@ int gs__db_pack(const gs__db_content *c, gs_db **out, gs_error *err)
     return rc;
 }
 
+const void *gs_db_file_bytes(const gs_db *db, size_t *size)
+{
+    if (size) *size = db ? (size_t)db->size : 0;
+    return db ? db->bytes : NULL;
+}
+
 int gs_db_save(const gs_db *db, const char *path, gs_error *err)
 {
     if (!db || !path) return gs__fail(err, GS_EARG, "gs_db_save: NULL argument");

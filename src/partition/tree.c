@@ -402,7 +402,7 @@ int gs__tree_build(const gs_mesh *mesh, const gs__tree_options *opt, gs__tree **
         return gs__fail(err, GS_EARG, "gs__tree_build: level_bias %g out of range", opt->level_bias);
     if (!(opt->long_curve >= 0) || opt->long_curve > 1e6)
         return gs__fail(err, GS_EARG, "gs__tree_build: long_curve %g out of range", opt->long_curve);
-    if (opt->threads > 1024)
+    if (opt->threads > GS_MAX_THREADS)
         return gs__fail(err, GS_EARG, "gs__tree_build: threads %u out of range", opt->threads);
     if (opt->cut_seeds > 1024)
         return gs__fail(err, GS_EARG, "gs__tree_build: cut_seeds %u out of range", opt->cut_seeds);

@@ -629,7 +629,8 @@ static int check_options(const gs_build_options *o, gs_error *err)
         return gs__fail(err, GS_EARG, "max_samples %u out of range (0 or [8, 2^24])", o->max_samples);
     if (o->field_memory_mib > (1u << 20))
         return gs__fail(err, GS_EARG, "field_memory_mib %u is absurd", o->field_memory_mib);
-    if (o->threads > 1024) return gs__fail(err, GS_EARG, "threads %u is absurd", o->threads);
+    if (o->threads > GS_MAX_THREADS)
+        return gs__fail(err, GS_EARG, "threads %u out of range [0, %u]", o->threads, GS_MAX_THREADS);
     if (!(o->solver.heat_time >= GS_HEAT_TIME_MIN && o->solver.heat_time <= GS_HEAT_TIME_MAX))
         return gs__fail(err, GS_EARG, "solver.heat_time %g out of range [%g, %g]", o->solver.heat_time,
                         GS_HEAT_TIME_MIN, GS_HEAT_TIME_MAX);

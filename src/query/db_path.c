@@ -1882,6 +1882,177 @@ static void reverse_points(ctx *c)
     if (n > 1) c->q[n - 1].seg = c->q[n - 2].seg;
 }
 
+/* ---- a second route across the middle ----------------------------------- */
+
+/* SECOND_DOC */
+#define CUT_KEEP 512 /* at most so many cut edges read each way */
+#define SECOND_REACH 2.0
+#define TUBE_MIN 0.14
+
+/* Which side of the plane n . x = o vertex v is on (on it: in front). */
+static int cut_side(const gs__topo *t, const double n[3], double o, uint32_t v)
+{
+    const double *p = t->xyz + 3 * (size_t)v;
+    return n[0] * p[0] + n[1] * p[1] + n[2] * p[2] - o >= 0;
+}
+
+/* Where the plane n . x = o cuts half-edge h (its ends on either side). */
+static void cut_point(const gs__topo *t, const double n[3], double o, uint32_t h, double x[3])
+{
+    const double *p = t->xyz + 3 * (size_t)t->tri[h], *q = t->xyz + 3 * (size_t)t->tri[gs__next(h)];
+    double sp = n[0] * p[0] + n[1] * p[1] + n[2] * p[2] - o, sq = n[0] * q[0] + n[1] * q[1] + n[2] * q[2] - o;
+    double u = sp != sq ? sp / (sp - sq) : 0;
+    for (int k = 0; k < 3; ++k) x[k] = p[k] + u * (q[k] - p[k]);
+}
+
+/* The plane across the path c->q at its middle: through the point p at
+ * half its length, normal n to the segment there (n . x = *o), in face
+ * *f0. 0 if the path has no such segment. */
+static int cut_plane(const ctx *c, double p[3], double n[3], double *o, uint32_t *f0)
+{
+    const gs__topo *t = c->t;
+    double total = 0, a[3], b[3], s = 0;
+    for (size_t i = 0; i + 1 < c->nq; ++i) {
+        q_position(t, &c->q[i], a), q_position(t, &c->q[i + 1], b);
+        total += dist3(a, b);
+    }
+    size_t i = 0;
+    for (; i + 1 < c->nq; ++i) {
+        q_position(t, &c->q[i], a), q_position(t, &c->q[i + 1], b);
+        double l = dist3(a, b);
+        if (s + l >= 0.5 * total && l > 0) break;
+        s += l;
+    }
+    if (i + 1 >= c->nq || c->q[i].seg == GS_NONE) return 0;
+    double l = dist3(a, b), u = fmin(fmax((0.5 * total - s) / l, 0), 1);
+    *o = 0, *f0 = c->q[i].seg;
+    for (int k = 0; k < 3; ++k) p[k] = a[k] + u * (b[k] - a[k]), n[k] = b[k] - a[k], *o += n[k] * p[k];
+    return 1;
+}
+
+/* The curve in which that plane cuts the surface, marched from p face to
+ * face (a vertex on the plane counts as in front of it: every face the
+ * cut enters has exactly two cut edges), leaving f0 by its `side`-th cut
+ * edge: the half-edges cut, in order, into hs (*nh, at most CUT_KEEP;
+ * arc: how far along the curve),
+ * until the curve has run `budget` long or left the ball (centre,
+ * radius), meets the boundary, or closes (back in f0: returns 1, *girth
+ * its length). */
+static int cut_walk(const ctx *c, const double p[3], const double n[3], double o, uint32_t f0, int side, double budget,
+                    const double centre[3], double radius, uint32_t *hs, double *arc, uint32_t *nh, double *girth)
+{
+    const gs__topo *t = c->t;
+    uint32_t h = GS_NONE;
+    double x[3], prev[3], len;
+    *nh = 0;
+    for (uint32_t e = 3 * f0, k = 0; e < 3 * f0 + 3 && h == GS_NONE; ++e)
+        if (cut_side(t, n, o, t->tri[e]) != cut_side(t, n, o, t->tri[gs__next(e)]) && k++ == (uint32_t)side) h = e;
+    if (h == GS_NONE) return 0;
+    cut_point(t, n, o, h, prev);
+    len = dist3(p, prev);
+    while (*nh < CUT_KEEP && len <= budget && dist3(prev, centre) <= radius) {
+        arc[*nh] = len, hs[(*nh)++] = h;
+        uint32_t e = t->opp[h], h2 = GS_NONE;
+        if (e == GS_NONE) return 0;
+        if (e / 3 == f0) {
+            *girth = len + dist3(prev, p);
+            return 1;
+        }
+        for (uint32_t k = e - e % 3; k < e - e % 3 + 3; ++k)
+            if (k != e && cut_side(t, n, o, t->tri[k]) != cut_side(t, n, o, t->tri[gs__next(k)])) h2 = k;
+        if (h2 == GS_NONE) return 0;
+        cut_point(t, n, o, h2, x);
+        len += dist3(prev, x);
+        memcpy(prev, x, sizeof x);
+        h = h2;
+    }
+    return 0;
+}
+
+/* The database's d(X, v) + d(v, Y) (c's two ends) of the ends of the
+ * half-edges hs[0..nh) into val (the smaller end's, per half-edge),
+ * infinity where not below bound: asked only of ends whose straight
+ * distances to the ends sum below it, d(v, Y) only where d(X, v) + |v - Y|
+ * is below it. */
+static int cut_sums(ctx *c, const uint32_t *hs, uint32_t nh, double bound, double *val, uint32_t *arg)
+{
+    const double *xp = vpos(c, c->target), *yp = vpos(c, c->origin);
+    for (int which = 0; which < 2; ++which)
+        for (uint32_t i = 0; i < nh;) {
+            uint32_t v[MAX_FAN], m = 0;
+            for (; i < nh && m + 2 <= MAX_FAN; ++i)
+                for (int k = 0; k < 2; ++k) {
+                    uint32_t u = c->t->tri[k ? gs__next(hs[i]) : hs[i]];
+                    double e = dist3(vpos(c, u), xp) + dist3(vpos(c, u), yp);
+                    if (which == 1) {
+                        uint32_t sl = gs__idmap_get(&c->dmap, u);
+                        if (sl == GS_NONE || !(c->dval[2 * sl] + dist3(vpos(c, u), yp) < bound)) e = INFINITY;
+                    }
+                    if (e < bound) v[m++] = u;
+                }
+            int rc = fetch(c, v, m, which, INFINITY);
+            if (rc) return rc;
+        }
+    for (uint32_t i = 0; i < nh; ++i) {
+        val[i] = INFINITY, arg[i] = GS_NONE;
+        for (int k = 0; k < 2; ++k) {
+            uint32_t u = c->t->tri[k ? gs__next(hs[i]) : hs[i]], sl = gs__idmap_get(&c->dmap, u);
+            if (sl == GS_NONE) continue;
+            double g = c->dval[2 * sl] + c->dval[2 * sl + 1];
+            if (g < bound && g < val[i]) val[i] = g, arg[i] = u;
+        }
+    }
+    return GS_OK;
+}
+
+/* The walk through a second route (above) when c's path (length *len, the
+ * database's distance d) may have one: *out replaced and *len lowered if
+ * it is shorter. reversed: c runs from Y to X (qx, qy: c's ends, Y and
+ * X), *out from X to Y. */
+static int second_route(ctx *c, const qpt *qx, const qpt *qy, int reversed, double d, double *len, gs_path **out)
+{
+    double p[3], n[3], o, centre[3];
+    uint32_t f0;
+    if (*len < d || !cut_plane(c, p, n, &o, &f0)) return GS_OK;
+    double bound = *len * (1 + CORRIDOR_TOL) - (d - gs_db_distance(c->db, c->target, c->origin)), g = INFINITY, girth;
+    const double *xp = vpos(c, c->target), *yp = vpos(c, c->origin);
+    for (int k = 0; k < 3; ++k) centre[k] = 0.5 * (xp[k] + yp[k]);
+    double *val = malloc(CUT_KEEP * (2 * sizeof *val + 2 * sizeof(uint32_t))), *arc = val + CUT_KEEP;
+    if (!val) return oom(c);
+    uint32_t *hs = (uint32_t *)(arc + CUT_KEEP), *arg = hs + CUT_KEEP, w = GS_NONE, nh;
+    int rc = GS_OK;
+    for (int side = 0; side < 2 && !rc; ++side) {
+        int closed = cut_walk(c, p, n, o, f0, side, SECOND_REACH * *len, centre, 0.5 * bound, hs, arc, &nh, &girth);
+        uint32_t i = 0, end = nh;
+        if (closed) { /* a tube: its far half, if it is wide enough */
+            if (girth < TUBE_MIN * *len) break;
+            while (i < nh && arc[i] < 0.25 * girth) ++i;
+            while (end > i && arc[end - 1] > 0.75 * girth) --end;
+        }
+        if ((rc = cut_sums(c, hs + i, end - i, bound, val + i, arg + i))) break;
+        if (!closed) /* past the path's own run below the bound */
+            while (i < nh && val[i] < bound) ++i;
+        for (; i < end; ++i)
+            if (val[i] < g) g = val[i], w = arg[i];
+        if (closed) break;
+    }
+    free(val);
+    if (rc || w == GS_NONE) return rc;
+    ctx c4;
+    memset(&c4, 0, sizeof c4);
+    c4.db = c->db, c4.t = c->t, c4.err = c->err;
+    double len4;
+    rc = via(&c4, c, qx, qy, w, &len4);
+    if (!rc && len4 < *len) {
+        gs_path *q = NULL;
+        if (reversed) reverse_points(&c4);
+        rc = make_path(&c4, &q);
+        if (!rc) gs_path_free(*out), *out = q, *len = len4;
+    }
+    ctx_free(&c4);
+    return rc;
+}
+
 /* Step 4's question: does the exact corridor check the path best found
  * (length len, the database's distance d)? gap: how far apart the walks'
  * lengths are when they found two routes (0: one route). Each rule above,
@@ -1992,6 +2163,9 @@ int gs_db_path(const gs_db *db, const gs_mesh *mesh, const gs_source *x, const g
      * 5 vertex pairs in 2,000 over 1%, 2 found where the other walk was
      * the shorter) */
     if (!rc) rc = best == &c2 ? detour(&c2, mesh, &qy, &qx, 1, d, &len, out) : detour(&c, mesh, &qx, &qy, 0, d, &len, out);
+    /* on a tube: round its other side too */
+    if (!rc)
+        rc = best == &c ? second_route(&c, &qx, &qy, 0, d, &len, out) : second_route(best, &qy, &qx, 1, d, &len, out);
     /* still much longer (or the walks found two routes and the corridor is
      * small): the exact path inside the corridor of shorter ones */
     double lo = fmin(fmin(len1, len2), len3), hi = fmax(len1, len2);

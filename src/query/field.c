@@ -70,6 +70,8 @@ int gs_db_field(const gs_db *db, uint32_t x, double *out, gs_error *err)
 int gs_db_field_threads(const gs_db *db, uint32_t x, double *out, uint32_t threads, gs_error *err)
 {
     int rc = field_args(db, x, out, "gs_db_field_threads", err);
+    if (!rc && threads > GS_MAX_THREADS)
+        rc = gs__fail(err, GS_EARG, "gs_db_field_threads: threads %u out of range [0, %u]", threads, GS_MAX_THREADS);
     if (rc || field_unused(db, x, out)) return rc;
     int nt = threads ? (int)threads : omp_get_max_threads();
     if (nt <= 1 || db->nv < 2 * CHUNK_MIN) return gs_db_field(db, x, out, err);

@@ -31,6 +31,8 @@ int gs_db_radius_matrix(const gs_db *db, const uint32_t *sources, uint32_t n_sou
     if (out) *out = NULL;
     if (!db || !out || (n_sources && !sources)) return gs__fail(err, GS_EARG, "gs_db_radius_matrix: NULL argument");
     if (!(r >= 0.0)) return gs__fail(err, GS_EARG, "gs_db_radius_matrix: radius %g is not a number >= 0", r);
+    if (threads > GS_MAX_THREADS)
+        return gs__fail(err, GS_EARG, "gs_db_radius_matrix: threads %u out of range [0, %u]", threads, GS_MAX_THREADS);
     for (uint32_t i = 0; i < n_sources; ++i)
         if (sources[i] >= db->nv)
             return gs__fail(err, GS_EARG, "gs_db_radius_matrix: source %u is vertex %u >= n_vertices %u", i,
@@ -42,6 +44,7 @@ int gs_db_radius_matrix(const gs_db *db, const uint32_t *sources, uint32_t n_sou
         return gs__fail(err, GS_ENOMEM, "gs_db_radius_matrix: out of memory (%u sources)", n_sources);
     }
     int nt = threads ? (int)threads : omp_get_max_threads(), rc = GS_OK;
+    if (nt > (int)n_sources) nt = n_sources ? (int)n_sources : 1; /* no thread without a row */
     gs_error first = {0};
     long failed = -1; /* the first row that failed (its message kept) */
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 1)
