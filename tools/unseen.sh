@@ -21,7 +21,7 @@ names=("$@")
 [ ${#names[@]} -gt 0 ] || names=(knot-thin knot-hex knot-fat cyl-thin cyl-needle cyl-hex cone-sharp cone-needle
   cube16 cube4 torus-coarse torus-thin annulus strip sphere-bumpy sphere-spiky sphere-spiky2 sphere5-bumpy sphere5-spiky
   terrain aniso aniso40 jitter
-  graded graded5 polar two multi peaks6 cube-1e-3 bumpy-1e4 homer-sub1 rocker-arm-sub1)
+  graded graded5 polar two multi peaks6 slab2 slab-thick cube-1e-3 bumpy-1e4 homer-sub1 rocker-arm-sub1)
 echo "| mesh | n | sources | ME | RMSE | p99.9 | max | near-pair ME | bytes / vertex |"
 echo "|---|---|---|---|---|---|---|---|---|"
 for m in "${names[@]}"; do

@@ -7,8 +7,14 @@ The ones `geosep generate` and `geosep subdivide` make are made by GEOSEP
 with fixed seeds): a cone with a sharp apex, a jittered annulus (a disc with
 a hole), a bumpy and a spiky sphere (radial displacement of sphere:4 or 5),
 height fields on anisotropic, jittered (sliver) and graded grids, a graded
-polar disc, four components of very different sizes, and two rescaled
-copies (1e-3, 1e4). Standard library only. tools/unseen.sh uses it."""
+polar disc, four components of very different sizes, two rescaled
+copies (1e-3, 1e4), and closed plates with square holes through them
+(genus 2; their holes' corners are sharp saddles). Standard library only.
+tools/unseen.sh uses it. More kinds, not in its default list, for hunting:
+flat domains with reflex corners and holes (masked grids: comb, L, spiral,
+perforated), slabs of any genus, surfaces of revolution (a dumbbell),
+a helix ribbon, the monkey saddle, a random Delaunay triangulation, an
+adaptively refined sphere, noisy and edge-flipped copies of a mesh."""
 import math
 import os
 import random
@@ -567,6 +573,8 @@ def main():
     write(p("graded5"), *graded(45, 5.0))
     write(p("polar"), *polar(64, 40, 0.005))
     write(p("multi"), *multi(p("sphere3"), p("torus40")))
+    write(p("slab2"), *slab(34, ((7, 14, 10, 24), (20, 27, 10, 24))))
+    write(p("slab-thick"), *slab(26, ((5, 11, 7, 19), (15, 21, 7, 19)), t=0.25, walls=12))
     write(p("cube-1e-3"), *scaled(p("cube16"), 1e-3))
     write(p("bumpy-1e4"), *scaled(p("sphere-bumpy"), 1e4))
     shared = os.environ.get("GEOSEP_SHARED", "")
