@@ -1,5 +1,5 @@
 /* test_pivots.c - separator curves through sharp saddles (src/pipeline/
- * build.c, "pivots"): a closed plate with two square holes through it
+ * curves.c, "pivots"): a closed plate with two square holes through it
  * (genus 2, the holes' corners are saddles of angle excess pi / 2 on its
  * top and bottom faces), built with the defaults. Shortest paths round a
  * hole bend at those corners; a curve passing a corner at a distance answered

@@ -98,4 +98,15 @@ int gs__pipe_near_pairs(gs__builder *b, const gs_db *db0, const double *radius, 
 uint32_t gs__pipe_region(const gs_mesh *m, const uint32_t *lv, uint32_t n, const double *r, uint32_t stamp,
                          uint32_t *fstamp, uint32_t **faces, size_t *cap);
 
+/* The tree's curves shaped before the fields (curves.c): every curve of
+ * more than cap samples thinned to cap; each curve passing next to a sharp
+ * saddle given a detour through it (*cut: new, one byte per sample, 1 where
+ * a piece must end; the caller frees it); curves (of the nodes i with
+ * only[i] != 0; only NULL: all) split into pieces of at most piece0
+ * intervals and at the cuts (cut may be NULL). GS_ENOMEM leaves the tree
+ * as it was. */
+void gs__pipe_thin_samples(gs__tree *t, uint32_t cap);
+int gs__pipe_insert_pivots(gs__tree *t, const gs_mesh *m, uint8_t **cut, gs_error *err);
+int gs__pipe_split_curves(gs__tree *t, uint32_t piece0, const uint8_t *only, const uint8_t *cut, gs_error *err);
+
 #endif
