@@ -309,10 +309,7 @@ static void position(const gs__topo *t, const pt *q, double out[3])
         for (int k = 0; k < 3; ++k)
             out[k] = (1 - q->t) * x[3 * (size_t)q->a + k] + q->t * x[3 * (size_t)q->b + k];
     } else {
-        const uint32_t *c = t->tri + 3 * (size_t)q->a;
-        for (int k = 0; k < 3; ++k)
-            out[k] = q->bary[0] * x[3 * (size_t)c[0] + k] + q->bary[1] * x[3 * (size_t)c[1] + k] +
-                     q->bary[2] * x[3 * (size_t)c[2] + k];
+        gs__face_point(t, q->a, q->bary, out);
     }
 }
 

@@ -66,10 +66,7 @@ void gs__source_position(const gs__topo *t, const gs_source *s, double p[3])
         memcpy(p, t->xyz + 3 * (size_t)s->vertex, 3 * sizeof(double));
         return;
     }
-    const uint32_t *c = t->tri + 3 * (size_t)s->face;
-    for (int k = 0; k < 3; ++k)
-        p[k] = s->bary[0] * t->xyz[3 * (size_t)c[0] + k] + s->bary[1] * t->xyz[3 * (size_t)c[1] + k] +
-               s->bary[2] * t->xyz[3 * (size_t)c[2] + k];
+    gs__face_point(t, s->face, s->bary, p);
 }
 
 uint32_t gs__source_seeds(const gs__topo *t, const gs_source *s, uint32_t v[3], double d[3])

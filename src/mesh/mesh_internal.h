@@ -33,6 +33,16 @@ typedef struct gs__topo {
     uint32_t n_edges;
 } gs__topo;
 
+/* The point of face f with barycentric weights w (of its corners in
+ * order): p = w0 x(c0) + w1 x(c1) + w2 x(c2). */
+static inline void gs__face_point(const gs__topo *t, uint32_t f, const double w[3], double p[3])
+{
+    const uint32_t *c = t->tri + 3 * (size_t)f;
+    for (int k = 0; k < 3; ++k)
+        p[k] = w[0] * t->xyz[3 * (size_t)c[0] + k] + w[1] * t->xyz[3 * (size_t)c[1] + k] +
+               w[2] * t->xyz[3 * (size_t)c[2] + k];
+}
+
 /* Where the faces came from, for error messages: the file name and, for
  * every face, the line (text files) or element number (binary files) that
  * defined it. Both pointers may be NULL. */

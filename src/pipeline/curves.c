@@ -77,18 +77,10 @@ static int sharp_saddle(const gs_mesh *m, uint32_t v)
     return e >= GS_PIPE_PIVOT_EXCESS;
 }
 
-static void sample_xyz(const gs_mesh *m, const gs__sep_sample *sm, double q[3])
-{
-    const uint32_t *c = m->tri + 3 * (size_t)sm->face;
-    for (int i = 0; i < 3; ++i)
-        q[i] = sm->bary[0] * m->xyz[3 * (size_t)c[0] + i] + sm->bary[1] * m->xyz[3 * (size_t)c[1] + i] +
-               sm->bary[2] * m->xyz[3 * (size_t)c[2] + i];
-}
-
 static double sample_gap(const gs_mesh *m, const gs__sep_sample *a, const gs__sep_sample *b)
 {
     double p[3], q[3];
-    sample_xyz(m, a, p), sample_xyz(m, b, q);
+    gs__face_point(&m->topo, a->face, a->bary, p), gs__face_point(&m->topo, b->face, b->bary, q);
     return sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
 }
 
@@ -151,12 +143,19 @@ static uint32_t find_pivots(const gs__sep_curve *cv, const gs__sep_sample *sm, c
     return w;
 }
 
-/* Whether sample a's face has the vertex of pivot p as a corner. */
-static int has_corner(const gs_mesh *m, const gs__sep_sample *a, const gs__sep_sample *p)
+/* The vertex of pivot p (the corner of its face with weight 1). */
+static uint32_t pivot_vertex(const gs_mesh *m, const gs__sep_sample *p)
 {
     uint32_t v = 0;
     for (int j = 0; j < 3; ++j)
         if (p->bary[j] == 1.0) v = m->tri[3 * (size_t)p->face + j];
+    return v;
+}
+
+/* Whether sample a's face has the vertex of pivot p as a corner. */
+static int has_corner(const gs_mesh *m, const gs__sep_sample *a, const gs__sep_sample *p)
+{
+    uint32_t v = pivot_vertex(m, p);
     const uint32_t *c = m->tri + 3 * (size_t)a->face;
     return c[0] == v || c[1] == v || c[2] == v;
 }
@@ -165,9 +164,7 @@ static int has_corner(const gs_mesh *m, const gs__sep_sample *a, const gs__sep_s
  * vertex as a corner). */
 static gs__sep_sample toward(const gs_mesh *m, const gs__sep_sample *a, const gs__sep_sample *p, double t)
 {
-    uint32_t v = 0;
-    for (int j = 0; j < 3; ++j)
-        if (p->bary[j] == 1.0) v = m->tri[3 * (size_t)p->face + j];
+    uint32_t v = pivot_vertex(m, p);
     gs__sep_sample x = *a;
     const uint32_t *c = m->tri + 3 * (size_t)a->face;
     for (int j = 0; j < 3; ++j) x.bary[j] = (1.0 - t) * a->bary[j] + (c[j] == v ? t : 0.0);

@@ -1614,15 +1614,13 @@ static int end_point(const gs__topo *t, const gs_source *s, const char *name, qp
 
 static void q_position(const gs__topo *t, const qpt *q, double p[3])
 {
-    for (int k = 0; k < 3; ++k) {
-        if (q->type == Q_VERTEX) p[k] = t->xyz[3 * (size_t)q->a + k];
-        else if (q->type == Q_EDGE) p[k] = (1 - q->t) * t->xyz[3 * (size_t)q->a + k] + q->t * t->xyz[3 * (size_t)q->b + k];
-        else {
-            const uint32_t *T = t->tri + 3 * (size_t)q->f;
-            p[k] = q->bary[0] * t->xyz[3 * (size_t)T[0] + k] + q->bary[1] * t->xyz[3 * (size_t)T[1] + k] +
-                   q->bary[2] * t->xyz[3 * (size_t)T[2] + k];
-        }
+    if (q->type != Q_VERTEX && q->type != Q_EDGE) {
+        gs__face_point(t, q->f, q->bary, p);
+        return;
     }
+    for (int k = 0; k < 3; ++k)
+        p[k] = q->type == Q_VERTEX ? t->xyz[3 * (size_t)q->a + k]
+                                   : (1 - q->t) * t->xyz[3 * (size_t)q->a + k] + q->t * t->xyz[3 * (size_t)q->b + k];
 }
 
 /* The corners of a point's face that carry it (nonzero weight): vertex
