@@ -4,7 +4,8 @@
  * Usage: bench_db_paths MESH DB [N_SOURCES=10] [TARGETS=100] [SEED=1]
  * [POINT_PAIRS=2 N_SOURCES]; with the environment variable
  * GEOSEP_BENCH_WORST=K, the K point pairs with the largest ratios are
- * listed (face and barycentric weights of both ends).
+ * listed (face and barycentric weights of both ends), and every vertex pair
+ * over 1% as it is found.
  * Sources and targets are random vertices (gs_mesh_random_vertices; the
  * surface points: random faces with random barycentric weights); the exact
  * distances come from one exact field per source (gs_solver_solve; for the
@@ -130,7 +131,9 @@ int main(int argc, char **argv)
                 ++failures;
                 continue;
             }
-            add(&sv, gs_path_length(p) / field[tgt[j]], 1e6 * (t1 - t0), gs_path_num_points(p));
+            double r = gs_path_length(p) / field[tgt[j]];
+            add(&sv, r, 1e6 * (t1 - t0), gs_path_num_points(p));
+            if (nworst && r > 1.01) printf("vertex pair over 1%%: %u -> %u ratio %.5f\n", src[i], tgt[j], r);
             gs_path_free(p);
         }
     }

@@ -1318,6 +1318,24 @@ static int make_path(ctx *c, gs_path **out)
  * 11.7 at the first percentile, none of 2,200 sampled paths on
  * homer-60k); and there the exact solve costs about as much as the walk. */
 #define COARSE_WIDTH 8
+/* ... and, up to ROUGH_CORRIDOR vertices, whatever the length, where the
+ * connectivity is irregular: the vertices next to the walk have, on
+ * average, IRREGULAR_WALK or more edges more or fewer than 6, and so do
+ * IRREGULAR_SAMPLE vertices spread over the mesh (IRREGULAR_MESH: random
+ * edge flips, tools/unseen_meshes.py's flipped(); a fine mesh's region of
+ * irregular triangles alone does not). There the database's distance errs
+ * high by up to 1.6% (spot with half its edges tried for flips: +1.58%
+ * where the same pair on spot errs +0.43%) while the sums d(X, v) +
+ * d(v, Y) at the walk's vertices err either way, and the walk, forced
+ * along the long flipped edges, can end round the wrong saddle: paths
+ * 1.0-1.9% longer than the exact distance that were up to 0.1% shorter
+ * than the database's, 1 to 3 in 10,000 on flipped spot, bunny-5k, homer,
+ * fandisk and rocker-arm. Walks on bunny-5k, a decimated mesh: 1% at
+ * IRREGULAR_WALK, the mesh's sample 0.85; spot, homer, fandisk and the
+ * flipped meshes' own samples: 0.2-0.3 and 1.6-1.8. */
+#define IRREGULAR_WALK 1.3
+#define IRREGULAR_MESH 1.2
+#define IRREGULAR_SAMPLE 256
 
 /* ---- the check: a path much longer than the database's distance -------- */
 
@@ -1484,6 +1502,43 @@ static double walk_noise(const ctx *c)
             if (!(t->vflag[w] & (GS_V_BOUNDARY | GS_V_UNUSED))) nb += 2 * M_PI - t->vangle[w], ++m;
         }
         if (m) sum += fabs(2 * M_PI - t->vangle[v] - nb / m), ++n;
+    }
+    return n ? sum / (double)n : 0;
+}
+
+/* |number of corners - 6| of vertex v (0 for boundary and unused ones). */
+static double valence_gap(const gs__topo *t, uint32_t v)
+{
+    if (t->vflag[v] & (GS_V_BOUNDARY | GS_V_UNUSED)) return 0;
+    return fabs((double)(t->vc_start[v + 1] - t->vc_start[v]) - 6);
+}
+
+/* The mean valence_gap over the neighbours of the walk's vertices (each
+ * counted once per walk vertex it is next to). */
+static double walk_valence(const ctx *c)
+{
+    const gs__topo *t = c->t;
+    double sum = 0;
+    size_t n = 0;
+    for (size_t i = 0; i < c->nvp; ++i) {
+        uint32_t v = c->vp[i];
+        for (uint32_t j = t->vc_start[v]; j < t->vc_start[v + 1]; ++j, ++n)
+            sum += valence_gap(t, t->tri[gs__next(t->vc[j])]);
+    }
+    return n ? sum / (double)n : 0;
+}
+
+/* The mean valence_gap of IRREGULAR_SAMPLE interior vertices spread evenly
+ * over the ids (all of them on smaller meshes). */
+static double mesh_valence(const gs__topo *t)
+{
+    double sum = 0;
+    size_t n = 0;
+    uint64_t m = t->nv < IRREGULAR_SAMPLE ? t->nv : IRREGULAR_SAMPLE;
+    for (uint64_t k = 0; k < m; ++k) {
+        uint32_t v = (uint32_t)(k * t->nv / m);
+        if (t->vflag[v] & (GS_V_BOUNDARY | GS_V_UNUSED)) continue;
+        sum += valence_gap(t, v), ++n;
     }
     return n ? sum / (double)n : 0;
 }
@@ -2128,6 +2183,8 @@ static int wants_corridor(const ctx *best, const gs_mesh *mesh, double len, doub
             return 1;
     }
     if (w.mean >= POINT_DEFECT && size <= COARSE_WIDTH * (double)best->nvp) return 1; /* coarse */
+    if (size <= ROUGH_CORRIDOR && walk_valence(best) >= IRREGULAR_WALK && mesh_valence(best->t) >= IRREGULAR_MESH)
+        return 1; /* irregular */
     int corridor_ok = size <= ROUGH_CORRIDOR && (len >= d || w.mean >= ROUGH_STRONG);
     if (w.mean >= ROUGH_DEFECT && w.big >= 0.5) return corridor_ok; /* rough */
     int mild = counted && corridor_ok && w.mean >= ROUGH_MILD && w.big >= ROUGH_MILD_SHARE;
