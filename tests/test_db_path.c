@@ -2,8 +2,9 @@
  * generated meshes (a plane, where the path is the straight segment; a
  * cylinder, a cone, a cube and a plate with holes, against the exact
  * solver's distance; a spiky sphere, where the database cannot tell the
- * sides of a spike apart) and on the shared meshes up to 7,000 vertices
- * (against their ground truth; skipped with a reason without ../shared):
+ * sides of a spike apart; tori with random edge flips) and on the shared
+ * meshes up to 7,000 vertices (against their ground truth; skipped with a
+ * reason without ../shared):
  * every path at least the exact distance (it is a real path on the
  * surface) and at most 1% longer; every point on the surface (face and
  * barycentric weights valid, xyz their combination), consecutive points in
@@ -483,6 +484,157 @@ static void rough_sphere(void)
     env_close(&e);
 }
 
+/* A directed edge's face (flipped_mesh): open addressing, key
+ * (a << 32 | b) + 1, 0 empty, open addressing (key (a << 32 | b) + 1; 0 empty) */
+typedef struct emap {
+    uint64_t *key;
+    uint32_t *val;
+    size_t mask;
+} emap;
+
+static size_t emap_slot(const emap *h, uint32_t a, uint32_t b)
+{
+    uint64_t k = ((uint64_t)a << 32 | b) + 1;
+    size_t i = (size_t)((k * 0x9E3779B97F4A7C15ULL) >> 20) & h->mask;
+    while (h->key[i] && h->key[i] != k) i = (i + 1) & h->mask;
+    return i;
+}
+
+static uint32_t emap_get(const emap *h, uint32_t a, uint32_t b)
+{
+    size_t i = emap_slot(h, a, b);
+    return h->key[i] ? h->val[i] : UINT32_MAX;
+}
+
+static void emap_put(emap *h, uint32_t a, uint32_t b, uint32_t f)
+{
+    size_t i = emap_slot(h, a, b);
+    h->key[i] = ((uint64_t)a << 32 | b) + 1, h->val[i] = f;
+}
+
+/* removal by backward-shift deletion (linear probing) */
+static void emap_del(emap *h, uint32_t a, uint32_t b)
+{
+    size_t i = emap_slot(h, a, b);
+    if (!h->key[i]) return;
+    h->key[i] = 0;
+    for (size_t j = (i + 1) & h->mask; h->key[j]; j = (j + 1) & h->mask) {
+        uint64_t k = h->key[j];
+        uint32_t v = h->val[j];
+        h->key[j] = 0;
+        uint32_t ka = (uint32_t)((k - 1) >> 32), kb = (uint32_t)(k - 1);
+        emap_put(h, ka, kb, v);
+    }
+}
+
+static void unit_normal(const double *xyz, uint32_t a, uint32_t b, uint32_t c, double n[3])
+{
+    const double *p = xyz + 3 * (size_t)a, *q = xyz + 3 * (size_t)b, *r = xyz + 3 * (size_t)c;
+    double u[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, w[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+    n[0] = u[1] * w[2] - u[2] * w[1], n[1] = u[2] * w[0] - u[0] * w[2], n[2] = u[0] * w[1] - u[1] * w[0];
+    double s = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (s == 0) s = 1;
+    for (int k = 0; k < 3; ++k) n[k] /= s;
+}
+
+/* Mesh g with random edge flips (tools/unseen_meshes.py's flipped(): a
+ * share frac of the directed edges, shuffled by the generator seeded with
+ * seed, tried in turn; a flip kept only if the edge is interior, its new
+ * diagonal is not an edge yet and the two triangles stay within 0.5 rad of
+ * coplanar and of their old normals); NULL on failure. */
+static gs_mesh *flipped_mesh(const gs_mesh *g, double frac, uint64_t seed)
+{
+    uint32_t nv = gs_mesh_num_vertices(g), nf = gs_mesh_num_faces(g);
+    const double *xyz = gs_mesh_positions(g);
+    size_t ne = 3 * (size_t)nf, cap = 1;
+    while (cap < 4 * ne) cap *= 2;
+    uint32_t *F = malloc(ne * sizeof *F);
+    uint64_t *keys = malloc(ne * sizeof *keys);
+    emap h = {calloc(cap, sizeof *h.key), malloc(cap * sizeof *h.val), cap - 1};
+    gs_mesh *m = NULL;
+    if (!F || !keys || !h.key || !h.val) goto done;
+    memcpy(F, gs_mesh_faces(g), ne * sizeof *F);
+    size_t nk = 0;
+    for (uint32_t f = 0; f < nf; ++f)
+        for (int k = 0; k < 3; ++k) {
+            uint32_t a = F[3 * f + k], b = F[3 * f + (k + 1) % 3];
+            if (emap_get(&h, a, b) == UINT32_MAX) emap_put(&h, a, b, f), keys[nk++] = (uint64_t)a << 32 | b;
+        }
+    uint64_t x = seed;
+    for (size_t i = nk; i > 1; --i) { /* Fisher-Yates */
+        x = x * 6364136223846793005ULL + 1442695040888963407ULL;
+        size_t j = (size_t)((x >> 11) % i);
+        uint64_t s = keys[i - 1];
+        keys[i - 1] = keys[j], keys[j] = s;
+    }
+    const double cos_max = cos(0.5);
+    for (size_t i = 0; i < (size_t)(frac * (double)nk); ++i) {
+        uint32_t a = (uint32_t)(keys[i] >> 32), b = (uint32_t)keys[i];
+        uint32_t f0 = emap_get(&h, a, b), f1 = emap_get(&h, b, a);
+        if (f0 == UINT32_MAX || f1 == UINT32_MAX) continue;
+        uint32_t c = F[3 * f0] + F[3 * f0 + 1] + F[3 * f0 + 2] - a - b;
+        uint32_t d = F[3 * f1] + F[3 * f1 + 1] + F[3 * f1 + 2] - a - b;
+        if (c == d || emap_get(&h, c, d) != UINT32_MAX || emap_get(&h, d, c) != UINT32_MAX) continue;
+        double n0[3], n1[3], m0[3], m1[3];
+        unit_normal(xyz, a, b, c, n0), unit_normal(xyz, b, a, d, n1);
+        unit_normal(xyz, c, d, b, m0), unit_normal(xyz, d, c, a, m1);
+        double d01 = m0[0] * m1[0] + m0[1] * m1[1] + m0[2] * m1[2];
+        double d00 = m0[0] * n0[0] + m0[1] * n0[1] + m0[2] * n0[2];
+        double d11 = m1[0] * n1[0] + m1[1] * n1[1] + m1[2] * n1[2];
+        if (d01 < cos_max || d00 < 0.5 || d11 < 0.5) continue;
+        for (int k = 0; k < 3; ++k) {
+            emap_del(&h, F[3 * f0 + k], F[3 * f0 + (k + 1) % 3]);
+            emap_del(&h, F[3 * f1 + k], F[3 * f1 + (k + 1) % 3]);
+        }
+        F[3 * f0] = c, F[3 * f0 + 1] = d, F[3 * f0 + 2] = b;
+        F[3 * f1] = d, F[3 * f1 + 1] = c, F[3 * f1 + 2] = a;
+        for (int k = 0; k < 3; ++k) {
+            emap_put(&h, F[3 * f0 + k], F[3 * f0 + (k + 1) % 3], f0);
+            emap_put(&h, F[3 * f1 + k], F[3 * f1 + (k + 1) % 3], f1);
+        }
+    }
+    gs_error err = {0};
+    if (gs_mesh_create(xyz, nv, F, nf, &m, &err) != GS_OK) m = NULL;
+done:
+    free(F), free(keys), free(h.key), free(h.val);
+    return m;
+}
+
+/* Tori with random edge flips (flipped_mesh, half and 70% of the edges
+ * tried): irregular connectivity, where the database's distance errs high
+ * and the walk, along the flipped edges, ended round the wrong saddle:
+ * these pairs' paths were 1.03-1.29% longer than the exact distance and
+ * less than 1% longer than the database's (db_path.c, "irregular"). */
+static void flipped_tori(void)
+{
+    static const struct {
+        double frac;
+        uint32_t x, y;
+    } pair[] = {{0.5, 983, 267}, {0.3, 1079, 385}, {0.7, 61, 768}};
+    double worst = 1;
+    char what[96];
+    for (size_t i = 0; i < sizeof pair / sizeof *pair; ++i) {
+        gs_mesh *g = NULL, *m = NULL;
+        gs_error err = {0};
+        CHECK(gs_mesh_generate("torus:48,24", &g, &err) == GS_OK);
+        if (g) m = flipped_mesh(g, pair[i].frac, 29);
+        gs_mesh_free(g);
+        CHECK_MSG(m != NULL, "torus:48,24 flipped (%g)", pair[i].frac);
+        env e;
+        if (!m || env_open(&e, "flipped torus:48,24", m)) {
+            if (m) env_close(&e);
+            continue;
+        }
+        for (int k = 0; k < 2; ++k) {
+            uint32_t a = k ? pair[i].y : pair[i].x, b = k ? pair[i].x : pair[i].y;
+            snprintf(what, sizeof what, "torus:48,24, %g of the edges flipped: %u -> %u", pair[i].frac, a, b);
+            worst = fmax(worst, db_path_checked(&e, gs_source_vertex(a), gs_source_vertex(b), what));
+        }
+        env_close(&e);
+    }
+    printf("%-22s longest path %.4f%% over the exact distance\n", "flipped tori", 100 * (worst - 1));
+}
+
 /* The plane: every path is the straight segment (length |x - y| to
  * rounding, straight everywhere). */
 static void test_plane(void)
@@ -719,6 +871,7 @@ int main(void)
     rough_sphere();
     noisy_spheres();
     sine_sphere();
+    flipped_tori();
     fat_knot();
     second_routes();
     point_ends();

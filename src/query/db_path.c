@@ -1336,6 +1336,11 @@ static int make_path(ctx *c, gs_path **out)
 #define IRREGULAR_WALK 1.3
 #define IRREGULAR_MESH 1.2
 #define IRREGULAR_SAMPLE 256
+/* ... and up to IRREGULAR_CORRIDOR vertices from NOISY_LONGER over the
+ * database's distance (flipped homer: a path between surface points 1.02%
+ * over the exact distance, 0.47% over the database's, its corridor 2,467
+ * vertices). */
+#define IRREGULAR_CORRIDOR 5000
 
 /* ---- the check: a path much longer than the database's distance -------- */
 
@@ -2183,7 +2188,8 @@ static int wants_corridor(const ctx *best, const gs_mesh *mesh, double len, doub
             return 1;
     }
     if (w.mean >= POINT_DEFECT && size <= COARSE_WIDTH * (double)best->nvp) return 1; /* coarse */
-    if (size <= ROUGH_CORRIDOR && walk_valence(best) >= IRREGULAR_WALK && mesh_valence(best->t) >= IRREGULAR_MESH)
+    if ((size <= ROUGH_CORRIDOR || (size <= IRREGULAR_CORRIDOR && longer > NOISY_LONGER)) &&
+        walk_valence(best) >= IRREGULAR_WALK && mesh_valence(best->t) >= IRREGULAR_MESH)
         return 1; /* irregular */
     int corridor_ok = size <= ROUGH_CORRIDOR && (len >= d || w.mean >= ROUGH_STRONG);
     if (w.mean >= ROUGH_DEFECT && w.big >= 0.5) return corridor_ok; /* rough */
