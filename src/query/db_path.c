@@ -1334,7 +1334,7 @@ static int make_path(ctx *c, gs_path **out)
  * over 1%). No length rule separates them: on those meshes nearly every
  * path is longer than the least sum along its walk. The mesh's sample
  * keeps the rule off meshes whose irregular triangles are their own
- * (bunny-5k, a decimated mesh: 0.86, 3% of its walks at IRREGULAR_WALK;
+ * (bunny-5k, a decimated mesh: 0.86, 5% of its walks at IRREGULAR_WALK;
  * spot, homer, fandisk, homer-60k: 0.17-0.26); masked grids and plates
  * whose alternating diagonals give valences of 4 and 8 take the exact
  * solve too (time, not length). */
