@@ -1539,7 +1539,9 @@ static double walk_valence(const ctx *c)
 }
 
 /* The mean valence_gap of IRREGULAR_SAMPLE interior vertices spread evenly
- * over the ids (all of them on smaller meshes). */
+ * over the ids (all of them on smaller meshes): the same vertices on every
+ * call, so that they stay in the caches (asked before walk_valence, whose
+ * neighbours are scattered). */
 static double mesh_valence(const gs__topo *t)
 {
     double sum = 0;
@@ -2194,7 +2196,7 @@ static int wants_corridor(const ctx *best, const gs_mesh *mesh, double len, doub
     }
     if (w.mean >= POINT_DEFECT && size <= COARSE_WIDTH * (double)best->nvp) return 1; /* coarse */
     if ((size <= ROUGH_CORRIDOR || (size <= IRREGULAR_CORRIDOR && longer > NOISY_LONGER)) &&
-        walk_valence(best) >= IRREGULAR_WALK && mesh_valence(best->t) >= IRREGULAR_MESH)
+        mesh_valence(best->t) >= IRREGULAR_MESH && walk_valence(best) >= IRREGULAR_WALK)
         return 1; /* irregular */
     int corridor_ok = size <= ROUGH_CORRIDOR && (len >= d || w.mean >= ROUGH_STRONG);
     if (w.mean >= ROUGH_DEFECT && w.big >= 0.5) return corridor_ok; /* rough */
