@@ -1319,26 +1319,25 @@ static int make_path(ctx *c, gs_path **out)
  * homer-60k); and there the exact solve costs about as much as the walk. */
 #define COARSE_WIDTH 8
 /* ... and, up to ROUGH_CORRIDOR vertices, whatever the length, where the
- * connectivity is irregular: the neighbours of the walk's vertices have,
- * on average, IRREGULAR_WALK or more edges more or fewer than 6, and so do
- * IRREGULAR_SAMPLE vertices spread over the mesh (IRREGULAR_MESH): random
- * edge flips (tools/unseen_meshes.py's flipped()). There the database's
- * distance errs high by up to 1.6% (spot with half its edges tried for
- * flips: +1.58% where the same pair on spot errs +0.43%) while the sums
- * d(X, v) + d(v, Y) at the walk's vertices err either way, and the walk,
- * forced along the long flipped edges, can end round the wrong saddle:
- * paths 1.0-1.9% longer than the exact distance that were at most 0.9%
- * longer than the database's distance, or shorter, 1 to 3 in 10,000 on
- * spot, bunny-5k, homer, fandisk and rocker-arm with 10-50% of their
- * edges tried for flips (samples 1.1-1.7; walks 1.1-1.6 where paths were
- * over 1%). No length rule separates them: on those meshes nearly every
- * path is longer than the least sum along its walk. The mesh's sample
- * keeps the rule off meshes whose irregular triangles are their own
- * (bunny-5k, a decimated mesh: 0.86, 5% of its walks at IRREGULAR_WALK;
- * spot, homer, fandisk, homer-60k: 0.17-0.26); masked grids and plates
- * whose alternating diagonals give valences of 4 and 8 take the exact
- * solve too (time, not length). */
-#define IRREGULAR_WALK 1.1
+ * mesh's connectivity is irregular: IRREGULAR_SAMPLE vertices spread over
+ * it have, on average, IRREGULAR_MESH or more edges more or fewer than 6
+ * (random edge flips, tools/unseen_meshes.py's flipped()). There the
+ * database's distance errs high by up to 1.6% (spot with half its edges
+ * tried for flips: +1.58% where the same pair on spot errs +0.43%) while
+ * the sums d(X, v) + d(v, Y) at the walk's vertices err either way, and
+ * the walk, forced along the long flipped edges, can end round the wrong
+ * saddle: paths 1.0-1.9% longer than the exact distance that were at most
+ * 0.9% longer than the database's distance, or shorter, 1 to 3 in 10,000
+ * on spot, bunny-5k, homer, fandisk and rocker-arm with 10-50% of their
+ * edges tried for flips (samples 1.1-1.7). No length rule tells them from
+ * the other paths there (nearly every path is longer than the least sum
+ * along its walk), nor does the walk's own neighbourhood (such paths'
+ * walks had neighbours 1.03-1.6 edges off 6 on average, bunny-5k's walks
+ * up to 2.2). Meshes whose irregular triangles are their own stay below:
+ * bunny-5k, a decimated mesh, 0.86; rocker-arm 0.80; spot, homer,
+ * fandisk, homer-60k 0.17-0.26. Masked grids and plates whose alternating
+ * diagonals give valences of 4 and 8 take the exact solve too (time, not
+ * length). */
 #define IRREGULAR_MESH 1.0
 #define IRREGULAR_SAMPLE 256
 /* ... and up to IRREGULAR_CORRIDOR vertices from NOISY_LONGER over the
@@ -1523,25 +1522,9 @@ static double valence_gap(const gs__topo *t, uint32_t v)
     return fabs((double)(t->vc_start[v + 1] - t->vc_start[v]) - 6);
 }
 
-/* The mean valence_gap over the neighbours of the walk's vertices (each
- * counted once per walk vertex it is next to). */
-static double walk_valence(const ctx *c)
-{
-    const gs__topo *t = c->t;
-    double sum = 0;
-    size_t n = 0;
-    for (size_t i = 0; i < c->nvp; ++i) {
-        uint32_t v = c->vp[i];
-        for (uint32_t j = t->vc_start[v]; j < t->vc_start[v + 1]; ++j, ++n)
-            sum += valence_gap(t, t->tri[gs__next(t->vc[j])]);
-    }
-    return n ? sum / (double)n : 0;
-}
-
 /* The mean valence_gap of IRREGULAR_SAMPLE interior vertices spread evenly
  * over the ids (all of them on smaller meshes): the same vertices on every
- * call, so that they stay in the caches (asked before walk_valence, whose
- * neighbours are scattered). */
+ * call, so that they stay in the caches. */
 static double mesh_valence(const gs__topo *t)
 {
     double sum = 0;
@@ -2196,7 +2179,7 @@ static int wants_corridor(const ctx *best, const gs_mesh *mesh, double len, doub
     }
     if (w.mean >= POINT_DEFECT && size <= COARSE_WIDTH * (double)best->nvp) return 1; /* coarse */
     if ((size <= ROUGH_CORRIDOR || (size <= IRREGULAR_CORRIDOR && longer > NOISY_LONGER)) &&
-        mesh_valence(best->t) >= IRREGULAR_MESH && walk_valence(best) >= IRREGULAR_WALK)
+        mesh_valence(best->t) >= IRREGULAR_MESH)
         return 1; /* irregular */
     int corridor_ok = size <= ROUGH_CORRIDOR && (len >= d || w.mean >= ROUGH_STRONG);
     if (w.mean >= ROUGH_DEFECT && w.big >= 0.5) return corridor_ok; /* rough */
