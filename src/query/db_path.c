@@ -1523,15 +1523,14 @@ static double valence_gap(const gs__topo *t, uint32_t v)
 }
 
 /* The mean valence_gap of IRREGULAR_SAMPLE interior vertices spread evenly
- * over the ids (all of them on smaller meshes): the same vertices on every
+ * over the ids (every one on smaller meshes): the same vertices on every
  * call, so that they stay in the caches. */
 static double mesh_valence(const gs__topo *t)
 {
     double sum = 0;
     size_t n = 0;
-    uint64_t m = t->nv < IRREGULAR_SAMPLE ? t->nv : IRREGULAR_SAMPLE;
-    for (uint64_t k = 0; k < m; ++k) {
-        uint32_t v = (uint32_t)(k * t->nv / m);
+    uint32_t step = t->nv > IRREGULAR_SAMPLE ? t->nv / IRREGULAR_SAMPLE : 1;
+    for (uint32_t k = 0, v = 0; k < IRREGULAR_SAMPLE && v < t->nv; ++k, v += step) {
         if (t->vflag[v] & (GS_V_BOUNDARY | GS_V_UNUSED)) continue;
         sum += valence_gap(t, v), ++n;
     }
