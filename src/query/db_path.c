@@ -86,10 +86,11 @@ static inline int eq2(p2 a, p2 b)
 }
 
 /* A bend of the funnel's path: a sleeve vertex (v, at funnel portal idx)
- * or an end (v = GS_NONE). */
+ * or an end (v = GS_NONE); seen: the last portal the funnel had read when
+ * it placed it. */
 typedef struct apex {
     p2 p;
-    uint32_t v, idx;
+    uint32_t v, idx, seen;
 } apex;
 
 /* How sleeve face i joins face i - 1 (sd[i], i >= 1): the corner hk of
@@ -842,35 +843,46 @@ static int unfold(ctx *c, const qpt *x, const qpt *y, size_t from)
     return GS_OK;
 }
 
-static int push_apex(ctx *c, p2 p, uint32_t v, uint32_t idx)
+static int push_apex(ctx *c, p2 p, uint32_t v, uint32_t idx, uint32_t seen)
 {
     if (v != GS_NONE && c->nap && c->ap[c->nap - 1].v == v && eq2(c->ap[c->nap - 1].p, p)) {
-        c->ap[c->nap - 1].idx = idx;
+        c->ap[c->nap - 1].idx = idx, c->ap[c->nap - 1].seen = seen;
         return GS_OK;
     }
     if (gs__grow((void **)&c->ap, &c->apcap, c->nap + 1, sizeof *c->ap)) return oom(c);
-    c->ap[c->nap++] = (apex){p, v, idx};
+    c->ap[c->nap++] = (apex){p, v, idx, seen};
     return GS_OK;
 }
 
 /* The shortest path inside the unfolded sleeve (the "simple stupid funnel"
- * form of Lee & Preparata's funnel algorithm): its bends into c->ap. */
-static int funnel(ctx *c)
+ * form of Lee & Preparata's funnel algorithm): its bends into c->ap.
+ * Portals before `from` are the last call's: its bends placed having read
+ * only those are kept, and the scan goes on from the last of them (the
+ * funnel restarts at every bend it places: what follows depends only on
+ * that bend and the portals after it, so the bends are the same as a scan
+ * from the start would place). */
+static int funnel(ctx *c, size_t from)
 {
     uint32_t m = (uint32_t)c->nsl;
     const portal *fp = c->fp;
-    c->nap = 0;
-    int rc = push_apex(c, fp[0].l, GS_NONE, 0);
-    if (rc) return rc;
-    p2 ap = fp[0].l, left = ap, right = ap;
-    uint32_t ai = 0, li = 0, ri = 0;
-    for (uint32_t i = 1; i <= m; ++i) {
+    int rc;
+    size_t k = from && c->nap ? c->nap - 1 : 0;
+    while (k > 0 && c->ap[k].seen >= from) --k;
+    if (k == 0) {
+        c->nap = 0;
+        if ((rc = push_apex(c, fp[0].l, GS_NONE, 0, 0))) return rc;
+    }
+    c->nap = k + 1;
+    p2 ap = c->ap[k].p, left = ap, right = ap;
+    uint32_t ai = c->ap[k].idx, li = ai, ri = ai, seen = c->ap[k].seen;
+    for (uint32_t i = ai + 1; i <= m; ++i) {
+        if (i > seen) seen = i;
         p2 l = fp[i].l, r = fp[i].r;
         if (cross3(ap, right, r) >= 0) {
             if (eq2(ap, right) || eq2(ap, left) || eq2(r, left) || cross3(ap, left, r) < 0) {
                 right = r, ri = i;
             } else { /* r crosses the left side: its point is a bend */
-                if ((rc = push_apex(c, left, fp[li].lv, li))) return rc;
+                if ((rc = push_apex(c, left, fp[li].lv, li, seen))) return rc;
                 ap = left, ai = li;
                 right = left = ap, ri = li = ai;
                 i = ai;
@@ -881,7 +893,7 @@ static int funnel(ctx *c)
             if (eq2(ap, left) || eq2(ap, right) || eq2(l, right) || cross3(ap, right, l) > 0) {
                 left = l, li = i;
             } else {
-                if ((rc = push_apex(c, right, fp[ri].rv, ri))) return rc;
+                if ((rc = push_apex(c, right, fp[ri].rv, ri, seen))) return rc;
                 ap = right, ai = ri;
                 right = left = ap, ri = li = ai;
                 i = ai;
@@ -889,7 +901,7 @@ static int funnel(ctx *c)
             }
         }
     }
-    return push_apex(c, fp[m].l, GS_NONE, m);
+    return push_apex(c, fp[m].l, GS_NONE, m, m);
 }
 
 static double angle2(p2 o, p2 a, p2 b)
@@ -1084,7 +1096,7 @@ static int converge(ctx *c, const qpt *x, const qpt *y, uint32_t xv, uint32_t yv
     int rc;
     for (size_t round = 0;; ++round) {
         uint32_t nf;
-        if ((rc = unfold(c, x, y, from)) || (rc = funnel(c))) return rc;
+        if ((rc = unfold(c, x, y, from)) || (rc = funnel(c, from))) return rc;
         if (round >= max_rounds) break;
         double l = funnel_length(c);
         if (round >= SETTLE_FROM && hist[round % SETTLE_ROUNDS] - l < SETTLE_GAIN * l) break;
@@ -1321,21 +1333,33 @@ static int make_path(ctx *c, gs_path **out)
 
 /* ---- the check: a path much longer than the database's distance -------- */
 
+/* The longest edge at vertex v: no point of v's faces is farther from v. */
+static double longest_edge(const gs__topo *t, uint32_t v)
+{
+    double m = 0;
+    for (uint32_t j = t->vc_start[v]; j < t->vc_start[v + 1]; ++j) {
+        uint32_t h = t->vc[j];
+        m = fmax(m, fmax(t->len[h], t->len[gs__prev(h)]));
+    }
+    return m;
+}
+
 /* The path is longer than the database's distance d by more than the
  * database's errors usually are (the descent then followed another
  * route's valley: a coarse mesh next to the path, a fitted function's
  * error): the exact shortest path inside the corridor that holds the
  * shortest path as far as the database can tell, the vertices v with
  * d(X, v) + d(v, Y) at most d plus CORRIDOR_TOL (at most the path's
- * length; plus the ends' offsets and an edge), grown from the vertex path;
- * the faces at them form a patch, solved exactly (gs_solver_path). *out:
- * that path if shorter, else untouched. */
+ * length; plus the ends' offsets and twice v's longest edge: every corner
+ * of every face that a path within that bound crosses), grown from the
+ * vertex path; the faces at them form a patch, solved exactly
+ * (gs_solver_path). *out: that path if shorter, else untouched. */
 static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_source *y, double len, double d,
                     double slack, gs_path **out)
 {
     const gs__topo *t = c->t;
     double bound = d * (1 + CORRIDOR_TOL); /* the shortest path, for the database (if its error is below the tolerance) */
-    double thr = (bound < len ? bound : len) + slack + 2 * mesh->report.max_edge;
+    double thr = (bound < len ? bound : len) + slack; /* plus twice the vertex's longest edge (longest_edge) */
     /* flood: c->vp grows into the corridor's vertices (amap: seen) */
     c->na = 0;
     if (c->amap.cap) memset(c->amap.key, 0xff, c->amap.cap * sizeof *c->amap.key), c->amap.n = 0;
@@ -1353,13 +1377,16 @@ static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_so
              * one to Y only for those near enough to X) */
             if (nc + 2 > MAX_FAN || (i == t->vc_start[v + 1] && nc)) {
                 uint32_t near[MAX_FAN], nn = 0;
+                double reach[MAX_FAN];
                 int rc = fetch(c, cand, nc, 0, INFINITY);
-                for (uint32_t j = 0; j < nc && !rc; ++j)
-                    if (c->dval[2 * gs__idmap_get(&c->dmap, cand[j])] <= thr) near[nn++] = cand[j];
+                for (uint32_t j = 0; j < nc && !rc; ++j) {
+                    reach[nn] = thr + 2 * longest_edge(t, cand[j]);
+                    if (c->dval[2 * gs__idmap_get(&c->dmap, cand[j])] <= reach[nn]) near[nn++] = cand[j];
+                }
                 if (!rc) rc = fetch(c, near, nn, 1, INFINITY);
                 for (uint32_t j = 0; j < nn && !rc; ++j) {
                     uint32_t sl = gs__idmap_get(&c->dmap, near[j]);
-                    if (c->dval[2 * sl] + c->dval[2 * sl + 1] <= thr) rc = push_vertex(c, near[j]);
+                    if (c->dval[2 * sl] + c->dval[2 * sl + 1] <= reach[j]) rc = push_vertex(c, near[j]);
                 }
                 if (rc) return rc;
                 nc = 0;
