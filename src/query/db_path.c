@@ -1344,6 +1344,27 @@ static double longest_edge(const gs__topo *t, uint32_t v)
     return m;
 }
 
+/* Of the n vertices v[], those with d(X, v) + d(v, Y) (the database's,
+ * c's two ends) at most thr plus twice their longest edge appended to the
+ * vertex path c->vp (d(v, Y) asked only where d(X, v) is that small). */
+static int corridor_batch(ctx *c, const uint32_t *v, uint32_t n, double thr)
+{
+    uint32_t near[MAX_FAN], nn = 0;
+    double reach[MAX_FAN];
+    int rc = fetch(c, v, n, 0, INFINITY);
+    if (rc) return rc;
+    for (uint32_t j = 0; j < n; ++j) {
+        reach[nn] = thr + 2 * longest_edge(c->t, v[j]);
+        if (c->dval[2 * gs__idmap_get(&c->dmap, v[j])] <= reach[nn]) near[nn++] = v[j];
+    }
+    if (nn && (rc = fetch(c, near, nn, 1, INFINITY))) return rc;
+    for (uint32_t j = 0; j < nn && !rc; ++j) {
+        uint32_t sl = gs__idmap_get(&c->dmap, near[j]);
+        if (c->dval[2 * sl] + c->dval[2 * sl + 1] <= reach[j]) rc = push_vertex(c, near[j]);
+    }
+    return rc;
+}
+
 /* The path is longer than the database's distance d by more than the
  * database's errors usually are (the descent then followed another
  * route's valley: a coarse mesh next to the path, a fitted function's
@@ -1370,36 +1391,33 @@ static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_so
     c->nvp = 0;
     for (size_t i = 0; i < nseed; ++i)
         if (c->aclosed[i] == 0) c->aclosed[i] = 1, c->vp[c->nvp++] = c->anode[i];
-    for (size_t q = 0; q < c->nvp; ++q) {
-        uint32_t v = c->vp[q], cand[MAX_FAN], nc = 0;
-        for (uint32_t i = t->vc_start[v]; i <= t->vc_start[v + 1]; ++i) {
-            /* v's unseen neighbours, their distances fetched in batches (the
-             * one to Y only for those near enough to X) */
-            if (nc + 2 > MAX_FAN || (i == t->vc_start[v + 1] && nc)) {
-                uint32_t near[MAX_FAN], nn = 0;
-                double reach[MAX_FAN];
-                int rc = fetch(c, cand, nc, 0, INFINITY);
-                for (uint32_t j = 0; j < nc && !rc; ++j) {
-                    reach[nn] = thr + 2 * longest_edge(t, cand[j]);
-                    if (c->dval[2 * gs__idmap_get(&c->dmap, cand[j])] <= reach[nn]) near[nn++] = cand[j];
+    /* the unseen neighbours of the next vertices in the queue, a batch of
+     * about half MAX_FAN at a time (fetch: their records requested from
+     * memory together), those in the corridor queued */
+    uint32_t cand[MAX_FAN], nc = 0;
+    for (size_t q = 0;;) {
+        if (q < c->nvp && nc <= MAX_FAN / 2) {
+            uint32_t v = c->vp[q++];
+            for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1]; ++i) {
+                uint32_t h = t->vc[i];
+                uint32_t nb[2] = {t->tri[gs__next(h)], t->tri[gs__prev(h)]};
+                for (int k = 0; k < 2; ++k) {
+                    if (gs__idmap_get(&c->amap, nb[k]) != GS_NONE) continue;
+                    if (anode(c, nb[k], &slot)) return oom(c);
+                    if (nc == MAX_FAN) {
+                        int rc = corridor_batch(c, cand, nc, thr);
+                        if (rc) return rc;
+                        nc = 0;
+                    }
+                    cand[nc++] = nb[k];
                 }
-                if (!rc) rc = fetch(c, near, nn, 1, INFINITY);
-                for (uint32_t j = 0; j < nn && !rc; ++j) {
-                    uint32_t sl = gs__idmap_get(&c->dmap, near[j]);
-                    if (c->dval[2 * sl] + c->dval[2 * sl + 1] <= reach[j]) rc = push_vertex(c, near[j]);
-                }
-                if (rc) return rc;
-                nc = 0;
             }
-            if (i == t->vc_start[v + 1]) break;
-            uint32_t h = t->vc[i];
-            uint32_t nb[2] = {t->tri[gs__next(h)], t->tri[gs__prev(h)]};
-            for (int k = 0; k < 2; ++k) {
-                if (gs__idmap_get(&c->amap, nb[k]) != GS_NONE) continue;
-                if (anode(c, nb[k], &slot)) return oom(c);
-                cand[nc++] = nb[k];
-            }
+            continue;
         }
+        if (!nc) break;
+        int rc = corridor_batch(c, cand, nc, thr);
+        if (rc) return rc;
+        nc = 0;
     }
     /* the faces at the corridor's vertices, and the ends' faces */
     gs__idmap fmap = {0};
@@ -1766,6 +1784,7 @@ static int run(ctx *c, const qpt *qx, const qpt *qy, uint32_t not_target, uint32
  * the straight lines to the ends rule out most without a query). c->vp is
  * kept. */
 #define DETOUR_NRINGS 3
+#define RINGS_AHEAD 8 /* the breadth-first search's prefetch distance, in queued vertices */
 static const int detour_rings[DETOUR_NRINGS] = {5, 10, 15};
 static int waypoints(ctx *c, double thr, uint32_t w[DETOUR_NRINGS], double s[DETOUR_NRINGS])
 {
@@ -1788,17 +1807,26 @@ static int waypoints(ctx *c, double thr, uint32_t w[DETOUR_NRINGS], double s[DET
             seen[v] = 1, from[nq] = (uint32_t)i, queue[nq++] = v;
     }
     for (size_t q = 0; q < nq && !rc && seen[queue[q]] <= last; ++q) {
-        uint32_t v = queue[q];
-        for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1] && !rc; ++i) {
+        /* the fans of the vertices next in the queue, requested from memory
+         * ahead (thousands of vertices, scattered: most miss the caches) */
+        if (q + 2 * RINGS_AHEAD < nq) __builtin_prefetch(t->vc_start + queue[q + 2 * RINGS_AHEAD]);
+        if (q + RINGS_AHEAD < nq) __builtin_prefetch(t->vc + t->vc_start[queue[q + RINGS_AHEAD]]);
+        if (q + RINGS_AHEAD / 2 < nq) {
+            uint32_t u = queue[q + RINGS_AHEAD / 2];
+            for (uint32_t i = t->vc_start[u]; i < t->vc_start[u + 1]; ++i) __builtin_prefetch(t->tri + t->vc[i]);
+        }
+        uint32_t v = queue[q], fan = t->vc_start[v + 1] - t->vc_start[v];
+        if (gs__grow((void **)&queue, &qcap, nq + 2 * (size_t)fan, sizeof *queue) ||
+            gs__grow((void **)&from, &ocap, nq + 2 * (size_t)fan, sizeof *from)) {
+            rc = oom(c);
+            break;
+        }
+        for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1]; ++i) {
             uint32_t h = t->vc[i];
             uint32_t nb[2] = {t->tri[gs__next(h)], t->tri[gs__prev(h)]};
-            for (int k = 0; k < 2 && !rc; ++k) {
+            for (int k = 0; k < 2; ++k) {
                 if (seen[nb[k]]) continue;
-                if (gs__grow((void **)&queue, &qcap, nq + 1, sizeof *queue) ||
-                    gs__grow((void **)&from, &ocap, nq + 1, sizeof *from))
-                    rc = oom(c);
-                else
-                    seen[nb[k]] = (uint8_t)(seen[v] + 1), from[nq] = from[q], queue[nq++] = nb[k];
+                seen[nb[k]] = (uint8_t)(seen[v] + 1), from[nq] = from[q], queue[nq++] = nb[k];
             }
         }
     }
