@@ -84,18 +84,6 @@ static int work_reserve(curve_work *w, size_t n)
     return GS_OK;
 }
 
-int gs__part_reserve(void **p, size_t *cap, size_t need, size_t size)
-{
-    if (need <= *cap) return GS_OK;
-    size_t c = *cap ? *cap : 256;
-    while (c < need) c *= 2;
-    void *q = gs__realloc(*p, c, size);
-    if (!q) return GS_ENOMEM;
-    *p = q;
-    *cap = c;
-    return GS_OK;
-}
-
 /* ---- chaining the crossed faces -------------------------------------- */
 
 /* The two cut slots (edges k -> k+1 joining the sides) of a local face;
@@ -583,12 +571,9 @@ static int emit(const gs__part_node *nd, curve_work *w, double spacing, uint32_t
     uint32_t n = (r > 1e8) ? 100000000u : (uint32_t)floor(r + 0.5);
     n = w->closed ? (n < 3 ? 3 : n) : (n < 1 ? 2 : n + 1);
     if (n < min_samples) n = min_samples;
-    if (gs__part_reserve((void **)&out->samples, &out->cap_samples, out->n_samples + n,
-                         sizeof *out->samples) ||
-        gs__part_reserve((void **)&out->cross, &out->cap_cross, out->n_cross + w->np,
-                         sizeof *out->cross) ||
-        gs__part_reserve((void **)&out->curves, &out->cap_curves, out->n_curves + 1,
-                         sizeof *out->curves))
+    if (gs__grow((void **)&out->samples, &out->cap_samples, out->n_samples + n, sizeof *out->samples) ||
+        gs__grow((void **)&out->cross, &out->cap_cross, out->n_cross + w->np, sizeof *out->cross) ||
+        gs__grow((void **)&out->curves, &out->cap_curves, out->n_curves + 1, sizeof *out->curves))
         return GS_ENOMEM;
     gs__sep_curve *cv = &out->curves[out->n_curves++];
     *cv = (gs__sep_curve){nd->id, (uint32_t)w->closed, (uint32_t)out->n_samples, n, len,

@@ -35,9 +35,6 @@ typedef struct gs__part_out {
     size_t n_cross, cap_cross;
 } gs__part_out;
 
-/* Grow *p (elements of size `size`) so that it holds at least `need`. */
-int gs__part_reserve(void **p, size_t *cap, size_t need, size_t size);
-
 /* Sides of the owned vertices (side[0..no)): the connected components of the
  * graph induced by V(N) grouped into two balanced halves when that is
  * possible, otherwise a METIS bisection. Both sides are non-empty (no >= 2).

@@ -104,7 +104,7 @@ static void builder_free(builder *b)
     free(b->phi);
 }
 
-#define RESERVE(ptr, cap, need) gs__part_reserve((void **)&(ptr), &(cap), (need), sizeof *(ptr))
+#define RESERVE(ptr, cap, need) gs__grow((void **)&(ptr), &(cap), (need), sizeof *(ptr))
 
 /* The root: every referenced vertex, every face. */
 static int init_root(builder *b)
