@@ -86,10 +86,11 @@ static inline int eq2(p2 a, p2 b)
 }
 
 /* A bend of the funnel's path: a sleeve vertex (v, at funnel portal idx)
- * or an end (v = GS_NONE). */
+ * or an end (v = GS_NONE); seen: the last portal the funnel had read when
+ * it placed it. */
 typedef struct apex {
     p2 p;
-    uint32_t v, idx;
+    uint32_t v, idx, seen;
 } apex;
 
 /* How sleeve face i joins face i - 1 (sd[i], i >= 1): the corner hk of
@@ -842,35 +843,46 @@ static int unfold(ctx *c, const qpt *x, const qpt *y, size_t from)
     return GS_OK;
 }
 
-static int push_apex(ctx *c, p2 p, uint32_t v, uint32_t idx)
+static int push_apex(ctx *c, p2 p, uint32_t v, uint32_t idx, uint32_t seen)
 {
     if (v != GS_NONE && c->nap && c->ap[c->nap - 1].v == v && eq2(c->ap[c->nap - 1].p, p)) {
-        c->ap[c->nap - 1].idx = idx;
+        c->ap[c->nap - 1].idx = idx, c->ap[c->nap - 1].seen = seen;
         return GS_OK;
     }
     if (gs__grow((void **)&c->ap, &c->apcap, c->nap + 1, sizeof *c->ap)) return oom(c);
-    c->ap[c->nap++] = (apex){p, v, idx};
+    c->ap[c->nap++] = (apex){p, v, idx, seen};
     return GS_OK;
 }
 
 /* The shortest path inside the unfolded sleeve (the "simple stupid funnel"
- * form of Lee & Preparata's funnel algorithm): its bends into c->ap. */
-static int funnel(ctx *c)
+ * form of Lee & Preparata's funnel algorithm): its bends into c->ap.
+ * Portals before `from` are the last call's: its bends placed having read
+ * only those are kept, and the scan goes on from the last of them (the
+ * funnel restarts at every bend it places: what follows depends only on
+ * that bend and the portals after it, so the bends are the same as a scan
+ * from the start would place). */
+static int funnel(ctx *c, size_t from)
 {
     uint32_t m = (uint32_t)c->nsl;
     const portal *fp = c->fp;
-    c->nap = 0;
-    int rc = push_apex(c, fp[0].l, GS_NONE, 0);
-    if (rc) return rc;
-    p2 ap = fp[0].l, left = ap, right = ap;
-    uint32_t ai = 0, li = 0, ri = 0;
-    for (uint32_t i = 1; i <= m; ++i) {
+    int rc;
+    size_t k = from && c->nap ? c->nap - 1 : 0;
+    while (k > 0 && c->ap[k].seen >= from) --k;
+    if (k == 0) {
+        c->nap = 0;
+        if ((rc = push_apex(c, fp[0].l, GS_NONE, 0, 0))) return rc;
+    }
+    c->nap = k + 1;
+    p2 ap = c->ap[k].p, left = ap, right = ap;
+    uint32_t ai = c->ap[k].idx, li = ai, ri = ai, seen = c->ap[k].seen;
+    for (uint32_t i = ai + 1; i <= m; ++i) {
+        if (i > seen) seen = i;
         p2 l = fp[i].l, r = fp[i].r;
         if (cross3(ap, right, r) >= 0) {
             if (eq2(ap, right) || eq2(ap, left) || eq2(r, left) || cross3(ap, left, r) < 0) {
                 right = r, ri = i;
             } else { /* r crosses the left side: its point is a bend */
-                if ((rc = push_apex(c, left, fp[li].lv, li))) return rc;
+                if ((rc = push_apex(c, left, fp[li].lv, li, seen))) return rc;
                 ap = left, ai = li;
                 right = left = ap, ri = li = ai;
                 i = ai;
@@ -881,7 +893,7 @@ static int funnel(ctx *c)
             if (eq2(ap, left) || eq2(ap, right) || eq2(l, right) || cross3(ap, right, l) > 0) {
                 left = l, li = i;
             } else {
-                if ((rc = push_apex(c, right, fp[ri].rv, ri))) return rc;
+                if ((rc = push_apex(c, right, fp[ri].rv, ri, seen))) return rc;
                 ap = right, ai = ri;
                 right = left = ap, ri = li = ai;
                 i = ai;
@@ -889,7 +901,7 @@ static int funnel(ctx *c)
             }
         }
     }
-    return push_apex(c, fp[m].l, GS_NONE, m);
+    return push_apex(c, fp[m].l, GS_NONE, m, m);
 }
 
 static double angle2(p2 o, p2 a, p2 b)
@@ -1084,7 +1096,7 @@ static int converge(ctx *c, const qpt *x, const qpt *y, uint32_t xv, uint32_t yv
     int rc;
     for (size_t round = 0;; ++round) {
         uint32_t nf;
-        if ((rc = unfold(c, x, y, from)) || (rc = funnel(c))) return rc;
+        if ((rc = unfold(c, x, y, from)) || (rc = funnel(c, from))) return rc;
         if (round >= max_rounds) break;
         double l = funnel_length(c);
         if (round >= SETTLE_FROM && hist[round % SETTLE_ROUNDS] - l < SETTLE_GAIN * l) break;
@@ -1348,21 +1360,54 @@ static int make_path(ctx *c, gs_path **out)
 
 /* ---- the check: a path much longer than the database's distance -------- */
 
+/* The longest edge at vertex v: no point of v's faces is farther from v. */
+static double longest_edge(const gs__topo *t, uint32_t v)
+{
+    double m = 0;
+    for (uint32_t j = t->vc_start[v]; j < t->vc_start[v + 1]; ++j) {
+        uint32_t h = t->vc[j];
+        m = fmax(m, fmax(t->len[h], t->len[gs__prev(h)]));
+    }
+    return m;
+}
+
+/* Of the n vertices v[], those with d(X, v) + d(v, Y) (the database's,
+ * c's two ends) at most thr plus twice their longest edge appended to the
+ * vertex path c->vp (d(v, Y) asked only where d(X, v) is that small). */
+static int corridor_batch(ctx *c, const uint32_t *v, uint32_t n, double thr)
+{
+    uint32_t near[MAX_FAN], nn = 0;
+    double reach[MAX_FAN];
+    int rc = fetch(c, v, n, 0, INFINITY);
+    if (rc) return rc;
+    for (uint32_t j = 0; j < n; ++j) {
+        reach[nn] = thr + 2 * longest_edge(c->t, v[j]);
+        if (c->dval[2 * gs__idmap_get(&c->dmap, v[j])] <= reach[nn]) near[nn++] = v[j];
+    }
+    if (nn && (rc = fetch(c, near, nn, 1, INFINITY))) return rc;
+    for (uint32_t j = 0; j < nn && !rc; ++j) {
+        uint32_t sl = gs__idmap_get(&c->dmap, near[j]);
+        if (c->dval[2 * sl] + c->dval[2 * sl + 1] <= reach[j]) rc = push_vertex(c, near[j]);
+    }
+    return rc;
+}
+
 /* The path is longer than the database's distance d by more than the
  * database's errors usually are (the descent then followed another
  * route's valley: a coarse mesh next to the path, a fitted function's
  * error): the exact shortest path inside the corridor that holds the
  * shortest path as far as the database can tell, the vertices v with
  * d(X, v) + d(v, Y) at most d plus CORRIDOR_TOL (at most the path's
- * length; plus the ends' offsets and an edge), grown from the vertex path;
- * the faces at them form a patch, solved exactly (gs_solver_path). *out:
- * that path if shorter, else untouched. */
+ * length; plus the ends' offsets and twice v's longest edge: every corner
+ * of every face that a path within that bound crosses), grown from the
+ * vertex path; the faces at them form a patch, solved exactly
+ * (gs_solver_path). *out: that path if shorter, else untouched. */
 static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_source *y, double len, double d,
                     double slack, gs_path **out)
 {
     const gs__topo *t = c->t;
     double bound = d * (1 + CORRIDOR_TOL); /* the shortest path, for the database (if its error is below the tolerance) */
-    double thr = (bound < len ? bound : len) + slack + 2 * mesh->report.max_edge;
+    double thr = (bound < len ? bound : len) + slack; /* plus twice the vertex's longest edge (longest_edge) */
     /* flood: c->vp grows into the corridor's vertices (amap: seen) */
     c->na = 0;
     if (c->amap.cap) memset(c->amap.key, 0xff, c->amap.cap * sizeof *c->amap.key), c->amap.n = 0;
@@ -1373,33 +1418,33 @@ static int corridor(ctx *c, const gs_mesh *mesh, const gs_source *x, const gs_so
     c->nvp = 0;
     for (size_t i = 0; i < nseed; ++i)
         if (c->aclosed[i] == 0) c->aclosed[i] = 1, c->vp[c->nvp++] = c->anode[i];
-    for (size_t q = 0; q < c->nvp; ++q) {
-        uint32_t v = c->vp[q], cand[MAX_FAN], nc = 0;
-        for (uint32_t i = t->vc_start[v]; i <= t->vc_start[v + 1]; ++i) {
-            /* v's unseen neighbours, their distances fetched in batches (the
-             * one to Y only for those near enough to X) */
-            if (nc + 2 > MAX_FAN || (i == t->vc_start[v + 1] && nc)) {
-                uint32_t near[MAX_FAN], nn = 0;
-                int rc = fetch(c, cand, nc, 0, INFINITY);
-                for (uint32_t j = 0; j < nc && !rc; ++j)
-                    if (c->dval[2 * gs__idmap_get(&c->dmap, cand[j])] <= thr) near[nn++] = cand[j];
-                if (!rc) rc = fetch(c, near, nn, 1, INFINITY);
-                for (uint32_t j = 0; j < nn && !rc; ++j) {
-                    uint32_t sl = gs__idmap_get(&c->dmap, near[j]);
-                    if (c->dval[2 * sl] + c->dval[2 * sl + 1] <= thr) rc = push_vertex(c, near[j]);
+    /* the unseen neighbours of the next vertices in the queue, a batch of
+     * about half MAX_FAN at a time (fetch: their records requested from
+     * memory together), those in the corridor queued */
+    uint32_t cand[MAX_FAN], nc = 0;
+    for (size_t q = 0;;) {
+        if (q < c->nvp && nc <= MAX_FAN / 2) {
+            uint32_t v = c->vp[q++];
+            for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1]; ++i) {
+                uint32_t h = t->vc[i];
+                uint32_t nb[2] = {t->tri[gs__next(h)], t->tri[gs__prev(h)]};
+                for (int k = 0; k < 2; ++k) {
+                    if (gs__idmap_get(&c->amap, nb[k]) != GS_NONE) continue;
+                    if (anode(c, nb[k], &slot)) return oom(c);
+                    if (nc == MAX_FAN) {
+                        int rc = corridor_batch(c, cand, nc, thr);
+                        if (rc) return rc;
+                        nc = 0;
+                    }
+                    cand[nc++] = nb[k];
                 }
-                if (rc) return rc;
-                nc = 0;
             }
-            if (i == t->vc_start[v + 1]) break;
-            uint32_t h = t->vc[i];
-            uint32_t nb[2] = {t->tri[gs__next(h)], t->tri[gs__prev(h)]};
-            for (int k = 0; k < 2; ++k) {
-                if (gs__idmap_get(&c->amap, nb[k]) != GS_NONE) continue;
-                if (anode(c, nb[k], &slot)) return oom(c);
-                cand[nc++] = nb[k];
-            }
+            continue;
         }
+        if (!nc) break;
+        int rc = corridor_batch(c, cand, nc, thr);
+        if (rc) return rc;
+        nc = 0;
     }
     /* the faces at the corridor's vertices, and the ends' faces */
     gs__idmap fmap = {0};
@@ -1788,6 +1833,7 @@ static int run(ctx *c, const qpt *qx, const qpt *qy, uint32_t not_target, uint32
  * the straight lines to the ends rule out most without a query). c->vp is
  * kept. */
 #define DETOUR_NRINGS 3
+#define RINGS_AHEAD 8 /* the breadth-first search's prefetch distance, in queued vertices */
 static const int detour_rings[DETOUR_NRINGS] = {5, 10, 15};
 static int waypoints(ctx *c, double thr, uint32_t w[DETOUR_NRINGS], double s[DETOUR_NRINGS])
 {
@@ -1810,17 +1856,26 @@ static int waypoints(ctx *c, double thr, uint32_t w[DETOUR_NRINGS], double s[DET
             seen[v] = 1, from[nq] = (uint32_t)i, queue[nq++] = v;
     }
     for (size_t q = 0; q < nq && !rc && seen[queue[q]] <= last; ++q) {
-        uint32_t v = queue[q];
-        for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1] && !rc; ++i) {
+        /* the fans of the vertices next in the queue, requested from memory
+         * ahead (thousands of vertices, scattered: most miss the caches) */
+        if (q + 2 * RINGS_AHEAD < nq) __builtin_prefetch(t->vc_start + queue[q + 2 * RINGS_AHEAD]);
+        if (q + RINGS_AHEAD < nq) __builtin_prefetch(t->vc + t->vc_start[queue[q + RINGS_AHEAD]]);
+        if (q + RINGS_AHEAD / 2 < nq) {
+            uint32_t u = queue[q + RINGS_AHEAD / 2];
+            for (uint32_t i = t->vc_start[u]; i < t->vc_start[u + 1]; ++i) __builtin_prefetch(t->tri + t->vc[i]);
+        }
+        uint32_t v = queue[q], fan = t->vc_start[v + 1] - t->vc_start[v];
+        if (gs__grow((void **)&queue, &qcap, nq + 2 * (size_t)fan, sizeof *queue) ||
+            gs__grow((void **)&from, &ocap, nq + 2 * (size_t)fan, sizeof *from)) {
+            rc = oom(c);
+            break;
+        }
+        for (uint32_t i = t->vc_start[v]; i < t->vc_start[v + 1]; ++i) {
             uint32_t h = t->vc[i];
             uint32_t nb[2] = {t->tri[gs__next(h)], t->tri[gs__prev(h)]};
-            for (int k = 0; k < 2 && !rc; ++k) {
+            for (int k = 0; k < 2; ++k) {
                 if (seen[nb[k]]) continue;
-                if (gs__grow((void **)&queue, &qcap, nq + 1, sizeof *queue) ||
-                    gs__grow((void **)&from, &ocap, nq + 1, sizeof *from))
-                    rc = oom(c);
-                else
-                    seen[nb[k]] = (uint8_t)(seen[v] + 1), from[nq] = from[q], queue[nq++] = nb[k];
+                seen[nb[k]] = (uint8_t)(seen[v] + 1), from[nq] = from[q], queue[nq++] = nb[k];
             }
         }
     }
