@@ -1,7 +1,7 @@
 /* db_path.c - geodesic paths from a database (doc/paths.md, "From a
  * database"): a path between two vertices or surface points of the mesh the
  * database was built from, without solving a field.
- * One file (about 2,250 lines) on purpose: the four stages below share one
+ * One file (about 2,350 lines) on purpose: the four stages below share one
  * path context (the descent's distance cache, the sleeve, the unfolding)
  * and each hands the next its half-built state; split, every part would
  * export that context.
