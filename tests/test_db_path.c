@@ -147,6 +147,20 @@ static double db_path_checked(env *e, gs_source a, gs_source b, const char *what
     return r;
 }
 
+/* db_path_checked from vertex x to y and back (what: the mesh, for the
+ * messages); returns the larger ratio. */
+static double both_ways(env *e, uint32_t x, uint32_t y, const char *what)
+{
+    char msg[160];
+    double worst = 1;
+    for (int k = 0; k < 2; ++k) {
+        uint32_t a = k ? y : x, b = k ? x : y;
+        snprintf(msg, sizeof msg, "%s: %u -> %u", what, a, b);
+        worst = fmax(worst, db_path_checked(e, gs_source_vertex(a), gs_source_vertex(b), msg));
+    }
+    return worst;
+}
+
 static uint64_t rng = 7;
 static double uniform(void)
 {
@@ -265,18 +279,13 @@ static void second_routes(void)
         uint32_t x, y;
     } pair[] = {{"knot:300,6,0.1", 1220, 1168}, {"knot:200,10,0.15", 906, 1176}, {"peaks:50", 1034, 861}};
     double worst = 1;
-    char what[128];
     for (size_t i = 0; i < sizeof pair / sizeof *pair; ++i) {
         env e;
         if (env_open(&e, pair[i].spec, NULL)) {
             env_close(&e);
             continue;
         }
-        for (int k = 0; k < 2; ++k) {
-            uint32_t a = k ? pair[i].y : pair[i].x, b = k ? pair[i].x : pair[i].y;
-            snprintf(what, sizeof what, "%s: %u -> %u", pair[i].spec, a, b);
-            worst = fmax(worst, db_path_checked(&e, gs_source_vertex(a), gs_source_vertex(b), what));
-        }
+        worst = fmax(worst, both_ways(&e, pair[i].x, pair[i].y, pair[i].spec));
         env_close(&e);
     }
     printf("%-22s second routes: longest path %.4f%% over the exact distance\n", "knots, peaks", 100 * (worst - 1));
@@ -436,13 +445,8 @@ static void sine_sphere(void)
         return;
     }
     double worst = 1;
-    char what[96];
     for (size_t i = 0; i < sizeof pair / sizeof *pair; ++i)
-        for (int k = 0; k < 2; ++k) {
-            uint32_t a = pair[i][k], b = pair[i][1 - k];
-            snprintf(what, sizeof what, "sphere:3, sine bumps: %u -> %u", a, b);
-            worst = fmax(worst, db_path_checked(&e, gs_source_vertex(a), gs_source_vertex(b), what));
-        }
+        worst = fmax(worst, both_ways(&e, pair[i][0], pair[i][1], "sphere:3, sine bumps"));
     printf("%-22s longest path %.4f%% over the exact distance\n", "sine-bumped sphere:3", 100 * (worst - 1));
     env_close(&e);
 }
@@ -625,11 +629,8 @@ static void flipped_tori(void)
             if (m) env_close(&e);
             continue;
         }
-        for (int k = 0; k < 2; ++k) {
-            uint32_t a = k ? pair[i].y : pair[i].x, b = k ? pair[i].x : pair[i].y;
-            snprintf(what, sizeof what, "torus:48,24, %g of the edges flipped: %u -> %u", pair[i].frac, a, b);
-            worst = fmax(worst, db_path_checked(&e, gs_source_vertex(a), gs_source_vertex(b), what));
-        }
+        snprintf(what, sizeof what, "torus:48,24, %g of the edges flipped", pair[i].frac);
+        worst = fmax(worst, both_ways(&e, pair[i].x, pair[i].y, what));
         env_close(&e);
     }
     printf("%-22s longest path %.4f%% over the exact distance\n", "flipped tori", 100 * (worst - 1));
