@@ -1560,16 +1560,9 @@ static double walk_noise(const ctx *c)
     return n ? sum / (double)n : 0;
 }
 
-/* |number of corners - 6| of vertex v (0 for boundary and unused ones). */
-static double valence_gap(const gs__topo *t, uint32_t v)
-{
-    if (t->vflag[v] & (GS_V_BOUNDARY | GS_V_UNUSED)) return 0;
-    return fabs((double)(t->vc_start[v + 1] - t->vc_start[v]) - 6);
-}
-
-/* The mean valence_gap of IRREGULAR_SAMPLE interior vertices spread evenly
- * over the ids (every one on smaller meshes): the same vertices on every
- * call, so that they stay in the caches. */
+/* The mean |number of corners - 6| of IRREGULAR_SAMPLE interior vertices
+ * spread evenly over the ids (every one on smaller meshes): the same
+ * vertices on every call, so that they stay in the caches. */
 static double mesh_valence(const gs__topo *t)
 {
     double sum = 0;
@@ -1577,7 +1570,7 @@ static double mesh_valence(const gs__topo *t)
     uint32_t step = t->nv > IRREGULAR_SAMPLE ? t->nv / IRREGULAR_SAMPLE : 1;
     for (uint32_t k = 0, v = 0; k < IRREGULAR_SAMPLE && v < t->nv; ++k, v += step) {
         if (t->vflag[v] & (GS_V_BOUNDARY | GS_V_UNUSED)) continue;
-        sum += valence_gap(t, v), ++n;
+        sum += fabs((double)(t->vc_start[v + 1] - t->vc_start[v]) - 6), ++n;
     }
     return n ? sum / (double)n : 0;
 }
